@@ -1,0 +1,292 @@
+"""Mass properties of a rigid body: mass, centre of mass and inertia tensor.
+
+Conventions (see the README):
+
+* SI units: kg, m, kg·m².
+* ``inertia`` is always taken **about the centre of mass**, in **body axes**:
+  ``I_ij = Σ m (r² δ_ij − r_i r_j)``, so products of inertia carry a minus sign,
+  ``I_xy = −Σ m x y``.
+* Principal moments are ascending, ``I1 <= I2 <= I3``; principal axes are the
+  columns of a proper rotation matrix ``R`` (det +1), ``I = R diag(I1, I2, I3) Rᵀ``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from tumble.errors import InputError
+from tumble.units import to_si, vector_to_si
+
+__all__ = ["PHYSICAL_TOLERANCE", "MassProperties", "point_masses"]
+
+#: Relative tolerance of the physical checks, as a fraction of the trace of the
+#: inertia tensor (or of its largest entry for symmetry): a principal moment may
+#: be as low as ``-PHYSICAL_TOLERANCE * trace`` and ``I1 + I2`` may fall short of
+#: ``I3`` by as much, which admits flat and linear bodies (``I1 + I2 == I3``,
+#: ``I1 == 0``) computed in floating point, while rejecting any real violation.
+PHYSICAL_TOLERANCE = 1e-9
+
+#: Principal moments closer than this fraction of the trace are taken as equal
+#: (a sphere, a symmetric top), so their axes are chosen by a fixed rule.
+REPEATED_MOMENT_TOLERANCE = 1e-9
+
+Array = NDArray[np.float64]
+
+
+def _readonly(array: Array) -> Array:
+    array = np.array(array, dtype=float)
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class MassProperties:
+    """Mass, centre of mass and central inertia tensor of a rigid body. Immutable.
+
+    Parameters
+    ----------
+    mass : float, pint quantity or string such as ``"250 g"``; kg, > 0.
+    center_of_mass : (3,) position of the centre of mass in body coordinates, m.
+    inertia : (3, 3) inertia tensor about the centre of mass in body axes, kg·m².
+        Symmetric, with products of inertia as ``I_xy = −∫ x y dm``.
+
+    Raises
+    ------
+    InputError
+        If the mass is not positive, any value is NaN or infinite, a shape is
+        wrong, the tensor is not symmetric (to ``PHYSICAL_TOLERANCE`` of its
+        largest entry), a principal moment is negative, or the principal moments
+        break the triangle inequality ``I1 + I2 >= I3`` (both to
+        ``PHYSICAL_TOLERANCE`` of the trace). A zero moment is valid: thin rods,
+        collinear point masses and single point masses have one or three.
+    """
+
+    mass: float
+    center_of_mass: Array
+    inertia: Array
+    _principal: tuple[Array, Array] = field(init=False, repr=False, compare=False)
+
+    def __init__(self, mass: Any, center_of_mass: Any, inertia: Any) -> None:
+        mass_si = to_si(mass, "mass", "mass")
+        if mass_si <= 0:
+            raise InputError(f"Expected `mass` > 0 kg, got {mass_si!r}.")
+        com = vector_to_si(center_of_mass, "length", "center_of_mass", (3,))
+        tensor = vector_to_si(inertia, "inertia", "inertia", (3, 3))
+        scale = float(np.max(np.abs(tensor)))
+        asymmetry = np.abs(tensor - tensor.T)
+        if asymmetry.max() > PHYSICAL_TOLERANCE * scale:
+            i, j = np.unravel_index(int(np.argmax(asymmetry)), (3, 3))
+            raise InputError(
+                f"Expected `inertia` to be symmetric, got inertia[{i}, {j}] = {tensor[i, j]!r} "
+                f"but inertia[{j}, {i}] = {tensor[j, i]!r} kg·m²."
+            )
+        tensor = 0.5 * (tensor + tensor.T)
+        moments = np.linalg.eigvalsh(tensor)
+        tolerance = PHYSICAL_TOLERANCE * max(float(np.trace(tensor)), 0.0)
+        if moments[0] < -tolerance:
+            raise InputError(
+                f"Expected the principal moments of `inertia` to be >= 0, got "
+                f"{_format(moments)} kg·m² (no distribution of mass has a negative moment)."
+            )
+        if moments[0] + moments[1] < moments[2] - tolerance:
+            raise InputError(
+                "Expected the principal moments of `inertia` to satisfy the triangle inequality "
+                f"I1 + I2 >= I3, got I1 + I2 = {moments[0] + moments[1]:.6g} < "
+                f"I3 = {moments[2]:.6g} kg·m² (no distribution of mass has these moments)."
+            )
+        object.__setattr__(self, "mass", mass_si)
+        object.__setattr__(self, "center_of_mass", _readonly(com))
+        object.__setattr__(self, "inertia", _readonly(tensor))
+
+    # ------------------------------------------------------------------ derived
+    def inertia_about(self, point: ArrayLike | str) -> Array:
+        """Inertia tensor about a body point, in body axes (parallel-axis theorem).
+
+        ``I_P = I_G + m (|d|² E − d dᵀ)`` with ``d = P − G``, G the centre of mass.
+
+        Parameters
+        ----------
+        point : (3,) body coordinates of the point, m (or quantities).
+
+        Returns
+        -------
+        (3, 3) float64, kg·m².
+        """
+        p = vector_to_si(point, "length", "point", (3,))
+        d = p - self.center_of_mass
+        return np.asarray(self.inertia + self.mass * (d @ d * np.eye(3) - np.outer(d, d)))
+
+    def principal(self) -> tuple[Array, Array]:
+        """Principal moments and axes.
+
+        Returns
+        -------
+        moments : (3,) ascending, kg·m². Moments equal to within
+            ``REPEATED_MOMENT_TOLERANCE`` of the trace are returned exactly equal.
+        axes : (3, 3) proper rotation matrix (det +1) whose columns are the
+            principal axes in body coordinates: ``inertia = axes @ diag(moments) @ axes.T``.
+
+        Notes
+        -----
+        Eigenvectors are fixed by a rule, so the result is reproducible and
+        continuous in the inertia away from repeated moments: each distinct axis
+        points so that its largest component is positive; within a plane of
+        repeated moments the first axis is the projection of the body axis
+        (x, then y, then z) that lies most in that plane; with three equal moments
+        the axes are the body axes; the last axis completes a right-handed frame.
+        """
+        return self._principal_cached
+
+    @cached_property
+    def _principal_cached(self) -> tuple[Array, Array]:
+        moments, axes = principal_decomposition(self.inertia)
+        return _readonly(moments), _readonly(axes)
+
+    # ------------------------------------------------------------ operations
+    def transformed(self, rotation: Any = None, translation: Any = None) -> MassProperties:
+        """The same body moved rigidly: first rotated about the body origin, then translated.
+
+        Use it to place a part inside an assembly: the part's body coordinates x
+        become ``R x + t`` in the assembly's coordinates.
+
+        Parameters
+        ----------
+        rotation : None, a (3, 3) proper rotation matrix, or a single
+            ``scipy.spatial.transform.Rotation``.
+        translation : None or (3,) displacement, m.
+
+        Returns
+        -------
+        MassProperties with centre of mass ``R c + t`` and inertia ``R I Rᵀ``.
+        """
+        matrix = np.eye(3) if rotation is None else rotation_matrix(rotation, "rotation")
+        shift = np.zeros(3) if translation is None else vector_to_si(translation, "length", "translation")
+        return MassProperties(
+            self.mass,
+            matrix @ self.center_of_mass + shift,
+            matrix @ self.inertia @ matrix.T,
+        )
+
+    def __add__(self, other: object) -> MassProperties:
+        """Assembly of two parts given in the same body coordinates."""
+        if not isinstance(other, MassProperties):
+            return NotImplemented
+        mass = self.mass + other.mass
+        com = (self.mass * self.center_of_mass + other.mass * other.center_of_mass) / mass
+        return MassProperties(mass, com, self.inertia_about(com) + other.inertia_about(com))
+
+    def __radd__(self, other: object) -> MassProperties:
+        # Lets ``sum(parts)`` start from 0.
+        if isinstance(other, int) and other == 0:
+            return self
+        return NotImplemented
+
+    def __repr__(self) -> str:
+        moments, _ = self.principal()
+        rows = np.array2string(self.inertia, precision=6, separator=", ", prefix="    ",
+                               floatmode="maxprec")
+        return (
+            "MassProperties(\n"
+            f"  mass           = {self.mass:.6g} kg\n"
+            f"  center_of_mass = {_format(self.center_of_mass)} m\n"
+            f"  inertia about the centre of mass, body axes (kg·m²) =\n    {rows}\n"
+            f"  principal moments = {_format(moments)} kg·m²\n"
+            ")"
+        )
+
+
+def _format(values: ArrayLike) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in np.asarray(values, dtype=float)) + "]"
+
+
+def rotation_matrix(rotation: Any, name: str) -> Array:
+    """A validated (3, 3) proper rotation matrix from a matrix or a scipy ``Rotation``."""
+    from scipy.spatial.transform import Rotation
+
+    if isinstance(rotation, Rotation):
+        if not rotation.single:
+            raise InputError(f"Expected `{name}` to be a single rotation, got {len(rotation)}.")
+        return np.asarray(rotation.as_matrix(), dtype=float)
+    matrix = vector_to_si(rotation, "dimensionless", name, (3, 3))
+    error = np.abs(matrix.T @ matrix - np.eye(3)).max()
+    if error > 1e-9 or np.linalg.det(matrix) < 0:
+        raise InputError(
+            f"Expected `{name}` to be a proper rotation matrix (orthonormal, det +1), got "
+            f"det = {np.linalg.det(matrix):.6g} and max |RᵀR − E| = {error:.3g}."
+        )
+    return matrix
+
+
+def principal_decomposition(inertia: Array) -> tuple[Array, Array]:
+    """Ascending principal moments and a proper rotation of principal axes (see
+    :meth:`MassProperties.principal` for the rule that fixes the axes)."""
+    moments, vectors = np.linalg.eigh(inertia)
+    scale = max(float(np.trace(inertia)), np.finfo(float).tiny)
+    tol = REPEATED_MOMENT_TOLERANCE * scale
+    # Group repeated moments: eigh sorts ascending, so equal ones are neighbours.
+    groups: list[list[int]] = [[0]]
+    for k in (1, 2):
+        if moments[k] - moments[groups[-1][-1]] <= tol:
+            groups[-1].append(k)
+        else:
+            groups.append([k])
+    axes = np.zeros((3, 3))
+    for group in groups:
+        moments[group] = moments[group].mean()
+        if len(group) == 1:
+            (k,) = group
+            v = vectors[:, k]
+            axes[:, k] = v if v[np.argmax(np.abs(v))] > 0 else -v
+        elif len(group) == 3:
+            axes = np.eye(3)
+        else:
+            basis = vectors[:, group]
+            projector = basis @ basis.T
+            lengths = np.linalg.norm(projector, axis=0)  # |P e_k| for body axes e_k
+            k = int(np.flatnonzero(lengths >= lengths.max() - 1e-9)[0])
+            first = projector[:, k] / lengths[k]
+            axes[:, group[0]] = first
+            axes[:, group[1]] = 0.0  # completed below
+    if len(groups) != 1:
+        # Complete a right-handed frame with the axis that is still free: the
+        # second of a repeated pair, or else the last axis.
+        free = next((g[1] for g in groups if len(g) == 2), 2)
+        i, j = {0: (1, 2), 1: (2, 0), 2: (0, 1)}[free]
+        axes[:, free] = np.cross(axes[:, i], axes[:, j])
+        axes[:, free] /= np.linalg.norm(axes[:, free])
+    return moments, axes
+
+
+def point_masses(masses: Any, positions: Any) -> MassProperties:
+    """Mass properties of a set of point masses rigidly joined.
+
+    Parameters
+    ----------
+    masses : (n,) masses, kg, each > 0.
+    positions : (n, 3) body coordinates of the masses, m.
+
+    Returns
+    -------
+    MassProperties with ``I_ij = Σ m_k (r_k² δ_ij − r_k,i r_k,j)`` about the
+    centre of mass (products of inertia ``I_xy = −Σ m x y``).
+    """
+    m = vector_to_si(masses, "mass", "masses", (-1,))
+    r = vector_to_si(positions, "length", "positions", (-1, 3))
+    if m.size == 0:
+        raise InputError("Expected `masses` to hold at least one mass, got none.")
+    if r.shape[0] != m.shape[0]:
+        raise InputError(f"Expected `positions` to have shape ({m.size}, 3) to match `masses`, "
+                         f"got {r.shape}.")
+    bad = np.flatnonzero(m <= 0)
+    if bad.size:
+        raise InputError(f"Expected every entry of `masses` > 0 kg, got masses[{bad[0]}] = {m[bad[0]]!r}.")
+    total = float(m.sum())
+    com = m @ r / total
+    d = r - com  # about the centre of mass directly: no cancellation from a far origin
+    inertia = np.eye(3) * np.sum(m * np.einsum("ij,ij->i", d, d)) - np.einsum("k,ki,kj->ij", m, d, d)
+    return MassProperties(total, com, inertia)

@@ -1,0 +1,185 @@
+"""Units at the public edge: one pint registry and the parsing of quantities.
+
+Public functions accept plain numbers (taken as SI), pint quantities, or strings
+such as ``"250 g"``, ``"3000 rpm"`` or ``"30 deg"``; they convert once, on entry,
+to SI float64 with :func:`to_si` / :func:`vector_to_si`, and work in SI inside.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import pint
+from numpy.typing import NDArray
+
+from tumble.errors import InputError
+
+__all__ = ["DIMENSIONS", "length_scale", "to_si", "ureg", "vector_to_si"]
+
+#: The registry every quantity in tumble belongs to.
+ureg = pint.UnitRegistry()
+
+#: Physical kinds of value: the pint dimensionality and the SI unit shown in messages.
+DIMENSIONS: dict[str, tuple[str, str]] = {
+    "mass": ("[mass]", "kg"),
+    "length": ("[length]", "m"),
+    "angle": ("", "rad"),
+    "angular_velocity": ("1/[time]", "rad/s"),
+    "angular_acceleration": ("1/[time]**2", "rad/s^2"),
+    "time": ("[time]", "s"),
+    "density": ("[mass]/[length]**3", "kg/m^3"),
+    "inertia": ("[mass]*[length]**2", "kg*m^2"),
+    "torque": ("[mass]*[length]**2/[time]**2", "N*m"),
+    "acceleration": ("[length]/[time]**2", "m/s^2"),
+    "dimensionless": ("", ""),
+}
+
+
+def _parse(value: Any, name: str) -> Any:
+    """Turn a string into a pint quantity; leave other values alone."""
+    if isinstance(value, str):
+        try:
+            quantity = ureg.Quantity(value)
+        except (pint.errors.PintError, AttributeError, TypeError, ValueError, SyntaxError) as exc:
+            raise InputError(f"Expected `{name}` to be a number or a quantity such as "
+                             f"'250 g', got {value!r} ({exc}).") from None
+        # A bare number in a string ("0.25") is SI, like a bare float.
+        return quantity.magnitude if quantity.unitless else quantity
+    return value
+
+
+def _quantity_to_si(value: Any, kind: str, name: str) -> Any:
+    """Magnitude of a pint quantity in SI units of ``kind``; checks the dimensions."""
+    dimensionality, si_unit = DIMENSIONS[kind]
+    expected = ureg.Quantity(1, si_unit) if si_unit else ureg.Quantity(1)
+    if value.dimensionality != expected.dimensionality:
+        shown = f"{value:~P}" if np.ndim(value.magnitude) == 0 else str(value)
+        what = kind.replace("_", " ")
+        unit = f" in {si_unit}" if si_unit else ""
+        raise InputError(f"Expected `{name}` to be {_article(what)} {what}{unit}, got {shown} "
+                         f"(dimensions {value.dimensionality or 'dimensionless'}).")
+    return value.to(si_unit).magnitude if si_unit else value.to("").magnitude
+
+
+def _article(word: str) -> str:
+    return "an" if word[:1] in "aeiou" else "a"
+
+
+def to_si(value: Any, kind: str, name: str) -> float:
+    """Convert one scalar to an SI float.
+
+    Parameters
+    ----------
+    value : number (taken as SI), pint quantity, or string such as ``"250 g"``.
+    kind : a key of :data:`DIMENSIONS` ("mass", "length", "angle", ...).
+    name : the argument's name, used in error messages.
+
+    Raises
+    ------
+    InputError
+        If the value is not a scalar, cannot be parsed, has the wrong dimensions,
+        or is NaN or infinite.
+    """
+    value = _parse(value, name)
+    if isinstance(value, pint.Quantity):
+        value = _quantity_to_si(value, kind, name)
+    if isinstance(value, bool) or np.ndim(value) != 0:
+        raise InputError(f"Expected `{name}` to be a scalar, got {value!r}.")
+    try:
+        result = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"Expected `{name}` to be a number or a quantity such as '250 g', "
+                         f"got {value!r}.") from None
+    if not math.isfinite(result):
+        raise InputError(f"Expected `{name}` to be finite, got {result}.")
+    return result
+
+
+def vector_to_si(value: Any, kind: str, name: str, shape: tuple[int, ...] = (3,)) -> NDArray[np.float64]:
+    """Convert an array-like of quantities to an SI float64 array of a given shape.
+
+    Accepts a numpy array or sequence of numbers (SI), a pint quantity array,
+    a sequence whose elements are numbers, quantities or strings, or a single
+    string of comma-separated values with an optional common unit at the end
+    (``"10, 20, 30 cm"``). A ``-1`` in ``shape`` matches any length.
+
+    Raises
+    ------
+    InputError
+        On wrong shape, wrong dimensions, or NaN / inf entries.
+    """
+    value = _parse_vector_string(value, name) if isinstance(value, str) else value
+    if isinstance(value, pint.Quantity):
+        array = np.asarray(_quantity_to_si(value, kind, name), dtype=float)
+    elif isinstance(value, np.ndarray) and value.dtype != object:
+        array = np.asarray(value, dtype=float)
+    elif isinstance(value, Sequence) or isinstance(value, np.ndarray):
+        array = _nested_to_si(value, kind, name)
+    else:
+        raise InputError(f"Expected `{name}` to be an array of shape {_shape_text(shape)}, "
+                         f"got {value!r}.")
+    if array.ndim != len(shape) or any(s != -1 and s != a for s, a in zip(shape, array.shape, strict=True)):
+        raise InputError(f"Expected `{name}` to have shape {_shape_text(shape)}, "
+                         f"got {array.shape}.")
+    if not np.all(np.isfinite(array)):
+        raise InputError(f"Expected `{name}` to be finite, got {array.tolist()}.")
+    return array
+
+
+def _nested_to_si(value: Any, kind: str, name: str) -> NDArray[np.float64]:
+    """Element-wise conversion of nested sequences that may mix numbers and quantities."""
+    if isinstance(value, Sequence | np.ndarray) and not isinstance(value, str):
+        items = [_nested_to_si(v, kind, name) for v in value]
+        if len({item.shape for item in items}) > 1:
+            raise InputError(f"Expected `{name}` to be a rectangular array, got {value!r}.")
+        return np.array(items, dtype=float)
+    return np.asarray(to_si(value, kind, name), dtype=float)
+
+
+def _parse_vector_string(text: str, name: str) -> Any:
+    """Parse ``"1, 2, 3 mm"`` or ``"1 mm, 2 mm, 3 mm"`` or ``"(1, 2, 3)"``."""
+    parts = [p.strip() for p in text.strip().strip("()[]").split(",")]
+    if len(parts) < 2:
+        raise InputError(f"Expected `{name}` to be comma-separated values such as "
+                         f"'10, 20, 30 mm', got {text!r}.")
+    # A unit written once, after the last number, applies to all of them.
+    last = _parse(parts[-1], name)
+    head = [_parse(p, name) for p in parts[:-1]]
+    if isinstance(last, pint.Quantity) and not any(isinstance(h, pint.Quantity) for h in head):
+        try:
+            return ureg.Quantity(np.array([float(h) for h in head] + [float(last.magnitude)]),
+                                 last.units)
+        except (TypeError, ValueError):
+            pass
+    return [*head, last]
+
+
+def _shape_text(shape: tuple[int, ...]) -> str:
+    return "(" + ", ".join("n" if s == -1 else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+
+
+def length_scale(units: Any, name: str = "units") -> float:
+    """Metres per file unit, e.g. ``length_scale("mm") == 0.001``.
+
+    Raises
+    ------
+    InputError
+        If ``units`` is not a length unit.
+    """
+    if isinstance(units, str):
+        try:
+            quantity = ureg.Quantity(1, units) if units.strip() else None
+        except (pint.errors.PintError, AttributeError, TypeError, ValueError):
+            quantity = None
+        if quantity is None:
+            raise InputError(f"Expected `{name}` to be a length unit such as 'mm' or 'inch', "
+                             f"got {units!r}.")
+        scale = to_si(quantity, "length", name)
+    else:
+        scale = to_si(units, "length", name)
+    if scale <= 0:
+        raise InputError(f"Expected `{name}` to be a positive length unit, got {units!r}.")
+    return scale
