@@ -55,44 +55,78 @@ def _main(
 
 # Options shared by the shapes; each maps to the shape function's parameter of the same name.
 _SHAPE_OPTIONS = (
-    "radius", "inner_radius", "outer_radius", "height", "length", "size", "semi_axes",
-    "major_radius", "minor_radius", "cylinder_height", "edge",
+    "radius",
+    "inner_radius",
+    "outer_radius",
+    "height",
+    "length",
+    "size",
+    "semi_axes",
+    "major_radius",
+    "minor_radius",
+    "cylinder_height",
+    "edge",
 )
 
 
 @app.command()
 def inertia(
-    body: Annotated[str, typer.Argument(
-        metavar="SHAPE-or-MESH",
-        help="A solid (box, solid-cylinder, hollow-cylinder, solid-sphere, spherical-shell, "
-             "hollow-sphere, solid-cone, thin-rod, thin-disk, thin-ring, ellipsoid, torus, capsule, "
-             "regular-tetrahedron) or a mesh file (STL, OBJ, PLY, GLB).")],
+    body: Annotated[
+        str,
+        typer.Argument(
+            metavar="SHAPE-or-MESH",
+            help="A solid (box, solid-cylinder, hollow-cylinder, solid-sphere, spherical-shell, "
+            "hollow-sphere, solid-cone, thin-rod, thin-disk, thin-ring, ellipsoid, torus, capsule, "
+            "regular-tetrahedron) or a mesh file (STL, OBJ, PLY, GLB).",
+        ),
+    ],
     mass: Annotated[str | None, typer.Option(help="Mass, e.g. '250 g' (SI if no unit).")] = None,
-    density: Annotated[str | None, typer.Option(help="Density of a mesh, e.g. '2700 kg/m^3'.")] = None,
-    units: Annotated[str | None, typer.Option(help="Length unit of a mesh file, e.g. 'mm'.")] = None,
+    density: Annotated[
+        str | None, typer.Option(help="Density of a mesh, e.g. '2700 kg/m^3'.")
+    ] = None,
+    units: Annotated[
+        str | None, typer.Option(help="Length unit of a mesh file, e.g. 'mm'.")
+    ] = None,
     radius: Annotated[str | None, typer.Option(help="Radius, e.g. '3 cm'.")] = None,
     inner_radius: Annotated[str | None, typer.Option(help="Inner radius.")] = None,
     outer_radius: Annotated[str | None, typer.Option(help="Outer radius.")] = None,
     height: Annotated[str | None, typer.Option(help="Height along the axis (z).")] = None,
     length: Annotated[str | None, typer.Option(help="Length of a thin rod.")] = None,
-    size: Annotated[str | None, typer.Option(help="Box edges along x, y, z, e.g. '10, 20, 30 cm'.")] = None,
-    semi_axes: Annotated[str | None, typer.Option(help="Ellipsoid semi-axes, e.g. '1, 2, 3 cm'.")] = None,
-    major_radius: Annotated[str | None, typer.Option(help="Torus: radius of the tube's centre circle.")] = None,
+    size: Annotated[
+        str | None, typer.Option(help="Box edges along x, y, z, e.g. '10, 20, 30 cm'.")
+    ] = None,
+    semi_axes: Annotated[
+        str | None, typer.Option(help="Ellipsoid semi-axes, e.g. '1, 2, 3 cm'.")
+    ] = None,
+    major_radius: Annotated[
+        str | None, typer.Option(help="Torus: radius of the tube's centre circle.")
+    ] = None,
     minor_radius: Annotated[str | None, typer.Option(help="Torus: radius of the tube.")] = None,
-    cylinder_height: Annotated[str | None, typer.Option(help="Capsule: height of the cylindrical part.")] = None,
+    cylinder_height: Annotated[
+        str | None, typer.Option(help="Capsule: height of the cylindrical part.")
+    ] = None,
     edge: Annotated[str | None, typer.Option(help="Edge of a regular tetrahedron.")] = None,
-    about: Annotated[str | None, typer.Option(
-        help="Also give the inertia about this body point, e.g. '0, 0, -5 cm'.")] = None,
+    about: Annotated[
+        str | None,
+        typer.Option(help="Also give the inertia about this body point, e.g. '0, 0, -5 cm'."),
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
 ) -> None:
     """Mass, centre of mass, inertia tensor, principal moments and axes of a solid or a mesh."""
-    given = {
-        "radius": radius, "inner_radius": inner_radius, "outer_radius": outer_radius,
-        "height": height, "length": length, "size": size, "semi_axes": semi_axes,
-        "major_radius": major_radius, "minor_radius": minor_radius,
-        "cylinder_height": cylinder_height, "edge": edge,
+    options = {
+        "radius": radius,
+        "inner_radius": inner_radius,
+        "outer_radius": outer_radius,
+        "height": height,
+        "length": length,
+        "size": size,
+        "semi_axes": semi_axes,
+        "major_radius": major_radius,
+        "minor_radius": minor_radius,
+        "cylinder_height": cylinder_height,
+        "edge": edge,
     }
-    given = {k: v for k, v in given.items() if v is not None}
+    given = {k: v for k, v in options.items() if v is not None}
 
     def work() -> None:
         from tumble.units import vector_to_si
@@ -125,7 +159,12 @@ def _option(name: str) -> str:
 
 
 def _build_body(
-    body: str, *, mass: str | None, density: str | None, units: str | None, dimensions: dict[str, str]
+    body: str,
+    *,
+    mass: str | None,
+    density: str | None,
+    units: str | None,
+    dimensions: dict[str, str],
 ) -> tuple[str, MassProperties]:
     import inspect
 
@@ -144,23 +183,32 @@ def _build_body(
             extra += ["units"] if units is not None else []
         if extra:
             raise InputError(f"Expected only {accepted} for {shape_name}, got {_option(extra[0])}.")
-        missing = [p for p in ["mass", *parameters] if (p == "mass" and mass is None)
-                   or (p != "mass" and p not in dimensions)]
+        missing = [
+            p
+            for p in ["mass", *parameters]
+            if (p == "mass" and mass is None) or (p != "mass" and p not in dimensions)
+        ]
         if missing:
-            raise InputError(f"Expected {_option(missing[0])} for {shape_name} (it takes {accepted}).")
+            raise InputError(
+                f"Expected {_option(missing[0])} for {shape_name} (it takes {accepted})."
+            )
         return shape_name, function(mass, **dimensions)
     path = Path(body)
     if path.suffix.lower() in MESH_SUFFIXES or path.exists():
         if dimensions:
-            raise InputError(f"Expected --density or --mass (and --units) for a mesh, "
-                             f"got {_option(next(iter(dimensions)))}.")
+            raise InputError(
+                f"Expected --density or --mass (and --units) for a mesh, "
+                f"got {_option(next(iter(dimensions)))}."
+            )
         return str(path), from_mesh(path, density=density, mass=mass, units=units)
     import difflib
 
     close = difflib.get_close_matches(shape_name, shapes.__all__, n=1)
     hint = f" Did you mean {close[0].replace('_', '-')}?" if close else ""
-    raise InputError(f"Expected a shape ({', '.join(s.replace('_', '-') for s in shapes.__all__)}) "
-                     f"or a mesh file, got {body!r}.{hint}")
+    raise InputError(
+        f"Expected a shape ({', '.join(s.replace('_', '-') for s in shapes.__all__)}) "
+        f"or a mesh file, got {body!r}.{hint}"
+    )
 
 
 def _inertia_json(label: str, mp: MassProperties, point: Any) -> dict[str, Any]:
@@ -174,7 +222,7 @@ def _inertia_json(label: str, mp: MassProperties, point: Any) -> dict[str, Any]:
         "principal_axes": axes.tolist(),
         "units": {"mass": "kg", "length": "m", "inertia": "kg*m^2"},
         "conventions": "inertia about the centre of mass in body axes; I_xy = -sum(m x y); "
-                       "principal axes are the columns of principal_axes (det +1)",
+        "principal axes are the columns of principal_axes (det +1)",
     }
     if point is not None:
         result["about"] = {"point": point.tolist(), "inertia": mp.inertia_about(point).tolist()}
@@ -208,10 +256,16 @@ def _print_inertia(label: str, mp: MassProperties, point: Any) -> None:
             table.add_row(name, *(f"{_clean(v, scale):.6g}" for v in row))
         return table
 
-    console.print(tensor_table("Inertia tensor about the centre of mass, body axes (kg·m²)", mp.inertia))
+    console.print(
+        tensor_table("Inertia tensor about the centre of mass, body axes (kg·m²)", mp.inertia)
+    )
     if point is not None:
-        console.print(tensor_table(f"Inertia tensor about the point {_vector_text(point)} m (kg·m²)",
-                                   mp.inertia_about(point)))
+        console.print(
+            tensor_table(
+                f"Inertia tensor about the point {_vector_text(point)} m (kg·m²)",
+                mp.inertia_about(point),
+            )
+        )
     console.print("[bold]Principal moments (kg·m²) and axes (columns, body coordinates)[/bold]")
     principal = Table()
     principal.add_column("")

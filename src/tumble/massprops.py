@@ -82,8 +82,8 @@ class MassProperties:
         if asymmetry.max() > PHYSICAL_TOLERANCE * scale:
             i, j = np.unravel_index(int(np.argmax(asymmetry)), (3, 3))
             raise InputError(
-                f"Expected `inertia` to be symmetric, got inertia[{i}, {j}] = {tensor[i, j]!r} "
-                f"but inertia[{j}, {i}] = {tensor[j, i]!r} kg·m²."
+                f"Expected `inertia` to be symmetric, got inertia[{i}, {j}] = "
+                f"{float(tensor[i, j])!r} but inertia[{j}, {i}] = {float(tensor[j, i])!r} kg·m²."
             )
         tensor = 0.5 * (tensor + tensor.T)
         moments = np.linalg.eigvalsh(tensor)
@@ -165,7 +165,11 @@ class MassProperties:
         MassProperties with centre of mass ``R c + t`` and inertia ``R I Rᵀ``.
         """
         matrix = np.eye(3) if rotation is None else rotation_matrix(rotation, "rotation")
-        shift = np.zeros(3) if translation is None else vector_to_si(translation, "length", "translation")
+        shift = (
+            np.zeros(3)
+            if translation is None
+            else vector_to_si(translation, "length", "translation")
+        )
         return MassProperties(
             self.mass,
             matrix @ self.center_of_mass + shift,
@@ -188,8 +192,9 @@ class MassProperties:
 
     def __repr__(self) -> str:
         moments, _ = self.principal()
-        rows = np.array2string(self.inertia, precision=6, separator=", ", prefix="    ",
-                               floatmode="maxprec")
+        rows = np.array2string(
+            self.inertia, precision=6, separator=", ", prefix="    ", floatmode="maxprec"
+        )
         return (
             "MassProperties(\n"
             f"  mass           = {self.mass:.6g} kg\n"
@@ -280,13 +285,18 @@ def point_masses(masses: Any, positions: Any) -> MassProperties:
     if m.size == 0:
         raise InputError("Expected `masses` to hold at least one mass, got none.")
     if r.shape[0] != m.shape[0]:
-        raise InputError(f"Expected `positions` to have shape ({m.size}, 3) to match `masses`, "
-                         f"got {r.shape}.")
+        raise InputError(
+            f"Expected `positions` to have shape ({m.size}, 3) to match `masses`, got {r.shape}."
+        )
     bad = np.flatnonzero(m <= 0)
     if bad.size:
-        raise InputError(f"Expected every entry of `masses` > 0 kg, got masses[{bad[0]}] = {m[bad[0]]!r}.")
+        raise InputError(
+            f"Expected every entry of `masses` > 0 kg, got masses[{bad[0]}] = {float(m[bad[0]])!r}."
+        )
     total = float(m.sum())
     com = m @ r / total
     d = r - com  # about the centre of mass directly: no cancellation from a far origin
-    inertia = np.eye(3) * np.sum(m * np.einsum("ij,ij->i", d, d)) - np.einsum("k,ki,kj->ij", m, d, d)
+    inertia = np.eye(3) * np.sum(m * np.einsum("ij,ij->i", d, d)) - np.einsum(
+        "k,ki,kj->ij", m, d, d
+    )
     return MassProperties(total, com, inertia)

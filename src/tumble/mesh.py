@@ -42,7 +42,9 @@ class MeshOrientationWarning(UserWarning):
     """An inside-out mesh (inward normals) was reversed before integrating."""
 
 
-def from_mesh(mesh: Any, density: Any = None, mass: Any = None, units: Any = None) -> MassProperties:
+def from_mesh(
+    mesh: Any, density: Any = None, mass: Any = None, units: Any = None
+) -> MassProperties:
     """Mass properties of the uniform solid bounded by a closed triangle mesh.
 
     Parameters
@@ -77,8 +79,10 @@ def from_mesh(mesh: Any, density: Any = None, mass: Any = None, units: Any = Non
         If the mesh is inside out; its winding is reversed (never a silent abs()).
     """
     if (density is None) == (mass is None):
-        raise InputError("Expected exactly one of `density` and `mass`, got "
-                         + ("both." if density is not None else "neither."))
+        raise InputError(
+            "Expected exactly one of `density` and `mass`, got "
+            + ("both." if density is not None else "neither.")
+        )
     label, vertices, faces = _load(mesh)
     if units is not None:
         vertices = vertices * length_scale(units, "units")
@@ -101,21 +105,26 @@ def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64]]:
         path = Path(mesh)
         label = f"mesh {str(path)!r}"
         if not path.is_file():
-            raise InputError(f"Expected `mesh` to be a mesh file, got {str(path)!r} (no such file).")
+            raise InputError(
+                f"Expected `mesh` to be a mesh file, got {str(path)!r} (no such file)."
+            )
         try:
             # process=False: keep the file's triangles as they are; merging and
             # the checks below are ours, so that errors can say what is wrong.
             loaded = trimesh.load_mesh(path, process=False)
         except Exception as exc:  # trimesh raises many types for unreadable files
-            raise InputError(f"Expected `mesh` to be a readable mesh file (STL, OBJ, PLY, GLB, ...), "
-                             f"got {str(path)!r}: {exc}") from None
+            raise InputError(
+                f"Expected `mesh` to be a readable mesh file (STL, OBJ, PLY, GLB, ...), "
+                f"got {str(path)!r}: {exc}"
+            ) from None
     elif isinstance(mesh, trimesh.Scene):
         label, loaded = "mesh (scene)", mesh.to_mesh()
     elif isinstance(mesh, trimesh.Trimesh):
         label, loaded = "mesh", mesh
     else:
-        raise InputError(f"Expected `mesh` to be a file path or a trimesh.Trimesh, "
-                         f"got {type(mesh).__name__}.")
+        raise InputError(
+            f"Expected `mesh` to be a file path or a trimesh.Trimesh, got {type(mesh).__name__}."
+        )
     vertices = np.ascontiguousarray(loaded.vertices, dtype=float)
     faces = np.ascontiguousarray(loaded.faces, dtype=np.int64)
     return label, vertices, faces
@@ -137,8 +146,10 @@ def mesh_mass_properties(
     volume = integrals[0]
     extent = np.ptp(vertices, axis=0)
     if abs(volume) <= ZERO_VOLUME_FRACTION * float(np.prod(extent)) or volume == 0:
-        raise MeshError(f"Expected {label} to enclose a volume, got a signed volume of "
-                        f"{volume:.3g} m³ (flat or self-cancelling).")
+        raise MeshError(
+            f"Expected {label} to enclose a volume, got a signed volume of "
+            f"{volume:.3g} m³ (flat or self-cancelling)."
+        )
     if volume < 0:
         warnings.warn(
             f"{label} is inside out (normals point inward, signed volume {volume:.6g} m³); "
@@ -152,7 +163,9 @@ def mesh_mass_properties(
     sxx, syy, szz, sxy, sxz, syz = integrals[4:]
     centroid = first / volume  # relative to the reference point
     # Second moments about the centroid: ∫ x xᵀ dV − V c cᵀ.
-    second = np.array([[sxx, sxy, sxz], [sxy, syy, syz], [sxz, syz, szz]]) - volume * np.outer(centroid, centroid)
+    second = np.array([[sxx, sxy, sxz], [sxy, syy, syz], [sxz, syz, szz]]) - volume * np.outer(
+        centroid, centroid
+    )
     rho = density if density is not None else float(mass) / volume  # type: ignore[arg-type]
     inertia = rho * (np.trace(second) * np.eye(3) - second)
     return MassProperties(rho * volume, reference + centroid, inertia)
@@ -167,14 +180,18 @@ def _checked_topology(
     if vertices.ndim != 2 or vertices.shape[1] != 3:
         raise MeshError(f"Expected {label} vertices of shape (n, 3), got {vertices.shape}.")
     if faces.min() < 0 or faces.max() >= vertices.shape[0]:
-        raise MeshError(f"Expected {label} face indices in [0, {vertices.shape[0] - 1}], "
-                        f"got indices from {faces.min()} to {faces.max()}.")
+        raise MeshError(
+            f"Expected {label} face indices in [0, {vertices.shape[0] - 1}], "
+            f"got indices from {faces.min()} to {faces.max()}."
+        )
     if not np.all(np.isfinite(vertices)):
         bad = int(np.count_nonzero(~np.all(np.isfinite(vertices), axis=1)))
         raise MeshError(f"Expected {label} vertices to be finite, got {bad} with NaN or inf.")
     unique, inverse = np.unique(vertices, axis=0, return_inverse=True)
     faces = inverse.reshape(-1)[faces]
-    degenerate = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (faces[:, 2] == faces[:, 0])
+    degenerate = (
+        (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (faces[:, 2] == faces[:, 0])
+    )
     faces = np.ascontiguousarray(faces[~degenerate])
     if faces.shape[0] == 0:
         raise MeshError(f"Expected {label} to have triangles of non-zero area, got none.")

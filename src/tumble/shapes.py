@@ -65,6 +65,7 @@ def box(mass: Any, size: Any) -> MassProperties:
     m = _mass(mass)
     a, b, c = vector_to_si(size, "length", "size", (3,))
     for name, edge in zip(("size[0]", "size[1]", "size[2]"), (a, b, c), strict=True):
+        edge = float(edge)
         if edge <= 0:
             raise InputError(f"Expected `{name}` > 0 m, got {edge!r}.")
     return _body(m, m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12)
@@ -181,6 +182,7 @@ def ellipsoid(mass: Any, semi_axes: Any) -> MassProperties:
     m = _mass(mass)
     a, b, c = vector_to_si(semi_axes, "length", "semi_axes", (3,))
     for name, axis in zip(("semi_axes[0]", "semi_axes[1]", "semi_axes[2]"), (a, b, c), strict=True):
+        axis = float(axis)
         if axis <= 0:
             raise InputError(f"Expected `{name}` > 0 m, got {axis!r}.")
     return _body(m, m * (b * b + c * c) / 5, m * (a * a + c * c) / 5, m * (a * a + b * b) / 5)
@@ -224,8 +226,9 @@ def capsule(mass: Any, radius: Any, cylinder_height: Any) -> MassProperties:
     m_cylinder = m * cylinder_volume / (cylinder_volume + caps_volume)
     m_caps = m - m_cylinder
     axial = m_cylinder * r * r / 2 + 2 * m_caps * r * r / 5
-    transverse = (m_cylinder * (3 * r * r + h * h) / 12
-                  + m_caps * (2 * r * r / 5 + h * h / 4 + 3 * h * r / 8))
+    transverse = m_cylinder * (3 * r * r + h * h) / 12 + m_caps * (
+        2 * r * r / 5 + h * h / 4 + 3 * h * r / 8
+    )
     return _body(m, transverse, transverse, axial)
 
 

@@ -17,24 +17,24 @@ from numpy.typing import NDArray
 
 from tumble.errors import InputError
 
-__all__ = ["DIMENSIONS", "length_scale", "to_si", "ureg", "vector_to_si"]
+__all__ = ["SI_UNITS", "length_scale", "to_si", "ureg", "vector_to_si"]
 
 #: The registry every quantity in tumble belongs to.
-ureg = pint.UnitRegistry()
+ureg: pint.UnitRegistry = pint.UnitRegistry()
 
-#: Physical kinds of value: the pint dimensionality and the SI unit shown in messages.
-DIMENSIONS: dict[str, tuple[str, str]] = {
-    "mass": ("[mass]", "kg"),
-    "length": ("[length]", "m"),
-    "angle": ("", "rad"),
-    "angular_velocity": ("1/[time]", "rad/s"),
-    "angular_acceleration": ("1/[time]**2", "rad/s^2"),
-    "time": ("[time]", "s"),
-    "density": ("[mass]/[length]**3", "kg/m^3"),
-    "inertia": ("[mass]*[length]**2", "kg*m^2"),
-    "torque": ("[mass]*[length]**2/[time]**2", "N*m"),
-    "acceleration": ("[length]/[time]**2", "m/s^2"),
-    "dimensionless": ("", ""),
+#: Physical kinds of value and the SI unit each is converted to (and shown in messages).
+SI_UNITS: dict[str, str] = {
+    "mass": "kg",
+    "length": "m",
+    "angle": "rad",
+    "angular_velocity": "rad/s",
+    "angular_acceleration": "rad/s^2",
+    "time": "s",
+    "density": "kg/m^3",
+    "inertia": "kg*m^2",
+    "torque": "N*m",
+    "acceleration": "m/s^2",
+    "dimensionless": "",
 }
 
 
@@ -42,10 +42,12 @@ def _parse(value: Any, name: str) -> Any:
     """Turn a string into a pint quantity; leave other values alone."""
     if isinstance(value, str):
         try:
-            quantity = ureg.Quantity(value)
+            quantity: Any = ureg.Quantity(value)
         except (pint.errors.PintError, AttributeError, TypeError, ValueError, SyntaxError) as exc:
-            raise InputError(f"Expected `{name}` to be a number or a quantity such as "
-                             f"'250 g', got {value!r} ({exc}).") from None
+            raise InputError(
+                f"Expected `{name}` to be a number or a quantity such as "
+                f"'250 g', got {value!r} ({exc})."
+            ) from None
         # A bare number in a string ("0.25") is SI, like a bare float.
         return quantity.magnitude if quantity.unitless else quantity
     return value
@@ -53,14 +55,16 @@ def _parse(value: Any, name: str) -> Any:
 
 def _quantity_to_si(value: Any, kind: str, name: str) -> Any:
     """Magnitude of a pint quantity in SI units of ``kind``; checks the dimensions."""
-    dimensionality, si_unit = DIMENSIONS[kind]
+    si_unit = SI_UNITS[kind]
     expected = ureg.Quantity(1, si_unit) if si_unit else ureg.Quantity(1)
     if value.dimensionality != expected.dimensionality:
         shown = f"{value:~P}" if np.ndim(value.magnitude) == 0 else str(value)
         what = kind.replace("_", " ")
         unit = f" in {si_unit}" if si_unit else ""
-        raise InputError(f"Expected `{name}` to be {_article(what)} {what}{unit}, got {shown} "
-                         f"(dimensions {value.dimensionality or 'dimensionless'}).")
+        raise InputError(
+            f"Expected `{name}` to be {_article(what)} {what}{unit}, got {shown} "
+            f"(dimensions {value.dimensionality or 'dimensionless'})."
+        )
     return value.to(si_unit).magnitude if si_unit else value.to("").magnitude
 
 
@@ -74,7 +78,7 @@ def to_si(value: Any, kind: str, name: str) -> float:
     Parameters
     ----------
     value : number (taken as SI), pint quantity, or string such as ``"250 g"``.
-    kind : a key of :data:`DIMENSIONS` ("mass", "length", "angle", ...).
+    kind : a key of :data:`SI_UNITS` ("mass", "length", "angle", ...).
     name : the argument's name, used in error messages.
 
     Raises
@@ -91,14 +95,17 @@ def to_si(value: Any, kind: str, name: str) -> float:
     try:
         result = float(value)
     except (TypeError, ValueError):
-        raise InputError(f"Expected `{name}` to be a number or a quantity such as '250 g', "
-                         f"got {value!r}.") from None
+        raise InputError(
+            f"Expected `{name}` to be a number or a quantity such as '250 g', got {value!r}."
+        ) from None
     if not math.isfinite(result):
         raise InputError(f"Expected `{name}` to be finite, got {result}.")
     return result
 
 
-def vector_to_si(value: Any, kind: str, name: str, shape: tuple[int, ...] = (3,)) -> NDArray[np.float64]:
+def vector_to_si(
+    value: Any, kind: str, name: str, shape: tuple[int, ...] = (3,)
+) -> NDArray[np.float64]:
     """Convert an array-like of quantities to an SI float64 array of a given shape.
 
     Accepts a numpy array or sequence of numbers (SI), a pint quantity array,
@@ -116,14 +123,18 @@ def vector_to_si(value: Any, kind: str, name: str, shape: tuple[int, ...] = (3,)
         array = np.asarray(_quantity_to_si(value, kind, name), dtype=float)
     elif isinstance(value, np.ndarray) and value.dtype != object:
         array = np.asarray(value, dtype=float)
-    elif isinstance(value, Sequence) or isinstance(value, np.ndarray):
+    elif isinstance(value, Sequence | np.ndarray):
         array = _nested_to_si(value, kind, name)
     else:
-        raise InputError(f"Expected `{name}` to be an array of shape {_shape_text(shape)}, "
-                         f"got {value!r}.")
-    if array.ndim != len(shape) or any(s != -1 and s != a for s, a in zip(shape, array.shape, strict=True)):
-        raise InputError(f"Expected `{name}` to have shape {_shape_text(shape)}, "
-                         f"got {array.shape}.")
+        raise InputError(
+            f"Expected `{name}` to be an array of shape {_shape_text(shape)}, got {value!r}."
+        )
+    if array.ndim != len(shape) or any(
+        s != -1 and s != a for s, a in zip(shape, array.shape, strict=True)
+    ):
+        raise InputError(
+            f"Expected `{name}` to have shape {_shape_text(shape)}, got {array.shape}."
+        )
     if not np.all(np.isfinite(array)):
         raise InputError(f"Expected `{name}` to be finite, got {array.tolist()}.")
     return array
@@ -131,6 +142,10 @@ def vector_to_si(value: Any, kind: str, name: str, shape: tuple[int, ...] = (3,)
 
 def _nested_to_si(value: Any, kind: str, name: str) -> NDArray[np.float64]:
     """Element-wise conversion of nested sequences that may mix numbers and quantities."""
+    if isinstance(value, str) and "," in value:  # a row written as one string: "1, 2, 3 mm"
+        value = _parse_vector_string(value, name)
+        if isinstance(value, pint.Quantity):
+            return np.asarray(_quantity_to_si(value, kind, name), dtype=float)
     if isinstance(value, Sequence | np.ndarray) and not isinstance(value, str):
         items = [_nested_to_si(v, kind, name) for v in value]
         if len({item.shape for item in items}) > 1:
@@ -143,22 +158,29 @@ def _parse_vector_string(text: str, name: str) -> Any:
     """Parse ``"1, 2, 3 mm"`` or ``"1 mm, 2 mm, 3 mm"`` or ``"(1, 2, 3)"``."""
     parts = [p.strip() for p in text.strip().strip("()[]").split(",")]
     if len(parts) < 2:
-        raise InputError(f"Expected `{name}` to be comma-separated values such as "
-                         f"'10, 20, 30 mm', got {text!r}.")
+        raise InputError(
+            f"Expected `{name}` to be comma-separated values such as '10, 20, 30 mm', got {text!r}."
+        )
     # A unit written once, after the last number, applies to all of them.
     last = _parse(parts[-1], name)
     head = [_parse(p, name) for p in parts[:-1]]
     if isinstance(last, pint.Quantity) and not any(isinstance(h, pint.Quantity) for h in head):
         try:
-            return ureg.Quantity(np.array([float(h) for h in head] + [float(last.magnitude)]),
-                                 last.units)
+            return ureg.Quantity(
+                np.array([float(h) for h in head] + [float(last.magnitude)]), last.units
+            )
         except (TypeError, ValueError):
             pass
     return [*head, last]
 
 
 def _shape_text(shape: tuple[int, ...]) -> str:
-    return "(" + ", ".join("n" if s == -1 else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+    return (
+        "("
+        + ", ".join("n" if s == -1 else str(s) for s in shape)
+        + ("," if len(shape) == 1 else "")
+        + ")"
+    )
 
 
 def length_scale(units: Any, name: str = "units") -> float:
@@ -175,8 +197,9 @@ def length_scale(units: Any, name: str = "units") -> float:
         except (pint.errors.PintError, AttributeError, TypeError, ValueError):
             quantity = None
         if quantity is None:
-            raise InputError(f"Expected `{name}` to be a length unit such as 'mm' or 'inch', "
-                             f"got {units!r}.")
+            raise InputError(
+                f"Expected `{name}` to be a length unit such as 'mm' or 'inch', got {units!r}."
+            )
         scale = to_si(quantity, "length", name)
     else:
         scale = to_si(units, "length", name)

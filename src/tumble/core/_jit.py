@@ -14,15 +14,18 @@ from __future__ import annotations
 
 import os
 from functools import partial
+from typing import Any
 
 import numba
 
 CACHE = os.environ.get("TUMBLE_NUMBA_CACHE", "1").strip().lower() not in {"0", "false", "no", "off"}
 
 #: Serial kernels: no fastmath, so IEEE semantics (NaN, inf, summation order) hold.
-njit = partial(numba.njit, cache=CACHE, nogil=True, error_model="numpy")
+njit: Any = partial(numba.njit, cache=CACHE, nogil=True, error_model="numpy")
 
 #: Kernels that split their outer loop across threads with ``numba.prange``.
-njit_parallel = partial(numba.njit, cache=CACHE, nogil=True, error_model="numpy", parallel=True)
+njit_parallel: Any = partial(
+    numba.njit, cache=CACHE, nogil=True, error_model="numpy", parallel=True
+)
 
-prange = numba.prange
+prange: Any = numba.prange

@@ -1,0 +1,111 @@
+"""Units at the public edge: conversions against known factors, and every error message."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import tumble as tb
+from tumble.units import length_scale, to_si, ureg, vector_to_si
+
+
+@pytest.mark.parametrize(
+    ("value", "kind", "expected"),
+    [
+        ("250 g", "mass", 0.25),
+        ("3 cm", "length", 0.03),
+        ("1 inch", "length", 0.0254),  # exact by definition
+        ("3000 rpm", "angular_velocity", 3000 * 2 * math.pi / 60),
+        ("30 deg", "angle", math.pi / 6),
+        ("2700 kg/m^3", "density", 2700.0),
+        ("2.7 g/cm^3", "density", 2700.0),
+        ("5 g*cm^2", "inertia", 5e-7),
+        ("0.5", "mass", 0.5),  # a bare number is SI
+        (2, "time", 2.0),
+        (ureg.Quantity(2, "ms"), "time", 0.002),
+    ],
+)
+def test_to_si_converts(value: object, kind: str, expected: float) -> None:
+    assert to_si(value, kind, "x") == pytest.approx(expected, rel=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("value", "kind", "message"),
+    [
+        ("3 cm", "mass", r"Expected `x` to be a mass in kg, got 3 cm \(dimensions \[length\]\)"),
+        ("3 kg", "angular_velocity", r"Expected `x` to be an angular velocity in rad/s, got 3 kg"),
+        ("2 m", "angle", r"Expected `x` to be an angle in rad, got 2 m"),
+        (
+            "foo bar",
+            "mass",
+            r"Expected `x` to be a number or a quantity such as '250 g', got 'foo bar'",
+        ),
+        ("nan", "mass", r"Expected `x` to be finite, got nan"),
+        (float("inf"), "mass", r"Expected `x` to be finite, got inf"),
+        ([1, 2], "mass", r"Expected `x` to be a scalar, got \[1, 2\]"),
+        (True, "mass", r"Expected `x` to be a scalar, got True"),
+        (None, "mass", r"Expected `x` to be a number or a quantity such as '250 g', got None"),
+    ],
+)
+def test_to_si_errors(value: object, kind: str, message: str) -> None:
+    with pytest.raises(tb.InputError, match=message):
+        to_si(value, kind, "x")
+
+
+@pytest.mark.parametrize(
+    "value",
+    [
+        "10, 20, 30 cm",
+        "10 cm, 20 cm, 300 mm",
+        "(0.1, 0.2, 0.3)",
+        ["10 cm", 0.2, "30 cm"],
+        ureg.Quantity(np.array([10.0, 20.0, 30.0]), "cm"),
+        np.array([0.1, 0.2, 0.3]),
+    ],
+)
+def test_vector_to_si_forms(value: object) -> None:
+    assert_allclose(vector_to_si(value, "length", "size"), [0.1, 0.2, 0.3], rtol=1e-15)
+
+
+def test_vector_to_si_matrix_rows_as_strings() -> None:
+    got = vector_to_si(["1, 2, 3 mm", "4, 5, 6 mm"], "length", "p", (-1, 3))
+    assert_allclose(got, [[1e-3, 2e-3, 3e-3], [4e-3, 5e-3, 6e-3]], rtol=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("value", "shape", "message"),
+    [
+        ([1.0, 2.0], (3,), r"Expected `v` to have shape \(3,\), got \(2,\)"),
+        ([[1.0, 2.0], [3.0]], (3,), r"Expected `v` to be a rectangular array"),
+        ("1 kg, 2, 3", (3,), r"Expected `v` to be a length in m, got 1 kg"),
+        ([1.0, float("inf"), 2.0], (3,), r"Expected `v` to be finite"),
+        (np.array([1.0, np.nan, 2.0]), (3,), r"Expected `v` to be finite"),
+        (
+            "12",
+            (3,),
+            r"Expected `v` to be comma-separated values such as '10, 20, 30 mm', got '12'",
+        ),
+        (5.0, (3,), r"Expected `v` to be an array of shape \(3,\), got 5.0"),
+        (np.zeros((2, 2)), (-1, 3), r"Expected `v` to have shape \(n, 3\), got \(2, 2\)"),
+    ],
+)
+def test_vector_to_si_errors(value: object, shape: tuple[int, ...], message: str) -> None:
+    with pytest.raises(tb.InputError, match=message):
+        vector_to_si(value, "length", "v", shape)
+
+
+def test_length_scale() -> None:
+    assert length_scale("mm") == pytest.approx(1e-3, rel=1e-15)
+    assert length_scale("inch") == pytest.approx(0.0254, rel=1e-15)
+    with pytest.raises(tb.InputError, match=r"Expected `units` to be a length in m, got 1 kg"):
+        length_scale("kg")
+    with pytest.raises(
+        tb.InputError,
+        match=r"Expected `units` to be a length unit such as 'mm' or 'inch', got 'furlongz'",
+    ):
+        length_scale("furlongz")
+    with pytest.raises(tb.InputError, match=r"Expected `units` to be a positive length unit, got"):
+        length_scale(ureg.Quantity(-1, "mm"))
