@@ -33,9 +33,12 @@ from tumble.units import length_scale, to_si
 
 __all__ = ["MeshOrientationWarning", "from_mesh"]
 
-#: A mesh whose |volume| is below this fraction of its bounding box's volume
-#: is taken as flat (zero volume).
-ZERO_VOLUME_FRACTION = 1e-12
+#: A mesh whose |volume| is below this fraction of (surface area × largest
+#: extent) encloses nothing: the volume of a flat or self-cancelling surface is
+#: round-off, at most about 1e-16 · √n_triangles of that product. A plate of
+#: thickness t has a ratio t / (2 · length), so only plates thinner than a
+#: billionth of their length are refused.
+ZERO_VOLUME_FRACTION = 1e-9
 
 
 class MeshOrientationWarning(UserWarning):
@@ -112,6 +115,10 @@ def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64]]:
             # process=False: keep the file's triangles as they are; merging and
             # the checks below are ours, so that errors can say what is wrong.
             loaded = trimesh.load_mesh(path, process=False)
+        except ImportError as exc:
+            raise InputError(
+                f"Reading {str(path)!r} needs a package that is not installed: {exc}."
+            ) from None
         except Exception as exc:  # trimesh raises many types for unreadable files
             raise InputError(
                 f"Expected `mesh` to be a readable mesh file (STL, OBJ, PLY, GLB, ...), "
@@ -143,9 +150,9 @@ def mesh_mass_properties(
     vertices, faces = _checked_topology(vertices, faces, label)
     reference = vertices.mean(axis=0)  # near the solid, so the sums do not cancel
     integrals = mesh_integrals(vertices, faces, reference)
-    volume = integrals[0]
-    extent = np.ptp(vertices, axis=0)
-    if abs(volume) <= ZERO_VOLUME_FRACTION * float(np.prod(extent)) or volume == 0:
+    volume, area = integrals[0], integrals[10]
+    size = float(np.ptp(vertices, axis=0).max())
+    if abs(volume) <= ZERO_VOLUME_FRACTION * area * size:
         raise MeshError(
             f"Expected {label} to enclose a volume, got a signed volume of "
             f"{volume:.3g} m³ (flat or self-cancelling)."
@@ -160,7 +167,7 @@ def mesh_mass_properties(
         integrals = -integrals
         volume = -volume
     first = integrals[1:4]
-    sxx, syy, szz, sxy, sxz, syz = integrals[4:]
+    sxx, syy, szz, sxy, sxz, syz = integrals[4:10]
     centroid = first / volume  # relative to the reference point
     # Second moments about the centroid: ∫ x xᵀ dV − V c cᵀ.
     second = np.array([[sxx, sxy, sxz], [sxy, syy, syz], [sxz, syz, szz]]) - volume * np.outer(
@@ -175,8 +182,10 @@ def _checked_topology(
     vertices: NDArray[np.float64], faces: NDArray[np.int64], label: str
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Merge duplicate vertices, drop zero-area triangles, check the mesh is closed and oriented."""
-    if faces.ndim != 2 or faces.shape[1] != 3 or faces.shape[0] == 0:
+    if faces.ndim != 2 or faces.shape[1] != 3:
         raise MeshError(f"Expected {label} to have triangles, got faces of shape {faces.shape}.")
+    if faces.shape[0] == 0:
+        raise MeshError(f"Expected {label} to have triangles, got none (is it a mesh file?).")
     if vertices.ndim != 2 or vertices.shape[1] != 3:
         raise MeshError(f"Expected {label} vertices of shape (n, 3), got {vertices.shape}.")
     if faces.min() < 0 or faces.max() >= vertices.shape[0]:
