@@ -959,3 +959,21 @@ def test_a_missing_reader_package_is_named(tmp_path, monkeypatch):
     monkeypatch.setattr(trimesh, "load_mesh", needs_a_package)
     with pytest.raises(InputError, match=r"needs a package that is not installed: No module named 'some_reader'"):
         tumble.from_mesh(path, density=1.0)
+
+
+def test_a_hash_collision_falls_back_to_the_exact_merge(monkeypatch):
+    # Vertices are merged by a hash of their bits; if two different points ever
+    # shared a hash, the merge must notice and fall back to np.unique(axis=0).
+    import tumble.mesh as mesh_module
+
+    real = mesh_module.merge_by_key
+
+    def colliding(points, keys, order):
+        unique, inverse, _ = real(points, keys, order)
+        return unique, inverse, False
+
+    mesh = trimesh.creation.icosphere(subdivisions=2)
+    expected = tumble.from_mesh(mesh, density=1.0)
+    monkeypatch.setattr(mesh_module, "merge_by_key", colliding)
+    got = tumble.from_mesh(mesh, density=1.0)
+    np.testing.assert_allclose(got.inertia, expected.inertia, rtol=1e-13, atol=1e-16)
