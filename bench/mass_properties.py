@@ -85,10 +85,10 @@ DEFAULT_REPEAT: dict[str, int] = {"10k": 7, "100k": 7, "1M": 7, "4M": 5}
 THREAD_SETTINGS = ("NUMBA_NUM_THREADS", "NUMBA_THREADING_LAYER", "OMP_NUM_THREADS",
                    "OMP_WAIT_POLICY", "GOMP_SPINCOUNT", "OPENBLAS_NUM_THREADS")
 
-#: Accuracy target of the issue: results equal to this relative difference.
+#: Accuracy target: results equal to this relative difference.
 TARGET_RELATIVE = 1e-10
 
-#: Speed target of the issue, trimesh time over tumble time at 1M triangles.
+#: Speed target: trimesh time over tumble time at 1M triangles.
 TARGET_SPEEDUP = 3.0
 
 
