@@ -18,4 +18,10 @@ settings.register_profile(
     derandomize=True,
     suppress_health_check=[HealthCheck.too_slow],
 )
-settings.load_profile("ci" if os.environ.get("CI") else "default")
+# A long search for counter-examples, run by hand: TUMBLE_HYPOTHESIS=stress pytest
+settings.register_profile(
+    "stress", deadline=None, max_examples=3000, suppress_health_check=[HealthCheck.too_slow]
+)
+settings.load_profile(
+    os.environ.get("TUMBLE_HYPOTHESIS") or ("ci" if os.environ.get("CI") else "default")
+)

@@ -87,7 +87,8 @@ class MassProperties:
             )
         tensor = 0.5 * (tensor + tensor.T)
         moments = np.linalg.eigvalsh(tensor)
-        tolerance = PHYSICAL_TOLERANCE * max(float(np.trace(tensor)), 0.0)
+        # The floor `tiny` admits subnormal round-off when the tensor is (near) zero.
+        tolerance = PHYSICAL_TOLERANCE * max(float(np.trace(tensor)), 0.0) + np.finfo(float).tiny
         if moments[0] < -tolerance:
             raise InputError(
                 f"Expected the principal moments of `inertia` to be >= 0, got "
@@ -135,7 +136,8 @@ class MassProperties:
         -----
         Eigenvectors are fixed by a rule, so the result is reproducible and
         continuous in the inertia away from repeated moments: each distinct axis
-        points so that its largest component is positive; within a plane of
+        points so that its largest component is positive (the first of those
+        within 1e-9 of the largest, if several); within a plane of
         repeated moments the first axis is the projection of the body axis
         (x, then y, then z) that lies most in that plane; with three equal moments
         the axes are the body axes; the last axis completes a right-handed frame.
@@ -245,8 +247,7 @@ def principal_decomposition(inertia: Array) -> tuple[Array, Array]:
         moments[group] = moments[group].mean()
         if len(group) == 1:
             (k,) = group
-            v = vectors[:, k]
-            axes[:, k] = v if v[np.argmax(np.abs(v))] > 0 else -v
+            axes[:, k] = _signed(vectors[:, k])
         elif len(group) == 3:
             axes = np.eye(3)
         else:
@@ -265,6 +266,17 @@ def principal_decomposition(inertia: Array) -> tuple[Array, Array]:
         axes[:, free] = np.cross(axes[:, i], axes[:, j])
         axes[:, free] /= np.linalg.norm(axes[:, free])
     return moments, axes
+
+
+def _signed(vector: Array) -> Array:
+    """The vector or its opposite, whichever has its largest component positive.
+
+    Components within 1e-9 of the largest count as tied, and the first of them
+    decides, so round-off cannot flip the sign of an axis like (1, -1, 0)/√2.
+    """
+    magnitudes = np.abs(vector)
+    k = int(np.flatnonzero(magnitudes >= magnitudes.max() - 1e-9)[0])
+    return vector if vector[k] > 0 else -vector
 
 
 def point_masses(masses: Any, positions: Any) -> MassProperties:
