@@ -28,7 +28,9 @@ def test_core_imports_only_numpy_and_numba() -> None:
             for name in names:
                 seen.setdefault(name, set()).add(path.name)
     outside = {n for n in seen if n.split(".")[0] not in ALLOWED}
-    inside_tumble = {n for n in seen if n.split(".")[0] == "tumble" and not n.startswith("tumble.core")}
+    inside_tumble = {
+        n for n in seen if n.split(".")[0] == "tumble" and not n.startswith("tumble.core")
+    }
     assert not outside, f"tumble.core imports {outside}"
     assert not inside_tumble, f"tumble.core imports the outer package: {inside_tumble}"
     assert "numba" in seen  # the scan does see the kernels' imports

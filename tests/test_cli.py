@@ -131,27 +131,69 @@ def test_version() -> None:
     assert out.startswith("tumble ")
 
 
-def test_installed_script_exits_2_without_traceback() -> None:
-    # The real entry point, in a fresh process: one line on stderr, no traceback.
-    result = subprocess.run(
-        [
-            sys.executable,
-            "-c",
-            "from tumble.cli import main; main()",
-            "inertia",
-            "torus",
-            "--mass",
-            "1",
-            "--major-radius",
-            "1",
-            "--minor-radius",
-            "2",
-        ],
+def script(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
+    """The real entry point in a fresh process, as a user's shell runs it."""
+    return subprocess.run(
+        [sys.executable, "-c", "from tumble.cli import main; main()", *args],
         capture_output=True,
         text=True,
         check=False,
+        cwd=cwd,
     )
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (
+            ["inertia", "torus", "--mass", "1", "--major-radius", "1", "--minor-radius", "2"],
+            r"^error: Expected `minor_radius` <= `major_radius` = 1.0 m",
+        ),
+        (
+            ["inertia", "box", "--mass", "1", "--foo", "3"],
+            r"^error: No such option: --foo \(see: tumble inertia --help\)$",
+        ),
+        (
+            ["inertia"],
+            r"^error: Missing argument 'SHAPE-or-MESH'\. \(see: tumble inertia --help\)$",
+        ),
+        (["frobnicate"], r"^error: No such command 'frobnicate'\.$"),
+        (
+            ["inertia", ".", "--density", "1"],
+            r"^error: Expected `mesh` to be a mesh file, got '\.' \(a directory\)\.$",
+        ),
+        (["inertia", "box", "--mass", "9**9**9 g", "--size", "1,2,3"], r"runaway power"),
+    ],
+)
+def test_script_errors_are_one_line_exit_2_without_traceback(args: list[str], message: str) -> None:
+    result = script(*args)
     assert result.returncode == 2
-    assert result.stderr.count("\n") == 1
+    assert result.stdout == ""
+    assert result.stderr.count("\n") == 1, result.stderr
     assert "Traceback" not in result.stderr
-    assert "minor_radius" in result.stderr
+    assert re.search(message, result.stderr.strip()), result.stderr
+
+
+def test_script_without_arguments_shows_help() -> None:
+    result = script()
+    assert result.returncode == 0
+    assert "inertia" in result.stdout
+
+
+def test_script_warnings_are_one_line(tmp_path: Path) -> None:
+    import trimesh
+
+    cube = trimesh.creation.box()
+    cube.invert()  # inside out: tumble reverses it and says so
+    cube.export(tmp_path / "inverted.stl")
+    result = script("inertia", str(tmp_path / "inverted.stl"), "--density", "1000", "--json")
+    assert result.returncode == 0
+    assert json.loads(result.stdout)["mass"] == pytest.approx(1000.0, rel=1e-12)
+    assert result.stderr.count("\n") == 1
+    assert result.stderr.startswith("warning: mesh ") and "is inside out" in result.stderr
+
+
+def test_json_names_the_shape_as_typed() -> None:
+    code, out, _ = run("inertia", "solid_sphere", "--mass", "1", "--radius", "1", "--json")
+    assert code == 0
+    assert json.loads(out)["body"] == "solid-sphere"

@@ -180,7 +180,7 @@ def test_required_torque_is_the_rate_of_change_of_space_angular_momentum() -> No
         ),
         (
             lambda mp: tb.angular_momentum(mp, [1, 2, 3], about=[0, 0]),
-            r"Expected `point` to have shape \(3,\)",
+            r"Expected `about` to have shape \(3,\)",
         ),
     ],
 )
@@ -188,3 +188,12 @@ def test_kinematics_reject_bad_input(call: object, message: str) -> None:
     mp = tb.shapes.box(1.0, (1, 2, 3))
     with pytest.raises(tb.InputError, match=message):
         call(mp)  # type: ignore[operator]
+
+
+def test_stacks_of_different_lengths_are_an_error() -> None:
+    mp = tb.shapes.box(1.0, (1, 2, 3))
+    with pytest.raises(
+        tb.InputError,
+        match=r"Expected `omega_dot` to have the shape of `omega` \(2, 3\) \(or \(3,\)\), got \(3, 3\)",
+    ):
+        tb.required_torque(mp, np.ones((2, 3)), np.zeros((3, 3)))

@@ -35,7 +35,9 @@ def test_readme_quotes_the_right_numbers() -> None:
     import tumble as tb
 
     cone = tb.shapes.solid_cone(0.25, 0.03, 0.08)
-    assert cone.inertia.diagonal().tolist() == pytest.approx([9.375e-05, 9.375e-05, 6.75e-05], rel=1e-12)
+    assert cone.inertia.diagonal().tolist() == pytest.approx(
+        [9.375e-05, 9.375e-05, 6.75e-05], rel=1e-12
+    )
     bracket = tb.from_mesh(ROOT / "examples/l_bracket.stl", density=2700, units="mm")
     # 22 080 mm³ of aluminium (the L profile's area 60·8 + 8·32 = 736 mm² × 30 mm).
     assert bracket.mass == pytest.approx(2700 * 736 * 30e-9, rel=1e-12)

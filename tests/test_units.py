@@ -109,3 +109,58 @@ def test_length_scale() -> None:
         length_scale("furlongz")
     with pytest.raises(tb.InputError, match=r"Expected `units` to be a positive length unit, got"):
         length_scale(ureg.Quantity(-1, "mm"))
+
+
+@pytest.mark.parametrize(
+    ("value", "kind", "message"),
+    [
+        ("250 percent", "mass", r"Expected `x` to be a mass in kg, got 250 %"),
+        ("50 cm/m", "length", r"Expected `x` to be a length in m, got 50.0 cm/m"),
+        (
+            "1 Hz",
+            "angular_velocity",
+            r"hertz is ambiguous for an angular velocity: write '1 turn/s'",
+        ),
+        ("1 g / 0", "mass", r"got '1 g / 0' \(ZeroDivisionError"),
+        ("(1 g", "mass", r"got '\(1 g' \(TokenError"),
+        ("10**400 g", "mass", r"got '10\*\*400 g' \(too long or a runaway power\)"),
+        ("9**9**9 g", "mass", r"\(too long or a runaway power\)"),
+        ("1" * 300, "mass", r"got '1{60}'\.\.\. \(too long or a runaway power\)"),
+        (
+            np.complex128(1 + 5j),
+            "mass",
+            r"Expected `x` to be a real number, got np.complex128\(1\+5j\)",
+        ),
+        (np.True_, "mass", r"Expected `x` to be a scalar, got np.True_"),
+    ],
+)
+def test_to_si_refuses_what_it_would_misread(value: object, kind: str, message: str) -> None:
+    with pytest.raises(tb.InputError, match=message):
+        to_si(value, kind, "x")
+
+
+def test_turns_per_second_are_two_pi_radians_per_second() -> None:
+    assert to_si("2 turn/s", "angular_velocity", "w") == pytest.approx(4 * math.pi, rel=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (
+            "10, 20 cm, 30 cm",
+            r"Expected `v` to have a unit on every value or one unit after the last, got '10, 20 cm, 30 cm'",
+        ),
+        ("10 cm, 20, 30 mm", r"a unit on every value or one unit after the last"),
+        (
+            np.array([1 + 5j, 0, 0]),
+            r"Expected `v` to hold real numbers, got an array of dtype complex128",
+        ),
+        (
+            np.array([True, False, True]),
+            r"Expected `v` to hold real numbers, got an array of dtype bool",
+        ),
+    ],
+)
+def test_vector_to_si_refuses_what_it_would_misread(value: object, message: str) -> None:
+    with pytest.raises(tb.InputError, match=message):
+        vector_to_si(value, "length", "v")

@@ -13,18 +13,35 @@ proper rotation matrix.
 
 from __future__ import annotations
 
+import importlib
 from importlib.metadata import PackageNotFoundError, version
+from typing import TYPE_CHECKING, Any
 
-from tumble import shapes
 from tumble.errors import InputError, MeshError
-from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
-from tumble.massprops import MassProperties, point_masses
-from tumble.mesh import MeshOrientationWarning, from_mesh
+
+if TYPE_CHECKING:
+    from tumble import shapes, units
+    from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
+    from tumble.massprops import MassProperties, point_masses
+    from tumble.mesh import MeshOrientationWarning, from_mesh
 
 try:
     __version__ = version("tumble")
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0+unknown"
+
+# Public names load on first use, so `import tumble` (and `tumble --help`) does
+# not pay for pint's registry or numba until they are needed.
+_WHERE = {
+    "MassProperties": "tumble.massprops",
+    "point_masses": "tumble.massprops",
+    "from_mesh": "tumble.mesh",
+    "MeshOrientationWarning": "tumble.mesh",
+    "angular_momentum": "tumble.kinematics",
+    "kinetic_energy": "tumble.kinematics",
+    "required_torque": "tumble.kinematics",
+}
+_SUBMODULES = {"shapes", "units"}
 
 __all__ = [
     "InputError",
@@ -38,4 +55,20 @@ __all__ = [
     "point_masses",
     "required_torque",
     "shapes",
+    "units",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _SUBMODULES:
+        value: Any = importlib.import_module(f"tumble.{name}")
+    elif name in _WHERE:
+        value = getattr(importlib.import_module(_WHERE[name]), name)
+    else:
+        raise AttributeError(f"module 'tumble' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

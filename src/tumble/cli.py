@@ -23,12 +23,13 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    rich_markup_mode=None,
 )
 
 #: Exit code for errors in what the user asked for (bad values, missing files).
 USER_ERROR = 2
 
-MESH_SUFFIXES = {".stl", ".obj", ".ply", ".glb", ".gltf", ".off", ".3mf", ".dae"}
+MESH_SUFFIXES = {".stl", ".obj", ".ply", ".glb", ".gltf", ".off"}
 
 
 class _State:
@@ -142,16 +143,23 @@ def inertia(
 
 
 def _run(work: Any) -> None:
-    """Run a command body, turning user errors into one line and exit code 2."""
+    """Run a command body: user errors become one line and exit code 2, warnings one line each."""
+    import warnings
+
     from tumble.errors import InputError
 
-    try:
-        work()
-    except InputError as exc:
-        if _State.debug:
-            raise
-        typer.echo(f"error: {exc}", err=True)
-        raise typer.Exit(USER_ERROR) from None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            work()
+        except InputError as exc:
+            if _State.debug:
+                raise
+            typer.echo(f"error: {exc}", err=True)
+            raise typer.Exit(USER_ERROR) from None
+        finally:
+            for warning in caught:
+                typer.echo(f"warning: {warning.message}", err=True)
 
 
 def _option(name: str) -> str:
@@ -192,7 +200,7 @@ def _build_body(
             raise InputError(
                 f"Expected {_option(missing[0])} for {shape_name} (it takes {accepted})."
             )
-        return shape_name, function(mass, **dimensions)
+        return shape_name.replace("_", "-"), function(mass, **dimensions)
     path = Path(body)
     if path.suffix.lower() in MESH_SUFFIXES or path.exists():
         if dimensions:
@@ -287,7 +295,31 @@ def _vector_text(vector: Any) -> str:
     return "[" + ", ".join(f"{v:.6g}" for v in vector) + "]"
 
 
+def _click_exceptions() -> Any:
+    """The click exception classes typer raises: recent typer vendors its own click."""
+    try:
+        from typer._click import exceptions
+    except ImportError:  # typer that uses the click package
+        from click import exceptions  # type: ignore[no-redef]
+    return exceptions
+
+
 def main() -> None:
-    """Entry point of the ``tumble`` script."""
-    app(prog_name="tumble")
-    sys.exit(0)
+    """Entry point of the ``tumble`` script: usage errors, too, are one line and exit code 2."""
+    click = _click_exceptions()
+    try:
+        # Without standalone mode click returns the code of a typer.Exit instead of exiting.
+        code = app(prog_name="tumble", standalone_mode=False)
+    except click.NoArgsIsHelpError as exc:
+        typer.echo(exc.format_message())
+        sys.exit(0)
+    except click.UsageError as exc:
+        hint = f" (see: tumble {exc.ctx.info_name} --help)" if exc.ctx and exc.ctx.parent else ""
+        typer.echo(f"error: {exc.format_message()}{hint}", err=True)
+        sys.exit(USER_ERROR)
+    except typer.Exit as exc:
+        sys.exit(exc.exit_code)
+    except typer.Abort:
+        typer.echo("aborted", err=True)
+        sys.exit(130)
+    sys.exit(code if isinstance(code, int) else 0)

@@ -33,7 +33,9 @@ def _vectors(value: Any, kind: str, name: str) -> Array:
 def _inertia(mp: Any, about: Any) -> Array:
     if not isinstance(mp, MassProperties):
         raise InputError(f"Expected `mp` to be a MassProperties, got {type(mp).__name__}.")
-    return mp.inertia if about is None else mp.inertia_about(about)
+    if about is None:
+        return mp.inertia
+    return mp.inertia_about(vector_to_si(about, "length", "about", (3,)))
 
 
 def angular_momentum(mp: MassProperties, omega: Any, about: Any = None) -> Array:
@@ -81,5 +83,10 @@ def required_torque(mp: MassProperties, omega: Any, omega_dot: Any, about: Any =
     w = _vectors(omega, "angular_velocity", "omega")
     w_dot = _vectors(omega_dot, "angular_acceleration", "omega_dot")
     inertia = _inertia(mp, about)
+    if w.ndim == w_dot.ndim == 2 and w.shape != w_dot.shape:
+        raise InputError(
+            f"Expected `omega_dot` to have the shape of `omega` {w.shape} (or (3,)), "
+            f"got {w_dot.shape}."
+        )
     w, w_dot = np.broadcast_arrays(w, w_dot)
     return np.asarray(w_dot @ inertia.T + np.cross(w, w @ inertia.T))

@@ -12,7 +12,7 @@ Conventions (see the README):
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
@@ -69,7 +69,6 @@ class MassProperties:
     mass: float
     center_of_mass: Array
     inertia: Array
-    _principal: tuple[Array, Array] = field(init=False, repr=False, compare=False)
 
     def __init__(self, mass: Any, center_of_mass: Any, inertia: Any) -> None:
         mass_si = to_si(mass, "mass", "mass")
@@ -120,15 +119,23 @@ class MassProperties:
         """
         p = vector_to_si(point, "length", "point", (3,))
         d = p - self.center_of_mass
-        return np.asarray(self.inertia + self.mass * (d @ d * np.eye(3) - np.outer(d, d)))
+        with np.errstate(over="ignore", invalid="ignore"):
+            result = np.asarray(self.inertia + self.mass * (d @ d * np.eye(3) - np.outer(d, d)))
+        if not np.all(np.isfinite(result)):
+            raise InputError(
+                f"Expected `point` within float range of the centre of mass, got {p.tolist()} m "
+                f"(the inertia about it overflows)."
+            )
+        return result
 
     def principal(self) -> tuple[Array, Array]:
         """Principal moments and axes.
 
         Returns
         -------
-        moments : (3,) ascending, kg·m². Moments equal to within
-            ``REPEATED_MOMENT_TOLERANCE`` of the trace are returned exactly equal.
+        moments : (3,) ascending, kg·m², never negative (a round-off negative
+            is returned as 0). Moments equal to within ``REPEATED_MOMENT_TOLERANCE``
+            of the trace are returned exactly equal.
         axes : (3, 3) proper rotation matrix (det +1) whose columns are the
             principal axes in body coordinates: ``inertia = axes @ diag(moments) @ axes.T``.
 
@@ -177,6 +184,10 @@ class MassProperties:
             matrix @ self.center_of_mass + shift,
             matrix @ self.inertia @ matrix.T,
         )
+
+    def __reduce__(self) -> tuple[type[MassProperties], tuple[float, Array, Array]]:
+        # Rebuild through __init__ when unpickled, so arrays come back read-only.
+        return (MassProperties, (self.mass, self.center_of_mass, self.inertia))
 
     def __add__(self, other: object) -> MassProperties:
         """Assembly of two parts given in the same body coordinates."""
@@ -243,6 +254,8 @@ def principal_decomposition(inertia: Array) -> tuple[Array, Array]:
         else:
             groups.append([k])
     axes = np.zeros((3, 3))
+    # Within the validation tolerance a negative moment is round-off of a zero one.
+    moments = np.maximum(moments, 0.0)
     for group in groups:
         moments[group] = moments[group].mean()
         if len(group) == 1:

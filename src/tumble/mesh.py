@@ -7,13 +7,16 @@ which is exact for the polyhedron (Tonon 2004, via the divergence theorem).
 Before integrating, the mesh is checked, because the integrals of a mesh that
 does not bound a solid are meaningless rather than approximately right:
 
-* vertices with identical coordinates are merged (STL files repeat them) and
-  triangles that then have a repeated corner (zero area) are dropped;
+* vertices with bit-identical coordinates are merged (STL files repeat them)
+  and triangles that then have a repeated corner (zero area) are dropped;
+  vertices that differ by round-off are not merged, and show as holes;
 * every edge must be shared by exactly two triangles (watertight and manifold);
 * the two triangles of every edge must traverse it in opposite directions
   (consistent winding);
 * the signed volume must be non-zero; a negative one (an inside-out mesh, all
-  normals inward) is reversed with a :class:`MeshOrientationWarning`.
+  normals inward) is reversed with a :class:`MeshOrientationWarning`;
+* separate parts must all be wound the same way, except inward-wound cavities
+  nested inside a part; overlapping parts are added (their overlap counts twice).
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from tumble.core.topology import (
     count_nonfinite_rows,
     directed_edge_keys,
     edge_defects,
+    face_components,
     index_range,
     merge_by_key,
     renumber_faces,
@@ -45,8 +49,8 @@ __all__ = ["MeshOrientationWarning", "from_mesh"]
 #: A mesh whose |volume| is below this fraction of (surface area × largest
 #: extent) encloses nothing: the volume of a flat or self-cancelling surface is
 #: round-off, at most about 1e-16 · √n_triangles of that product. A plate of
-#: thickness t has a ratio t / (2 · length), so only plates thinner than a
-#: billionth of their length are refused.
+#: thickness t has a ratio t / (2 · length), so only plates thinner than
+#: 2e-9 of their length are refused.
 ZERO_VOLUME_FRACTION = 1e-9
 
 
@@ -68,7 +72,8 @@ def from_mesh(
         one of ``density`` and ``mass``.
     mass : total mass, kg (or e.g. ``"1.2 kg"``); the density follows from the volume.
     units : length unit of the mesh coordinates, e.g. ``"mm"`` for most CAD
-        files; default metres.
+        files. Default: the unit the file declares (glTF/GLB may), else metres;
+        given, it overrides what the file declares.
 
     Returns
     -------
@@ -95,7 +100,8 @@ def from_mesh(
             "Expected exactly one of `density` and `mass`, got "
             + ("both." if density is not None else "neither.")
         )
-    label, vertices, faces = _load(mesh)
+    label, vertices, faces, file_units = _load(mesh)
+    units = units if units is not None else file_units
     if units is not None:
         vertices = vertices * length_scale(units, "units")
     if density is not None:
@@ -109,17 +115,16 @@ def from_mesh(
     return mesh_mass_properties(vertices, faces, mass=total, label=label)
 
 
-def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64]]:
-    """Vertices and faces of a file or trimesh object, without any processing."""
+def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str | None]:
+    """Vertices, faces and declared length unit of a file or trimesh object, unprocessed."""
     import trimesh
 
     if isinstance(mesh, str | os.PathLike):
         path = Path(mesh)
         label = f"mesh {str(path)!r}"
         if not path.is_file():
-            raise InputError(
-                f"Expected `mesh` to be a mesh file, got {str(path)!r} (no such file)."
-            )
+            why = "a directory" if path.is_dir() else "no such file"
+            raise InputError(f"Expected `mesh` to be a mesh file, got {str(path)!r} ({why}).")
         try:
             # process=False: keep the file's triangles as they are; merging and
             # the checks below are ours, so that errors can say what is wrong.
@@ -143,7 +148,8 @@ def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64]]:
         )
     vertices = np.ascontiguousarray(loaded.vertices, dtype=float)
     faces = np.ascontiguousarray(loaded.faces, dtype=np.int64)
-    return label, vertices, faces
+    declared = getattr(loaded, "units", None)
+    return label, vertices, faces, (str(declared) if declared else None)
 
 
 def mesh_mass_properties(
@@ -157,19 +163,24 @@ def mesh_mass_properties(
     """Mass properties from SI arrays (``vertices`` (n, 3) m, ``faces`` (k, 3));
     exactly one of ``density`` (kg/m³) and ``mass`` (kg). See :func:`from_mesh`."""
     vertices, faces = _checked_topology(vertices, faces, label)
-    low, high, reference = bounds_and_mean(vertices)  # near the solid: sums do not cancel
-    integrals = mesh_integrals(vertices, faces, reference)
-    volume, area = integrals[0], integrals[10]
+    low, high, reference = bounds_and_mean(vertices)
     size = float(np.max(high - low))
-    if abs(volume) <= ZERO_VOLUME_FRACTION * area * size:
+    # Integrate in units of the mesh's own size about a point near it: the sums
+    # neither cancel (far from the origin) nor overflow or underflow (1e±100 m).
+    scaled = (vertices - reference) / size
+    origin = np.zeros(3)
+    integrals = mesh_integrals(scaled, faces, origin)
+    volume, area = integrals[0], integrals[10]
+    if abs(volume) <= ZERO_VOLUME_FRACTION * area:
         raise MeshError(
             f"Expected {label} to enclose a volume, got a signed volume of "
-            f"{volume:.3g} m³ (flat or self-cancelling)."
+            f"{volume * size**3:.3g} m³ (flat or self-cancelling)."
         )
+    _check_parts(scaled, faces, volume, label, size)
     if volume < 0:
         warnings.warn(
-            f"{label} is inside out (normals point inward, signed volume {volume:.6g} m³); "
-            "its winding was reversed.",
+            f"{label} is inside out (normals point inward, signed volume "
+            f"{volume * size**3:.6g} m³); its winding was reversed.",
             MeshOrientationWarning,
             stacklevel=3,
         )
@@ -177,14 +188,67 @@ def mesh_mass_properties(
         volume = -volume
     first = integrals[1:4]
     sxx, syy, szz, sxy, sxz, syz = integrals[4:10]
-    centroid = first / volume  # relative to the reference point
+    centroid = first / volume  # relative to the reference point, in units of `size`
     # Second moments about the centroid: ∫ x xᵀ dV − V c cᵀ.
-    second = np.array([[sxx, sxy, sxz], [sxy, syy, syz], [sxz, syz, szz]]) - volume * np.outer(
-        centroid, centroid
-    )
-    rho = density if density is not None else float(mass) / volume  # type: ignore[arg-type]
-    inertia = rho * (np.trace(second) * np.eye(3) - second)
-    return MassProperties(rho * volume, reference + centroid, inertia)
+    second = np.array([[sxx, sxy, sxz], [sxy, syy, syz], [sxz, syz, szz]])
+    second -= volume * np.outer(centroid, centroid)
+    if density is not None:
+        with np.errstate(over="ignore", under="ignore"):
+            total = float(density * volume * np.float64(size) ** 3)
+        if not 0 < total < np.inf:
+            raise InputError(
+                f"Expected the mass of {label} (density × volume) within float range, got "
+                f"{total!r} kg from {density!r} kg/m³ and {size:.3g} m across."
+            )
+    else:
+        total = float(mass)  # type: ignore[arg-type]
+    # Inertia per unit mass is (trace(C) E − C) / V in units of size²: no size³ or
+    # size⁵ factors that would overflow for huge meshes or vanish for tiny ones.
+    with np.errstate(over="ignore"):
+        inertia = total * size**2 * ((np.trace(second) * np.eye(3) - second) / volume)
+    return MassProperties(total, reference + size * centroid, inertia)
+
+
+def _check_parts(
+    scaled: NDArray[np.float64], faces: NDArray[np.int64], volume: float, label: str, size: float
+) -> None:
+    """Each separate part must be wound like the whole, unless it is a cavity.
+
+    An inside-out part among outward ones would otherwise be subtracted. A
+    part of the opposite sign is accepted as a cavity when its bounding box lies
+    inside the bounding box of a larger part of the whole's sign (an inner
+    shell wound inward); otherwise it is an error. Parts that overlap without
+    nesting are added as they are (their common volume counts twice).
+    """
+    n_parts, labels = face_components(faces, scaled.shape[0])
+    if n_parts == 1:
+        return
+    order = np.argsort(labels, kind="stable")
+    bounds = np.flatnonzero(np.diff(labels[order])) + 1
+    parts = np.split(order, bounds)
+    volumes = np.empty(n_parts)
+    boxes = np.empty((n_parts, 2, 3))
+    for k, part in enumerate(parts):
+        part_faces = np.ascontiguousarray(faces[part])
+        volumes[k] = mesh_integrals(scaled, part_faces, np.zeros(3))[0]
+        corners = scaled[np.unique(part_faces)]
+        boxes[k] = corners.min(axis=0), corners.max(axis=0)
+    sign = np.sign(volume)
+    for k in (int(k) for k in np.flatnonzero(np.sign(volumes) != sign)):
+        inside = [
+            j
+            for j in np.flatnonzero(np.sign(volumes) == sign)
+            if abs(volumes[j]) > abs(volumes[k])
+            and np.all(boxes[j, 0] <= boxes[k, 0])
+            and np.all(boxes[k, 1] <= boxes[j, 1])
+        ]
+        if not inside:
+            raise MeshError(
+                f"Expected every part of {label} to be wound like the whole (or to be a cavity "
+                f"inside another part), got part {k + 1} of {n_parts} with signed volume "
+                f"{volumes[k] * size**3:.6g} m³ against {volume * size**3:.6g} m³ in all: "
+                "it is inside out."
+            )
 
 
 def _checked_topology(

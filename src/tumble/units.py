@@ -8,6 +8,7 @@ to SI float64 with :func:`to_si` / :func:`vector_to_si`, and work in SI inside.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 from typing import Any
 
@@ -38,24 +39,41 @@ SI_UNITS: dict[str, str] = {
 }
 
 
+#: Powers that pint would evaluate at length (``9**9**9``) or overflow (``10**400``).
+_RUNAWAY_POWER = re.compile(r"(\*\*|\^)\s*\(?\s*[-+]?\d{3,}|(\*\*|\^)\s*[\d.]+\s*(\*\*|\^)")
+_MAX_TEXT = 200
+
+
 def _parse(value: Any, name: str) -> Any:
     """Turn a string into a pint quantity; leave other values alone."""
     if isinstance(value, str):
+        if len(value) > _MAX_TEXT or _RUNAWAY_POWER.search(value):
+            raise InputError(
+                f"Expected `{name}` to be a number or a quantity such as '250 g', got "
+                f"{value[:60]!r}{'...' if len(value) > 60 else ''} (too long or a runaway power)."
+            )
         try:
             quantity: Any = ureg.Quantity(value)
-        except (pint.errors.PintError, AttributeError, TypeError, ValueError, SyntaxError) as exc:
+        except Exception as exc:  # pint's parser raises many kinds (tokenize, zero division, ...)
             raise InputError(
                 f"Expected `{name}` to be a number or a quantity such as "
-                f"'250 g', got {value!r} ({exc})."
+                f"'250 g', got {value!r} ({type(exc).__name__}: {exc})."
             ) from None
-        # A bare number in a string ("0.25") is SI, like a bare float.
-        return quantity.magnitude if quantity.unitless else quantity
+        # A bare number in a string ("0.25") is SI, like a bare float; "50 %" or
+        # "5 cm/m" are not bare numbers and go through the dimension check.
+        return quantity.magnitude if quantity.units == ureg.dimensionless else quantity
     return value
 
 
 def _quantity_to_si(value: Any, kind: str, name: str) -> Any:
     """Magnitude of a pint quantity in SI units of ``kind``; checks the dimensions."""
     si_unit = SI_UNITS[kind]
+    if kind == "angular_velocity" and "hertz" in str(value.units):
+        # pint takes Hz as 1/s, which would read 1 Hz as 1 rad/s: off by 2π.
+        raise InputError(
+            f"Expected `{name}` in rad/s, rpm or turn/s, got {value} (hertz is ambiguous for "
+            "an angular velocity: write '1 turn/s' for 2π rad/s, or 'rad/s')."
+        )
     expected = ureg.Quantity(1, si_unit) if si_unit else ureg.Quantity(1)
     if value.dimensionality != expected.dimensionality:
         shown = f"{value:~P}" if np.ndim(value.magnitude) == 0 else str(value)
@@ -90,8 +108,10 @@ def to_si(value: Any, kind: str, name: str) -> float:
     value = _parse(value, name)
     if isinstance(value, pint.Quantity):
         value = _quantity_to_si(value, kind, name)
-    if isinstance(value, bool) or np.ndim(value) != 0:
+    if isinstance(value, bool | np.bool_) or np.ndim(value) != 0:
         raise InputError(f"Expected `{name}` to be a scalar, got {value!r}.")
+    if np.iscomplexobj(value):
+        raise InputError(f"Expected `{name}` to be a real number, got {value!r}.")
     try:
         result = float(value)
     except (TypeError, ValueError):
@@ -122,6 +142,10 @@ def vector_to_si(
     if isinstance(value, pint.Quantity):
         array = np.asarray(_quantity_to_si(value, kind, name), dtype=float)
     elif isinstance(value, np.ndarray) and value.dtype != object:
+        if value.dtype.kind not in "iuf":
+            raise InputError(
+                f"Expected `{name}` to hold real numbers, got an array of dtype {value.dtype}."
+            )
         array = np.asarray(value, dtype=float)
     elif isinstance(value, Sequence | np.ndarray):
         array = _nested_to_si(value, kind, name)
@@ -164,13 +188,20 @@ def _parse_vector_string(text: str, name: str) -> Any:
     # A unit written once, after the last number, applies to all of them.
     last = _parse(parts[-1], name)
     head = [_parse(p, name) for p in parts[:-1]]
-    if isinstance(last, pint.Quantity) and not any(isinstance(h, pint.Quantity) for h in head):
+    with_units = [isinstance(h, pint.Quantity) for h in head]
+    if isinstance(last, pint.Quantity) and not any(with_units):
         try:
             return ureg.Quantity(
                 np.array([float(h) for h in head] + [float(last.magnitude)]), last.units
             )
         except (TypeError, ValueError):
             pass
+    if isinstance(last, pint.Quantity) and not all(with_units):
+        # "10, 20 cm, 30 cm": is the 10 in metres or centimetres? Refuse to guess.
+        raise InputError(
+            f"Expected `{name}` to have a unit on every value or one unit after the last, "
+            f"got {text!r}."
+        )
     return [*head, last]
 
 

@@ -401,3 +401,17 @@ def test_flat_closed_surface_has_round_off_volume_and_twice_its_area() -> None:
     sums = all_sums(vertices, faces, vertices.mean(axis=0) + np.array([0.0, 0.0, 1.0]))
     assert sums[AREA] == pytest.approx(1.96, rel=1e-14)
     assert abs(sums[V]) <= 4 * EPS * sums[AREA]
+
+
+def test_parallel_and_serial_sums_are_bit_identical() -> None:
+    # Both add the same CHUNK-triangle partial sums in the same order, so the
+    # thread count cannot change a result (a test of determinism, not physics).
+    from tumble.core import polyhedron
+
+    mesh = trimesh.creation.cylinder(radius=1.0, height=2.0, sections=CHUNK // 2 + 7)
+    vertices = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
+    faces = np.ascontiguousarray(mesh.faces, dtype=np.int64)
+    reference = np.array([0.1, -0.2, 0.3])
+    parallel = polyhedron._finish(polyhedron._chunk_sums_parallel(vertices, faces, reference))
+    serial = polyhedron._finish(polyhedron._chunk_sums_serial(vertices, faces, reference))
+    assert np.array_equal(parallel, serial)

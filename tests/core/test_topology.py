@@ -15,6 +15,7 @@ from tumble.core.topology import (
     count_nonfinite_rows,
     directed_edge_keys,
     edge_defects,
+    face_components,
     index_range,
     merge_by_key,
     renumber_faces,
@@ -105,3 +106,12 @@ def test_index_range_nonfinite_rows_bounds_and_mean_equal_numpy() -> None:
     assert_array_equal(low, points.min(axis=0))
     assert_array_equal(high, points.max(axis=0))
     assert mean == pytest.approx(points.mean(axis=0), rel=1e-14, abs=1e-15)
+
+
+def test_face_components_separate_disjoint_parts() -> None:
+    vertices, faces = cube()
+    n = len(vertices)
+    two = np.vstack([faces, faces + n, faces[:3] + 2 * n])  # two cubes and a loose strip
+    n_parts, labels = face_components(np.ascontiguousarray(two), 3 * n)
+    assert n_parts == 3
+    assert_array_equal(labels, [0] * len(faces) + [1] * len(faces) + [2] * 3)

@@ -180,3 +180,42 @@ def bounds_and_mean(points):  # type: ignore[no-untyped-def]
             high[c] = max(high[c], x)
             total[c] += x
     return low, high, total / points.shape[0]
+
+
+@njit
+def _root(parent, i):  # type: ignore[no-untyped-def]
+    while parent[i] != i:
+        parent[i] = parent[parent[i]]  # path halving
+        i = parent[i]
+    return i
+
+
+@njit
+def face_components(faces, n_vertices):  # type: ignore[no-untyped-def]
+    """Connected parts of a mesh (triangles sharing a vertex belong together).
+
+    Union-find over the vertices of each triangle.
+
+    Returns
+    -------
+    n_parts : int
+    labels : (n_faces,) int64 in ``range(n_parts)``, numbered in order of first
+        appearance.
+    """
+    parent = np.arange(n_vertices)
+    for f in range(faces.shape[0]):
+        a = _root(parent, faces[f, 0])
+        for c in (1, 2):
+            b = _root(parent, faces[f, c])
+            if a != b:
+                parent[b] = a
+    number = np.full(n_vertices, -1, dtype=np.int64)
+    labels = np.empty(faces.shape[0], dtype=np.int64)
+    n_parts = 0
+    for f in range(faces.shape[0]):
+        r = _root(parent, faces[f, 0])
+        if number[r] < 0:
+            number[r] = n_parts
+            n_parts += 1
+        labels[f] = number[r]
+    return n_parts, labels
