@@ -20,10 +20,11 @@ from typing import TYPE_CHECKING, Any
 from tumble.errors import InputError, MeshError
 
 if TYPE_CHECKING:
-    from tumble import shapes, units
+    from tumble import shapes, torques, units
     from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
     from tumble.massprops import MassProperties, point_masses
     from tumble.mesh import MeshOrientationWarning, from_mesh
+    from tumble.simulation import Trajectory, simulate
 
 try:
     __version__ = version("tumble")
@@ -40,14 +41,17 @@ _WHERE = {
     "angular_momentum": "tumble.kinematics",
     "kinetic_energy": "tumble.kinematics",
     "required_torque": "tumble.kinematics",
+    "simulate": "tumble.simulation",
+    "Trajectory": "tumble.simulation",
 }
-_SUBMODULES = {"shapes", "units"}
+_SUBMODULES = {"shapes", "torques", "units"}
 
 __all__ = [
     "InputError",
     "MassProperties",
     "MeshError",
     "MeshOrientationWarning",
+    "Trajectory",
     "__version__",
     "angular_momentum",
     "from_mesh",
@@ -55,6 +59,8 @@ __all__ = [
     "point_masses",
     "required_torque",
     "shapes",
+    "simulate",
+    "torques",
     "units",
 ]
 

@@ -34,6 +34,7 @@ SI_UNITS: dict[str, str] = {
     "density": "kg/m^3",
     "inertia": "kg*m^2",
     "torque": "N*m",
+    "damping": "N*m*s",
     "acceleration": "m/s^2",
     "dimensionless": "",
 }

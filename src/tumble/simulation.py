@@ -1,0 +1,452 @@
+"""Simulation of a rigid body's rotation: :func:`simulate` and :class:`Trajectory`.
+
+The body turns freely about its centre of mass, or about a ``pivot`` (a body
+point held fixed in space) under ``gravity``, with optional torque models from
+:mod:`tumble.torques`. Inside, the state is integrated in the principal frame of
+the inertia (about the centre of mass, or about the pivot) by compiled kernels
+(:mod:`tumble.core.rigid`); results are reported in the user's body axes.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.core.rigid import FINITE, N_TORQUE_PARAMS, rk4_run
+from tumble.errors import InputError
+from tumble.massprops import MassProperties
+from tumble.torques import TorqueModel
+from tumble.units import to_si, vector_to_si
+
+__all__ = ["CoarseStepWarning", "IntegrationError", "Trajectory", "simulate"]
+
+Array = NDArray[np.float64]
+
+#: Fewer integration steps than this per turn of the fastest rotation trigger a
+#: :class:`CoarseStepWarning`: RK4's phase error per turn grows as (2π/n)⁴/120 and
+#: passes 1e-4 below about 20 steps a turn.
+MIN_STEPS_PER_TURN = 20
+
+#: Steps per turn of the fastest rotation when ``dt`` is not given: RK4 then
+#: keeps ω to about 1e-10 relative per turn.
+DEFAULT_STEPS_PER_TURN = 200
+
+#: Steps per call of the compiled kernel between progress reports.
+PROGRESS_CHUNK = 1 << 17
+
+METHODS = ("auto", "rk4")
+
+
+class CoarseStepWarning(UserWarning):
+    """The time step is too coarse for the fastest rotation of the body."""
+
+
+class IntegrationError(InputError):
+    """The integration produced NaN or infinity (usually: ``dt`` far too large)."""
+
+
+# --------------------------------------------------------------- quaternions
+def quaternion_multiply(a: Array, b: Array) -> Array:
+    """Hamilton product of scalar-first quaternions, broadcasting over leading axes."""
+    aw, ax, ay, az = np.moveaxis(np.asarray(a), -1, 0)
+    bw, bx, by, bz = np.moveaxis(np.asarray(b), -1, 0)
+    return np.stack(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ],
+        axis=-1,
+    )
+
+
+def quaternion_to_matrix(q: Array) -> Array:
+    """Rotation matrices (..., 3, 3) of unit scalar-first quaternions (..., 4), body → space."""
+    w, x, y, z = np.moveaxis(np.asarray(q), -1, 0)
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        axis=-2,
+    )
+
+
+def matrix_to_quaternion(matrix: Array) -> Array:
+    """Scalar-first unit quaternion of a proper rotation matrix (via scipy)."""
+    from scipy.spatial.transform import Rotation
+
+    return np.asarray(Rotation.from_matrix(matrix).as_quat(scalar_first=True), dtype=float)
+
+
+def _attitude(attitude0: Any) -> Array:
+    """A unit quaternion from None, a quaternion (4,) or a scipy Rotation."""
+    from scipy.spatial.transform import Rotation
+
+    if attitude0 is None:
+        return np.array([1.0, 0.0, 0.0, 0.0])
+    if isinstance(attitude0, Rotation):
+        if not attitude0.single:
+            raise InputError(f"Expected `attitude0` to be a single rotation, got {len(attitude0)}.")
+        return np.asarray(attitude0.as_quat(scalar_first=True), dtype=float)
+    q = vector_to_si(attitude0, "dimensionless", "attitude0", (4,))
+    norm = float(np.linalg.norm(q))
+    if norm < 1e-12:
+        raise InputError(
+            f"Expected `attitude0` to be a non-zero quaternion [w, x, y, z], got {q.tolist()}."
+        )
+    return q / norm
+
+
+# ------------------------------------------------------------------ simulate
+def simulate(
+    mp: MassProperties,
+    omega0: Any,
+    *,
+    attitude0: Any = None,
+    duration: Any,
+    dt: Any = None,
+    pivot: Any = None,
+    gravity: Any = None,
+    torque: TorqueModel | None = None,
+    method: str = "auto",
+    record_every: int = 1,
+    progress: Callable[[int, int], object] | None = None,
+) -> Trajectory:
+    """Simulate the rotation of a rigid body under Euler's equations.
+
+    Parameters
+    ----------
+    mp : the body's mass properties.
+    omega0 : (3,) initial angular velocity in body coordinates, rad/s (or quantities).
+    attitude0 : initial attitude, a unit quaternion ``[w, x, y, z]`` rotating
+        body coordinates into space coordinates (normalised here), or a scipy
+        ``Rotation``; default the identity.
+    duration : simulated time, s, > 0.
+    dt : integration step, s, > 0. Default: 1/200 of a turn of the fastest
+        rotation (see ``DEFAULT_STEPS_PER_TURN``). It is shortened slightly so a
+        whole number of steps spans ``duration``.
+    pivot : None for a free body (rotation about the centre of mass), or a body
+        point (3,), m, held fixed in space; then the dynamics use the inertia
+        about the pivot and gravity acts at the centre of mass.
+    gravity : (3,) gravitational acceleration in space coordinates, m/s², e.g.
+        ``[0, 0, -9.81]``. Required with a pivot (pass zeros to mean none); on a
+        free body it exerts no torque about the centre of mass.
+    torque : a torque model from :mod:`tumble.torques`, or a sum of them.
+    method : ``"rk4"`` (classical Runge–Kutta, fixed step, quaternion
+        renormalised each step) or ``"auto"`` (RK4 in this version).
+    record_every : keep every k-th step (the final state is always kept).
+    progress : None or a callable ``progress(done_steps, total_steps)``.
+
+    Returns
+    -------
+    Trajectory
+
+    Raises
+    ------
+    InputError
+        Bad values (see the messages), a body with a zero principal moment, an
+        unknown method.
+    IntegrationError
+        The state became NaN or infinite; the message names the step and time.
+
+    Warns
+    -----
+    CoarseStepWarning
+        When ``dt`` gives fewer than ``MIN_STEPS_PER_TURN`` steps per turn of
+        the fastest rotation.
+    """
+    if not isinstance(mp, MassProperties):
+        raise InputError(f"Expected `mp` to be a MassProperties, got {type(mp).__name__}.")
+    if method not in METHODS:
+        raise InputError(f"Expected `method` to be one of {', '.join(METHODS)}, got {method!r}.")
+    if torque is not None and not isinstance(torque, TorqueModel):
+        raise InputError(
+            f"Expected `torque` to be a model from tumble.torques, got {type(torque).__name__}."
+        )
+    if (
+        isinstance(record_every, bool)
+        or not isinstance(record_every, int | np.integer)
+        or record_every < 1
+    ):
+        raise InputError(f"Expected `record_every` to be an integer >= 1, got {record_every!r}.")
+    omega = vector_to_si(omega0, "angular_velocity", "omega0")
+    q0 = _attitude(attitude0)
+    total_time = to_si(duration, "time", "duration")
+    if total_time <= 0:
+        raise InputError(f"Expected `duration` > 0 s, got {total_time!r}.")
+    g = np.zeros(3) if gravity is None else vector_to_si(gravity, "acceleration", "gravity")
+    model = (
+        torque if torque is not None else TorqueModel(np.zeros(3), np.zeros(3), np.zeros(3), 0.0)
+    )
+    g = g + model.gravity
+    if pivot is not None and gravity is None and not np.any(model.gravity):
+        raise InputError(
+            "Expected `gravity` with `pivot`, got none (a pivot without gravity is a free "
+            "rotation about that point: pass gravity=[0, 0, 0] to mean it)."
+        )
+    point = mp.center_of_mass if pivot is None else vector_to_si(pivot, "length", "pivot")
+    inertia = mp.inertia if pivot is None else mp.inertia_about(point)
+    from tumble.massprops import principal_decomposition
+
+    moments, axes = principal_decomposition(inertia)
+    if moments[0] <= 1e-12 * moments[2]:
+        raise InputError(
+            f"Expected a body with no zero principal moment to simulate, got moments "
+            f"{moments.tolist()} kg·m² (an idealised rod or point masses on a line: give the "
+            "body some thickness)."
+        )
+
+    lever = mp.center_of_mass - point  # body axes; zero for a free body
+    params = np.zeros(N_TORQUE_PARAMS)
+    params[0:3] = axes.T @ model.body
+    params[3:6] = model.space
+    if pivot is not None:
+        params[6:9] = axes.T @ lever
+        params[9:12] = mp.mass * g
+    params[12] = model.damping
+
+    fastest = _fastest_rate(
+        moments, axes.T @ omega, mp.mass * float(np.linalg.norm(g)), lever, pivot
+    )
+    if dt is None:
+        step = 2 * math.pi / fastest / DEFAULT_STEPS_PER_TURN if fastest > 0 else total_time
+    else:
+        step = to_si(dt, "time", "dt")
+        if step <= 0:
+            raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
+        per_turn = 2 * math.pi / (fastest * step) if fastest > 0 else math.inf
+        if per_turn < MIN_STEPS_PER_TURN:
+            warnings.warn(
+                f"dt = {step:.3g} s gives {per_turn:.1f} steps per turn of the fastest rotation "
+                f"({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the result is inaccurate.",
+                CoarseStepWarning,
+                stacklevel=2,
+            )
+    n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
+    step = total_time / n_steps
+
+    n_rows = n_steps // record_every + 1
+    tail = n_steps % record_every != 0
+    out_w = np.empty((n_rows + tail, 3))
+    out_q = np.empty((n_rows + tail, 4))
+    w = axes.T @ omega
+    q_axes = matrix_to_quaternion(axes)
+    q = quaternion_multiply(q0, q_axes)  # principal → body → space
+    out_w[0], out_q[0] = w, q
+    done = 0
+    while done < n_steps:
+        count = min(PROGRESS_CHUNK, n_steps - done)
+        status = rk4_run(w, q, moments, params, step, count, done, record_every, out_w, out_q)
+        if status != FINITE:
+            raise IntegrationError(
+                f"Expected the integration to stay finite, got NaN or inf at step {status} "
+                f"(t = {status * step:.6g} s) with dt = {step:.3g} s: reduce dt."
+            )
+        done += count
+        if progress is not None:
+            progress(done, n_steps)
+    times = np.asarray(np.arange(n_rows) * (record_every * step), dtype=np.float64)
+    if tail:
+        out_w[-1], out_q[-1] = w, q
+        times = np.append(times, total_time)
+    conjugate = q_axes * np.array([1.0, -1.0, -1.0, -1.0])
+    return Trajectory(
+        t=times,
+        omega=out_w @ axes.T,
+        quaternion=quaternion_multiply(out_q, conjugate),
+        mass_properties=mp,
+        pivot=None if pivot is None else point,
+        gravity=g,
+        method="rk4",
+        reason="auto: RK4, the method of this version" if method == "auto" else "requested",
+        dt=step,
+    )
+
+
+def _fastest_rate(moments: Array, w: Array, weight: float, lever: Array, pivot: Any) -> float:
+    """An upper estimate of the body's fastest angular rate, rad/s.
+
+    Torque-free, |ω| never exceeds |L| / I1. A heavy top adds the pendulum rate
+    √(m g l / I1) and nutation at up to about I3 ω / I1.
+    """
+    momentum = float(np.linalg.norm(moments * w))
+    rate = momentum / moments[0]
+    if pivot is not None:
+        rate += math.sqrt(weight * float(np.linalg.norm(lever)) / moments[0])
+    return rate
+
+
+# ---------------------------------------------------------------- trajectory
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """A simulated rotation, sampled at times ``t``.
+
+    Attributes
+    ----------
+    t : (n,) s.
+    omega : (n, 3) angular velocity in body coordinates, rad/s.
+    quaternion : (n, 4) unit quaternions ``[w, x, y, z]``, body → space.
+    mass_properties : the body.
+    pivot : None (free body) or the fixed body point, m.
+    gravity : (3,) gravitational acceleration in space coordinates, m/s².
+    method : the integrator that ran; ``reason``: why it was chosen.
+    dt : the integration step used, s.
+    """
+
+    t: Array
+    omega: Array
+    quaternion: Array
+    mass_properties: MassProperties
+    pivot: Array | None
+    gravity: Array
+    method: str
+    reason: str
+    dt: float
+
+    @cached_property
+    def rotation(self) -> Any:
+        """The attitudes as one scipy ``Rotation`` (n rotations), body → space."""
+        from scipy.spatial.transform import Rotation
+
+        return Rotation.from_quat(self.quaternion, scalar_first=True)
+
+    @cached_property
+    def _matrices(self) -> Array:
+        return quaternion_to_matrix(self.quaternion)
+
+    @cached_property
+    def _inertia(self) -> Array:
+        mp = self.mass_properties
+        return mp.inertia if self.pivot is None else mp.inertia_about(self.pivot)
+
+    @cached_property
+    def omega_space(self) -> Array:
+        """(n, 3) angular velocity in space coordinates, rad/s."""
+        return np.einsum("nij,nj->ni", self._matrices, self.omega)
+
+    @cached_property
+    def angular_momentum(self) -> Array:
+        """(n, 3) angular momentum in space coordinates, kg·m²/s, about the centre
+        of mass (free body) or about the pivot."""
+        return np.einsum("nij,nj->ni", self._matrices, self.omega @ self._inertia.T)
+
+    @cached_property
+    def energy(self) -> Array:
+        """(n,) total energy, J: rotational kinetic energy (about the centre of mass,
+        or about the pivot), plus the potential energy of gravity about the pivot."""
+        kinetic = 0.5 * np.einsum("ni,ij,nj->n", self.omega, self._inertia, self.omega)
+        if self.pivot is None:
+            return kinetic
+        lever = self.mass_properties.center_of_mass - self.pivot
+        height = np.einsum("nij,j->ni", self._matrices, lever)  # COM position from the pivot
+        return kinetic - self.mass_properties.mass * (height @ self.gravity)
+
+    @cached_property
+    def drift(self) -> dict[str, float]:
+        """Largest relative change from the initial value over the trajectory of the
+        energy, of |L| and of the space-frame vector L (both conserved when
+        torque-free; energy also under gravity about a pivot)."""
+        energy = self.energy
+        scale = max(abs(energy[0]), float(np.max(np.abs(energy))), np.finfo(float).tiny)
+        momentum = self.angular_momentum
+        size = max(float(np.linalg.norm(momentum[0])), np.finfo(float).tiny)
+        norms = np.linalg.norm(momentum, axis=1)
+        return {
+            "energy": float(np.max(np.abs(energy - energy[0])) / scale),
+            "angular_momentum_norm": float(np.max(np.abs(norms - norms[0])) / size),
+            "angular_momentum_vector": float(
+                np.max(np.linalg.norm(momentum - momentum[0], axis=1)) / size
+            ),
+        }
+
+    def __repr__(self) -> str:
+        drift = self.drift
+        kind = "free body" if self.pivot is None else f"pivot at {self.pivot.tolist()} m"
+        return (
+            f"Trajectory({len(self.t)} samples over {self.t[-1]:.6g} s, {kind}, "
+            f"method {self.method} (dt = {self.dt:.3g} s; {self.reason}); relative drift: "
+            f"energy {drift['energy']:.2e}, |L| {drift['angular_momentum_norm']:.2e}, "
+            f"L vector {drift['angular_momentum_vector']:.2e})"
+        )
+
+    # ------------------------------------------------------------- Parquet
+    def to_parquet(self, path: str | os.PathLike[str]) -> None:
+        """Write the samples and the run's description to a Parquet file.
+
+        Columns ``t, omega_x, omega_y, omega_z, q_w, q_x, q_y, q_z`` (SI, body
+        axes, scalar-first body → space); the body, pivot, gravity, method and
+        step go in the file's metadata. Written to a temporary name and renamed,
+        so the file is never half-written.
+        """
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        from tumble import __version__
+
+        columns = {"t": self.t}
+        for k, axis in enumerate("xyz"):
+            columns[f"omega_{axis}"] = self.omega[:, k]
+        for k, part in enumerate("wxyz"):
+            columns[f"q_{part}"] = self.quaternion[:, k]
+        mp = self.mass_properties
+        meta = {
+            "tumble_version": __version__,
+            "mass": mp.mass,
+            "center_of_mass": mp.center_of_mass.tolist(),
+            "inertia": mp.inertia.tolist(),
+            "pivot": None if self.pivot is None else self.pivot.tolist(),
+            "gravity": self.gravity.tolist(),
+            "method": self.method,
+            "reason": self.reason,
+            "dt": self.dt,
+            "units": "SI: s, rad/s, kg, m, kg*m^2; quaternion [w, x, y, z] body -> space",
+        }
+        table = pa.table(columns).replace_schema_metadata({"tumble": json.dumps(meta)})
+        target = Path(path)
+        temporary = target.with_name(f".{target.name}.partial")
+        pq.write_table(table, temporary)
+        os.replace(temporary, target)
+
+    @classmethod
+    def read_parquet(cls, path: str | os.PathLike[str]) -> Trajectory:
+        """Read a file written by :meth:`to_parquet`."""
+        import pyarrow.parquet as pq
+
+        try:
+            table = pq.read_table(path)
+        except (OSError, ValueError) as exc:
+            raise InputError(
+                f"Expected a Parquet file written by tumble, got {str(path)!r}: {exc}"
+            ) from None
+        raw = (table.schema.metadata or {}).get(b"tumble")
+        if raw is None:
+            raise InputError(
+                f"Expected a Parquet file written by tumble, got {str(path)!r} "
+                "(no tumble metadata)."
+            )
+        meta = json.loads(raw)
+        data = {name: table.column(name).to_numpy() for name in table.column_names}
+        return cls(
+            t=data["t"],
+            omega=np.column_stack([data[f"omega_{a}"] for a in "xyz"]),
+            quaternion=np.column_stack([data[f"q_{p}"] for p in "wxyz"]),
+            mass_properties=MassProperties(meta["mass"], meta["center_of_mass"], meta["inertia"]),
+            pivot=None if meta["pivot"] is None else np.asarray(meta["pivot"], dtype=float),
+            gravity=np.asarray(meta["gravity"], dtype=float),
+            method=meta["method"],
+            reason=meta["reason"],
+            dt=float(meta["dt"]),
+        )

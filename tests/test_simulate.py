@@ -1,0 +1,351 @@
+"""simulate(): RK4 against closed forms, a high-precision reference, and conservation laws."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from scipy.integrate import solve_ivp
+from scipy.spatial.transform import Rotation
+from scipy.special import ellipk
+
+import tumble as tb
+from tumble.simulation import CoarseStepWarning, IntegrationError
+
+# A body whose principal axes are not its body axes, so every test also checks
+# the change to the principal frame and back.
+AXES = Rotation.from_rotvec([0.3, -0.5, 0.8])
+TUMBLER = tb.MassProperties(
+    1.0, [0.0, 0.0, 0.0], AXES.as_matrix() @ np.diag([1.0, 2.0, 3.0]) @ AXES.as_matrix().T
+)
+
+
+def reference(mp, omega0, q0, duration, pivot=None, gravity=(0.0, 0.0, 0.0), rtol=1e-13):
+    """Euler's equations in the *body* axes with the full tensor, by DOP853.
+
+    Written independently of tumble's principal-frame kernel: I ω̇ = τ − ω × I ω
+    with τ = r × (Aᵀ m g) about the pivot, and Ȧ = A [ω]×.
+    """
+    inertia = mp.inertia if pivot is None else mp.inertia_about(pivot)
+    inverse = np.linalg.inv(inertia)
+    lever = np.zeros(3) if pivot is None else mp.center_of_mass - np.asarray(pivot)
+    weight = mp.mass * np.asarray(gravity, dtype=float)
+
+    def rhs(_t, y):
+        w = y[:3]
+        a = y[3:].reshape(3, 3)
+        torque = np.cross(lever, a.T @ weight)
+        w_dot = inverse @ (torque - np.cross(w, inertia @ w))
+        skew = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+        return np.concatenate([w_dot, (a @ skew).ravel()])
+
+    a0 = Rotation.from_quat(q0, scalar_first=True).as_matrix()
+    sol = solve_ivp(
+        rhs,
+        (0, duration),
+        np.concatenate([omega0, a0.ravel()]),
+        method="DOP853",
+        rtol=rtol,
+        atol=1e-14,
+    )
+    return sol.y[:3, -1], sol.y[3:, -1].reshape(3, 3)
+
+
+def attitude_error(q, matrix) -> float:
+    """Angle (rad) between a quaternion's rotation and a rotation matrix."""
+    return (
+        Rotation.from_quat(q, scalar_first=True) * Rotation.from_matrix(matrix).inv()
+    ).magnitude()
+
+
+def test_rk4_is_fourth_order_against_a_reference() -> None:
+    # Halving dt must divide the error by 2⁴ = 16; we accept 12-20 (the
+    # asymptotic regime is reached at these steps, far above round-off).
+    omega0 = np.array([0.5, 1.5, -0.3])
+    q0 = Rotation.from_rotvec([0.2, 0.1, -0.4]).as_quat(scalar_first=True)
+    w_ref, a_ref = reference(TUMBLER, omega0, q0, 5.0)
+    errors = []
+    for dt in (0.02, 0.01):
+        run = tb.simulate(TUMBLER, omega0, attitude0=q0, duration=5.0, dt=dt)
+        errors.append(
+            np.linalg.norm(run.omega[-1] - w_ref) + attitude_error(run.quaternion[-1], a_ref)
+        )
+    assert 12 < errors[0] / errors[1] < 20
+    run = tb.simulate(TUMBLER, omega0, attitude0=q0, duration=5.0, dt=1e-3)
+    # 20⁴ = 1.6e5 times smaller than at dt = 0.02, i.e. ~1e-10 here; 1e-9 allows for round-off.
+    assert np.linalg.norm(run.omega[-1] - w_ref) < max(errors[0] / 1e5, 1e-9)
+    assert attitude_error(run.quaternion[-1], a_ref) < max(errors[0] / 1e5, 1e-9)
+
+
+def test_free_body_conserves_energy_and_angular_momentum() -> None:
+    # RK4 is not symplectic, but its drift per step is O(dt⁵): over 1e5 steps of
+    # 1e-3 s on this body the energy and L move by well under 1e-10.
+    run = tb.simulate(TUMBLER, [0.01, 2.0, 0.01], duration=100.0, dt=1e-3, record_every=100)
+    assert run.drift["energy"] < 1e-10
+    assert run.drift["angular_momentum_norm"] < 1e-10
+    assert run.drift["angular_momentum_vector"] < 1e-10
+
+
+def test_free_symmetric_top_precesses_in_the_body_frame() -> None:
+    # I1 = I2: ω⊥ turns in the body frame at Ω = (I3 − I1)/I1 ω3, ω3 constant:
+    # ω1 = a cos Ωt, ω2 = a sin Ωt (Euler's equations, solved by hand).
+    top = tb.MassProperties(2.0, [0, 0, 0], np.diag([1.0, 1.0, 1.6]))
+    a, w3 = 0.4, 5.0
+    run = tb.simulate(top, [a, 0.0, w3], duration=10.0, dt=1e-3, record_every=50)
+    rate = (1.6 - 1.0) / 1.0 * w3
+    expected = np.column_stack(
+        [a * np.cos(rate * run.t), a * np.sin(rate * run.t), np.full_like(run.t, w3)]
+    )
+    # RK4 phase error: (rate dt)⁴/120 per step × 1e4 steps × a ≈ 1e-12; allow 1e-9.
+    assert_allclose(run.omega, expected, atol=1e-9)
+
+
+def test_intermediate_axis_flip_period_matches_the_elliptic_integral() -> None:
+    # Landau & Lifshitz §37: for L² > 2 E I2 the period of ω(t) is 4 K(k²)/λ with
+    # λ = √((I3−I2)(L²−2EI1)/(I1I2I3)), k² = (I2−I1)(2EI3−L²)/((I3−I2)(L²−2EI1)).
+    # ω2 changes sign twice a period: the mean spacing of its zero crossings is T/2.
+    i1, i2, i3 = 1.0, 2.0, 3.0
+    w0 = np.array([0.01, 2.0, 0.01])
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([i1, i2, i3]))
+    energy2 = i1 * w0[0] ** 2 + i2 * w0[1] ** 2 + i3 * w0[2] ** 2
+    momentum2 = (i1 * w0[0]) ** 2 + (i2 * w0[1]) ** 2 + (i3 * w0[2]) ** 2
+    assert momentum2 > energy2 * i2
+    lam = math.sqrt((i3 - i2) * (momentum2 - energy2 * i1) / (i1 * i2 * i3))
+    k2 = (i2 - i1) * (energy2 * i3 - momentum2) / ((i3 - i2) * (momentum2 - energy2 * i1))
+    period = 4 * ellipk(k2) / lam
+    run = tb.simulate(body, w0, duration=3.2 * period, dt=2e-3)
+    w2 = run.omega[:, 1]
+    idx = np.flatnonzero(np.sign(w2[1:]) != np.sign(w2[:-1]))
+    crossings = run.t[idx] - w2[idx] * (run.t[idx + 1] - run.t[idx]) / (w2[idx + 1] - w2[idx])
+    assert len(crossings) >= 6
+    measured = 2 * np.mean(np.diff(crossings))
+    # Linear interpolation of a crossing errs by ~dt² |ω2''| / |ω2'| ≈ 1e-6 s; RK4's
+    # phase error is smaller. The period is ~16 s: 1e-6 relative is generous.
+    assert measured == pytest.approx(period, rel=1e-6)
+
+
+def test_heavy_top_matches_a_reference_integration() -> None:
+    # A disk on a pivot 0.1 m down its axis, axis tilted 60° from vertical, spinning.
+    disk = tb.shapes.solid_cylinder(1.0, 0.1, 0.02)
+    pivot = [0.0, 0.0, -0.1]
+    q0 = Rotation.from_euler("x", 60, degrees=True).as_quat(scalar_first=True)
+    omega0 = np.array([0.3, -0.2, 60.0])
+    g = [0.0, 0.0, -9.81]
+    run = tb.simulate(disk, omega0, attitude0=q0, duration=2.0, dt=2e-4, pivot=pivot, gravity=g)
+    w_ref, a_ref = reference(disk, omega0, q0, 2.0, pivot=pivot, gravity=g)
+    # RK4 at 2e-4 s with nutation at ~I3 ω3/I1 ≈ 2e2 rad/s: per-step error (0.04)⁵/120·1e4
+    # steps ≈ 1e-8 relative; allow 1e-7 of |ω|.
+    assert np.linalg.norm(run.omega[-1] - w_ref) < 1e-7 * np.linalg.norm(omega0)
+    assert attitude_error(run.quaternion[-1], a_ref) < 1e-7
+    assert run.drift["energy"] < 1e-8
+
+
+def test_the_vertical_angular_momentum_of_a_heavy_top_is_conserved() -> None:
+    # Gravity's torque about the pivot is horizontal, so L_z (space) is constant.
+    disk = tb.shapes.solid_cylinder(1.0, 0.1, 0.02)
+    q0 = Rotation.from_euler("x", 40, degrees=True).as_quat(scalar_first=True)
+    run = tb.simulate(
+        disk,
+        [0.0, 0.0, 80.0],
+        attitude0=q0,
+        duration=1.0,
+        dt=1e-4,
+        pivot=[0, 0, -0.1],
+        gravity=[0, 0, -9.81],
+        record_every=20,
+    )
+    lz = run.angular_momentum[:, 2]
+    assert np.max(np.abs(lz - lz[0])) < 1e-9 * np.abs(run.angular_momentum).max()
+
+
+def test_motion_does_not_depend_on_the_choice_of_body_axes() -> None:
+    # The same body described in rotated axes B' = R B, with ω0' = R ω0 and the
+    # attitude re-expressed (A' = A Rᵀ), must move identically in space.
+    rotation = Rotation.from_rotvec([1.0, 0.4, -0.7])
+    omega0 = np.array([0.7, -1.2, 0.4])
+    q0 = Rotation.from_rotvec([0.1, 0.2, 0.3])
+    one = tb.simulate(TUMBLER, omega0, attitude0=q0, duration=3.0, dt=1e-3, record_every=100)
+    two = tb.simulate(
+        TUMBLER.transformed(rotation),
+        rotation.apply(omega0),
+        attitude0=q0 * rotation.inv(),
+        duration=3.0,
+        dt=1e-3,
+        record_every=100,
+    )
+    # Round-off only (both runs take the same principal-frame steps): 1e-12.
+    assert_allclose(two.omega_space, one.omega_space, atol=1e-12)
+    assert_allclose(two.angular_momentum, one.angular_momentum, atol=1e-12)
+
+
+def test_constant_space_torque_changes_l_linearly() -> None:
+    # dL/dt = τ in space axes for any free body: L(t) = L0 + τ t exactly.
+    tau = np.array([0.02, -0.01, 0.03])
+    run = tb.simulate(
+        TUMBLER,
+        [0.3, 1.0, -0.5],
+        duration=4.0,
+        dt=1e-3,
+        record_every=100,
+        torque=tb.torques.ConstantSpaceTorque(tau),
+    )
+    expected = run.angular_momentum[0] + np.outer(run.t, tau)
+    assert_allclose(run.angular_momentum, expected, atol=1e-10)
+
+
+def test_body_torque_and_damping_on_a_sphere() -> None:
+    # A sphere (I = 0.4 m r² = 0.1) spun about z with τ_body along z and damping
+    # c: I ω̇ = τ − c ω, so ω(t) = τ/c + (ω0 − τ/c) e^{−c t / I}.
+    ball = tb.shapes.solid_sphere(1.0, 0.5)
+    tau, c, w0 = 0.05, 0.02, 3.0
+    torque = tb.torques.ConstantBodyTorque([0, 0, tau]) + tb.torques.LinearDamping(c)
+    run = tb.simulate(ball, [0, 0, w0], duration=5.0, dt=1e-3, torque=torque, record_every=100)
+    expected = tau / c + (w0 - tau / c) * np.exp(-c * run.t / 0.1)
+    assert_allclose(run.omega[:, 2], expected, rtol=1e-11)
+
+
+def test_gravity_exerts_no_torque_on_a_free_body() -> None:
+    free = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-3)
+    falling = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-3, gravity=[0, 0, -9.81])
+    assert np.array_equal(free.omega, falling.omega)
+
+
+def test_recording_keeps_every_kth_state_and_the_last() -> None:
+    run = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=0.01, record_every=30)
+    assert run.t[-1] == 1.0
+    assert_allclose(run.t[:-1], np.arange(4) * 0.3, atol=1e-15)
+    full = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=0.01)
+    assert np.array_equal(run.omega[:-1], full.omega[::30])
+    assert np.array_equal(run.omega[-1], full.omega[-1])
+
+
+def test_progress_reports_reach_the_total() -> None:
+    calls = []
+    tb.simulate(
+        TUMBLER,
+        [0.3, 1.0, -0.5],
+        duration=1.0,
+        dt=1e-5,
+        record_every=1000,
+        progress=lambda done, total: calls.append((done, total)),
+    )
+    assert calls[-1] == (100000, 100000)
+    assert all(a[0] < b[0] for a, b in zip(calls, calls[1:], strict=False))
+
+
+def test_default_step_resolves_the_fastest_rotation() -> None:
+    run = tb.simulate(TUMBLER, [0.0, 0.0, 10.0], duration=1.0)
+    turn = 2 * math.pi / (np.linalg.norm(TUMBLER.inertia @ [0, 0, 10.0]) / 1.0)
+    assert run.dt <= turn / 150
+
+
+def test_parquet_round_trip(tmp_path) -> None:
+    run = tb.simulate(
+        tb.shapes.solid_cylinder(1.0, 0.1, 0.02),
+        [0, 0, 50.0],
+        duration=0.5,
+        dt=1e-3,
+        pivot=[0, 0, -0.1],
+        gravity=[0, 0, -9.81],
+        attitude0=[0.9, 0.3, 0, 0],
+    )
+    path = tmp_path / "run.parquet"
+    run.to_parquet(path)
+    back = tb.Trajectory.read_parquet(path)
+    assert np.array_equal(back.t, run.t)
+    assert np.array_equal(back.omega, run.omega)
+    assert np.array_equal(back.quaternion, run.quaternion)
+    assert np.array_equal(back.energy, run.energy)
+    assert back.method == run.method and back.dt == run.dt
+    assert not list(tmp_path.glob(".*partial"))
+
+
+def test_read_parquet_errors(tmp_path) -> None:
+    bad = tmp_path / "bad.parquet"
+    bad.write_bytes(b"not parquet")
+    with pytest.raises(
+        tb.InputError, match=r"Expected a Parquet file written by tumble, got '.*bad.parquet'"
+    ):
+        tb.Trajectory.read_parquet(bad)
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    other = tmp_path / "other.parquet"
+    pq.write_table(pa.table({"x": [1.0]}), other)
+    with pytest.raises(tb.InputError, match=r"\(no tumble metadata\)"):
+        tb.Trajectory.read_parquet(other)
+
+
+def test_repr_reports_method_and_drift() -> None:
+    text = repr(tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-3))
+    assert "method rk4" in text and "relative drift: energy" in text
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"duration": 0.0}, r"Expected `duration` > 0 s, got 0.0"),
+        ({"duration": 1.0, "dt": -1e-3}, r"Expected `dt` > 0 s, got -0.001"),
+        ({"duration": 1.0, "dt": "1 m"}, r"Expected `dt` to be a time in s, got 1 m"),
+        (
+            {"duration": 1.0, "attitude0": [0, 0, 0, 0]},
+            r"Expected `attitude0` to be a non-zero quaternion \[w, x, y, z\], got \[0.0, 0.0, 0.0, 0.0\]",
+        ),
+        (
+            {"duration": 1.0, "attitude0": Rotation.random(2, random_state=1)},
+            r"Expected `attitude0` to be a single rotation, got 2",
+        ),
+        ({"duration": 1.0, "pivot": [0, 0, -0.1]}, r"Expected `gravity` with `pivot`, got none"),
+        (
+            {"duration": 1.0, "method": "euler"},
+            r"Expected `method` to be one of auto, rk4, got 'euler'",
+        ),
+        (
+            {"duration": 1.0, "record_every": 0},
+            r"Expected `record_every` to be an integer >= 1, got 0",
+        ),
+        (
+            {"duration": 1.0, "torque": 3.0},
+            r"Expected `torque` to be a model from tumble.torques, got float",
+        ),
+    ],
+)
+def test_simulate_rejects_bad_input(kwargs: dict, message: str) -> None:
+    with pytest.raises(tb.InputError, match=message):
+        tb.simulate(TUMBLER, [0.3, 1.0, -0.5], **kwargs)
+
+
+def test_simulate_rejects_nan_omega_and_a_rod() -> None:
+    with pytest.raises(tb.InputError, match=r"Expected `omega0` to be finite"):
+        tb.simulate(TUMBLER, [np.nan, 1.0, 0.0], duration=1.0)
+    with pytest.raises(
+        tb.InputError, match=r"Expected a body with no zero principal moment to simulate"
+    ):
+        tb.simulate(tb.shapes.thin_rod(1.0, 1.0), [1.0, 0.0, 0.0], duration=1.0)
+    with pytest.raises(tb.InputError, match=r"Expected `mp` to be a MassProperties, got str"):
+        tb.simulate("box", [1.0, 0.0, 0.0], duration=1.0)
+
+
+def test_a_diverging_integration_stops_with_the_step_named() -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoarseStepWarning)
+        with pytest.raises(
+            IntegrationError,
+            match=r"got NaN or inf at step \d+ \(t = [0-9.e+]+ s\) with dt = 50 s: reduce dt",
+        ):
+            tb.simulate(TUMBLER, [0.3, 10.0, -0.5], duration=1e6, dt=50.0)
+
+
+def test_a_coarse_step_warns() -> None:
+    with pytest.warns(
+        CoarseStepWarning, match=r"dt = 0.5 s gives [0-9.]+ steps per turn of the fastest rotation"
+    ):
+        tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=0.5)
+
+
+def test_damping_must_not_be_negative() -> None:
+    with pytest.raises(tb.InputError, match=r"Expected `coefficient` >= 0 N·m·s, got -1.0"):
+        tb.torques.LinearDamping(-1.0)
