@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
 
@@ -233,7 +234,7 @@ def test_progress_reports_reach_the_total() -> None:
         progress=lambda done, total: calls.append((done, total)),
     )
     assert calls[-1] == (100000, 100000)
-    assert all(a[0] < b[0] for a, b in zip(calls, calls[1:], strict=False))
+    assert all(a[0] < b[0] for a, b in itertools.pairwise(calls))
 
 
 def test_default_step_resolves_the_fastest_rotation() -> None:
