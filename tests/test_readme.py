@@ -6,6 +6,7 @@ import contextlib
 import io
 import os
 import re
+import shutil
 from pathlib import Path
 
 import pytest
@@ -15,9 +16,11 @@ BLOCKS = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), fl
 
 
 @pytest.mark.parametrize("code", BLOCKS, ids=[f"block{k}" for k in range(len(BLOCKS))])
-def test_readme_example_runs(code: str) -> None:
+def test_readme_example_runs(code: str, tmp_path: Path) -> None:
+    # Run where a reader would (beside examples/), but write files into a scratch folder.
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")
     cwd = os.getcwd()
-    os.chdir(ROOT)
+    os.chdir(tmp_path)
     try:
         out = io.StringIO()
         with contextlib.redirect_stdout(out):
