@@ -55,28 +55,40 @@ def rotate_to_body(q, v):  # type: ignore[no-untyped-def]
 @njit
 def derivatives(w, q, inertia, params, dw, dq):  # type: ignore[no-untyped-def]
     """Write ω̇ (rad/s²) into ``dw`` and q̇ (1/s) into ``dq`` for the state (w, q)."""
-    i1 = inertia[0]
-    i2 = inertia[1]
-    i3 = inertia[2]
-    space = (params[3], params[4], params[5])
-    force = (params[9], params[10], params[11])
-    ts = rotate_to_body(q, space)
-    fb = rotate_to_body(q, force)
-    rx = params[6]
-    ry = params[7]
-    rz = params[8]
-    c = params[12]
-    t1 = params[0] + ts[0] + (ry * fb[2] - rz * fb[1]) - c * w[0]
-    t2 = params[1] + ts[1] + (rz * fb[0] - rx * fb[2]) - c * w[1]
-    t3 = params[2] + ts[2] + (rx * fb[1] - ry * fb[0]) - c * w[2]
-    dw[0] = (t1 - (i3 - i2) * w[1] * w[2]) / i1
-    dw[1] = (t2 - (i1 - i3) * w[2] * w[0]) / i2
-    dw[2] = (t3 - (i2 - i1) * w[0] * w[1]) / i3
-    # q̇ = ½ q ⊗ (0, ω)
-    dq[0] = 0.5 * (-q[1] * w[0] - q[2] * w[1] - q[3] * w[2])
-    dq[1] = 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1])
-    dq[2] = 0.5 * (q[0] * w[1] + q[3] * w[0] - q[1] * w[2])
-    dq[3] = 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0])
+    rates = _rates(
+        w[0], w[1], w[2], q[0], q[1], q[2], q[3], inertia[0], inertia[1], inertia[2], params, True
+    )
+    for i in range(3):
+        dw[i] = rates[i]
+    for i in range(4):
+        dq[i] = rates[3 + i]
+
+
+@njit(inline="always")
+def _rates(w1, w2, w3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque):  # type: ignore[no-untyped-def]
+    """(ω̇1, ω̇2, ω̇3, q̇0, q̇1, q̇2, q̇3) as scalars; ``attitude_torque`` False skips
+    the torque terms that depend on the attitude (space torque, gravity)."""
+    t1 = params[0] - params[12] * w1
+    t2 = params[1] - params[12] * w2
+    t3 = params[2] - params[12] * w3
+    if attitude_torque:
+        ts = rotate_to_body((q0, q1, q2, q3), (params[3], params[4], params[5]))
+        fb = rotate_to_body((q0, q1, q2, q3), (params[9], params[10], params[11]))
+        rx = params[6]
+        ry = params[7]
+        rz = params[8]
+        t1 += ts[0] + (ry * fb[2] - rz * fb[1])
+        t2 += ts[1] + (rz * fb[0] - rx * fb[2])
+        t3 += ts[2] + (rx * fb[1] - ry * fb[0])
+    return (
+        (t1 - (i3 - i2) * w2 * w3) / i1,
+        (t2 - (i1 - i3) * w3 * w1) / i2,
+        (t3 - (i2 - i1) * w1 * w2) / i3,
+        0.5 * (-q1 * w1 - q2 * w2 - q3 * w3),
+        0.5 * (q0 * w1 + q2 * w3 - q3 * w2),
+        0.5 * (q0 * w2 + q3 * w1 - q1 * w3),
+        0.5 * (q0 * w3 + q1 * w2 - q2 * w1),
+    )
 
 
 @njit
@@ -94,53 +106,58 @@ def rk4_run(w, q, inertia, params, dt, n_steps, first_step, record_every, out_w,
     first step that produced a NaN or an infinity (the state is left as it was
     before that step).
     """
-    k1w = np.empty(3)
-    k2w = np.empty(3)
-    k3w = np.empty(3)
-    k4w = np.empty(3)
-    k1q = np.empty(4)
-    k2q = np.empty(4)
-    k3q = np.empty(4)
-    k4q = np.empty(4)
-    tw = np.empty(3)
-    tq = np.empty(4)
-    half = 0.5 * dt
+    i1 = inertia[0]
+    i2 = inertia[1]
+    i3 = inertia[2]
+    attitude_torque = False
+    for k in range(3, 12):
+        if params[k] != 0.0:
+            attitude_torque = True
+    w1, w2, w3 = w[0], w[1], w[2]
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    h = 0.5 * dt
     sixth = dt / 6.0
     for k in range(n_steps):
-        derivatives(w, q, inertia, params, k1w, k1q)
-        for i in range(3):
-            tw[i] = w[i] + half * k1w[i]
-        for i in range(4):
-            tq[i] = q[i] + half * k1q[i]
-        derivatives(tw, tq, inertia, params, k2w, k2q)
-        for i in range(3):
-            tw[i] = w[i] + half * k2w[i]
-        for i in range(4):
-            tq[i] = q[i] + half * k2q[i]
-        derivatives(tw, tq, inertia, params, k3w, k3q)
-        for i in range(3):
-            tw[i] = w[i] + dt * k3w[i]
-        for i in range(4):
-            tq[i] = q[i] + dt * k3q[i]
-        derivatives(tw, tq, inertia, params, k4w, k4q)
-        for i in range(3):
-            tw[i] = w[i] + sixth * (k1w[i] + 2.0 * (k2w[i] + k3w[i]) + k4w[i])
-        norm = 0.0
-        for i in range(4):
-            tq[i] = q[i] + sixth * (k1q[i] + 2.0 * (k2q[i] + k3q[i]) + k4q[i])
-            norm += tq[i] * tq[i]
-        norm = math.sqrt(norm)
-        if not (math.isfinite(norm) and math.isfinite(tw[0] + tw[1] + tw[2]) and norm > 0.0):
+        a = _rates(w1, w2, w3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque)
+        b = _rates(
+            w1 + h * a[0], w2 + h * a[1], w3 + h * a[2],
+            q0 + h * a[3], q1 + h * a[4], q2 + h * a[5], q3 + h * a[6],
+            i1, i2, i3, params, attitude_torque,
+        )  # fmt: skip
+        c = _rates(
+            w1 + h * b[0], w2 + h * b[1], w3 + h * b[2],
+            q0 + h * b[3], q1 + h * b[4], q2 + h * b[5], q3 + h * b[6],
+            i1, i2, i3, params, attitude_torque,
+        )  # fmt: skip
+        d = _rates(
+            w1 + dt * c[0], w2 + dt * c[1], w3 + dt * c[2],
+            q0 + dt * c[3], q1 + dt * c[4], q2 + dt * c[5], q3 + dt * c[6],
+            i1, i2, i3, params, attitude_torque,
+        )  # fmt: skip
+        n1 = w1 + sixth * (a[0] + 2.0 * (b[0] + c[0]) + d[0])
+        n2 = w2 + sixth * (a[1] + 2.0 * (b[1] + c[1]) + d[1])
+        n3 = w3 + sixth * (a[2] + 2.0 * (b[2] + c[2]) + d[2])
+        p0 = q0 + sixth * (a[3] + 2.0 * (b[3] + c[3]) + d[3])
+        p1 = q1 + sixth * (a[4] + 2.0 * (b[4] + c[4]) + d[4])
+        p2 = q2 + sixth * (a[5] + 2.0 * (b[5] + c[5]) + d[5])
+        p3 = q3 + sixth * (a[6] + 2.0 * (b[6] + c[6]) + d[6])
+        norm = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
+        if not (math.isfinite(norm) and math.isfinite(n1 + n2 + n3) and norm > 0.0):
+            w[0], w[1], w[2] = w1, w2, w3
+            q[0], q[1], q[2], q[3] = q0, q1, q2, q3
             return first_step + k + 1
-        for i in range(3):
-            w[i] = tw[i]
-        for i in range(4):
-            q[i] = tq[i] / norm
+        w1, w2, w3 = n1, n2, n3
+        q0, q1, q2, q3 = p0 / norm, p1 / norm, p2 / norm, p3 / norm
         step = first_step + k + 1
         if step % record_every == 0:
             row = step // record_every
-            for i in range(3):
-                out_w[row, i] = w[i]
-            for i in range(4):
-                out_q[row, i] = q[i]
+            out_w[row, 0] = w1
+            out_w[row, 1] = w2
+            out_w[row, 2] = w3
+            out_q[row, 0] = q0
+            out_q[row, 1] = q1
+            out_q[row, 2] = q2
+            out_q[row, 3] = q3
+    w[0], w[1], w[2] = w1, w2, w3
+    q[0], q[1], q[2], q[3] = q0, q1, q2, q3
     return FINITE
