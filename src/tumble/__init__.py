@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
     from tumble.massprops import MassProperties, point_masses
     from tumble.mesh import MeshOrientationWarning, from_mesh
-    from tumble.simulation import Trajectory, simulate
+    from tumble.simulation import Trajectory, simulate, simulate_batch
 
 try:
     __version__ = version("tumble")
@@ -43,6 +43,7 @@ _WHERE = {
     "required_torque": "tumble.kinematics",
     "simulate": "tumble.simulation",
     "Trajectory": "tumble.simulation",
+    "simulate_batch": "tumble.simulation",
 }
 _SUBMODULES = {"shapes", "torques", "units"}
 
@@ -60,6 +61,7 @@ __all__ = [
     "required_torque",
     "shapes",
     "simulate",
+    "simulate_batch",
     "torques",
     "units",
 ]

@@ -22,13 +22,20 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.core.rigid import FINITE, N_TORQUE_PARAMS, rk4_run
+from tumble.core.rigid import FINITE, N_TORQUE_PARAMS, rk4_batch, rk4_run
 from tumble.errors import InputError
 from tumble.massprops import MassProperties
 from tumble.torques import TorqueModel
 from tumble.units import to_si, vector_to_si
 
-__all__ = ["CoarseStepWarning", "IntegrationError", "Trajectory", "simulate"]
+__all__ = [
+    "BatchResult",
+    "CoarseStepWarning",
+    "IntegrationError",
+    "Trajectory",
+    "simulate",
+    "simulate_batch",
+]
 
 Array = NDArray[np.float64]
 
@@ -450,3 +457,191 @@ class Trajectory:
             reason=meta["reason"],
             dt=float(meta["dt"]),
         )
+
+
+# -------------------------------------------------------------------- batches
+@dataclass(frozen=True, eq=False)
+class BatchResult:
+    """Final states of a batch of bodies (and every k-th state if asked).
+
+    Attributes
+    ----------
+    omega : (N, 3) final angular velocities in each body's axes, rad/s.
+    quaternion : (N, 4) final attitudes ``[w, x, y, z]``, body → space.
+    t : (n,) times of the recorded states, s (only the final time when no
+        history was asked for).
+    omega_history, quaternion_history : (n, N, 3) and (n, N, 4), or None.
+    dt : the integration step used, s; ``method``: the integrator.
+    """
+
+    omega: Array
+    quaternion: Array
+    t: Array
+    omega_history: Array | None
+    quaternion_history: Array | None
+    dt: float
+    method: str
+
+
+def simulate_batch(
+    inertia: Any,
+    omega0: Any,
+    *,
+    attitude0: Any = None,
+    duration: Any,
+    dt: Any,
+    method: str = "rk4",
+    torque: TorqueModel | None = None,
+    record_every: int | None = None,
+) -> BatchResult:
+    """Simulate N free bodies at once, in parallel, with RK4.
+
+    Parameters
+    ----------
+    inertia : (N, 3) principal moments (the body axes are principal axes) or
+        (N, 3, 3) inertia tensors about the centres of mass, kg·m².
+    omega0 : (N, 3) initial angular velocities in body coordinates, rad/s.
+    attitude0 : None (identity) or (N, 4) quaternions ``[w, x, y, z]``, body → space.
+    duration, dt : s, > 0; dt is shortened slightly so whole steps span duration.
+    method : ``"rk4"``.
+    torque : one torque model from :mod:`tumble.torques` shared by all bodies
+        (constant torques and damping; gravity needs a pivot and is refused here).
+    record_every : None to keep only the final states (memory stays O(N)), or k
+        to also keep every k-th state.
+
+    Returns
+    -------
+    BatchResult — the same states as N separate :func:`simulate` calls with
+    ``method="rk4"`` and the same ``dt``, to round-off.
+    """
+    if method != "rk4":
+        raise InputError(f"Expected `method` to be rk4, got {method!r}.")
+    moments_in = vector_to_si(
+        inertia, "inertia", "inertia", (-1, 3) if np.ndim(inertia) == 2 else (-1, 3, 3)
+    )
+    n = moments_in.shape[0]
+    omega = vector_to_si(omega0, "angular_velocity", "omega0", (n, 3))
+    if attitude0 is None:
+        q0 = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    else:
+        q0 = vector_to_si(attitude0, "dimensionless", "attitude0", (n, 4))
+        norms = np.linalg.norm(q0, axis=1)
+        if np.any(norms < 1e-12):
+            k = int(np.argmin(norms))
+            raise InputError(
+                f"Expected `attitude0` to hold non-zero quaternions, got attitude0[{k}] = "
+                f"{q0[k].tolist()}."
+            )
+        q0 = q0 / norms[:, None]
+    if moments_in.ndim == 2:
+        moments, axes = moments_in, None
+    else:
+        tensors = 0.5 * (moments_in + np.swapaxes(moments_in, 1, 2))
+        moments, axes = np.linalg.eigh(tensors)
+        flip = np.linalg.det(axes) < 0
+        axes[flip, :, 2] *= -1  # proper rotations
+    low = np.min(moments, axis=1)
+    high = np.max(moments, axis=1)
+    bad = np.flatnonzero(~(low > 1e-12 * high))
+    if bad.size:
+        k = int(bad[0])
+        raise InputError(
+            f"Expected every body to have positive principal moments, got body {k} with "
+            f"{moments[k].tolist()} kg·m²."
+        )
+    ordered = np.sort(moments, axis=1)
+    broken = np.flatnonzero(ordered[:, 0] + ordered[:, 1] < ordered[:, 2] * (1 - 1e-9))
+    if broken.size:
+        k = int(broken[0])
+        raise InputError(
+            f"Expected principal moments satisfying I1 + I2 >= I3, got body {k} with "
+            f"{moments[k].tolist()} kg·m²."
+        )
+    total_time = to_si(duration, "time", "duration")
+    if total_time <= 0:
+        raise InputError(f"Expected `duration` > 0 s, got {total_time!r}.")
+    step = to_si(dt, "time", "dt")
+    if step <= 0:
+        raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
+    model = (
+        torque if torque is not None else TorqueModel(np.zeros(3), np.zeros(3), np.zeros(3), 0.0)
+    )
+    if not isinstance(model, TorqueModel):
+        raise InputError(
+            f"Expected `torque` to be a model from tumble.torques, got {type(torque).__name__}."
+        )
+    if np.any(model.gravity):
+        raise InputError(
+            "Expected `torque` without gravity: a free body feels no torque from gravity, and "
+            "batches have no pivot (use simulate for a top on a pivot)."
+        )
+    if record_every is not None and (isinstance(record_every, bool) or record_every < 1):
+        raise InputError(
+            f"Expected `record_every` to be None or an integer >= 1, got {record_every!r}."
+        )
+    n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
+    step = total_time / n_steps
+
+    # Principal frame: ω_p = Rᵀ ω, q_p = q ⊗ q(R). A body torque is the same
+    # vector in every body (a shared model), so it is rotated per body: with
+    # tensors given, only torque-free or space-torque batches keep one params.
+    if axes is not None and np.any(model.body):
+        raise InputError(
+            "Expected principal moments (N, 3) with a body-fixed torque, got tensors (N, 3, 3) "
+            "(the torque's body axes would differ from body to body)."
+        )
+    if axes is None:
+        w = np.ascontiguousarray(omega.T)
+        q_axes = None
+        q = np.ascontiguousarray(q0.T)
+    else:
+        w = np.ascontiguousarray(np.einsum("nji,nj->in", axes, omega))
+        q_axes = np.array([matrix_to_quaternion(a) for a in axes])
+        q = np.ascontiguousarray(quaternion_multiply(q0, q_axes).T)
+    params = np.zeros(N_TORQUE_PARAMS)
+    params[0:3] = model.body
+    params[3:6] = model.space
+    params[12] = model.damping
+    inertia_soa = np.ascontiguousarray(moments.T)
+
+    chunk = n_steps if record_every is None else record_every
+    history_w, history_q, times = [], [], [0.0]
+    if record_every is not None:
+        history_w.append(w.T.copy())
+        history_q.append(q.T.copy())
+    done = 0
+    while done < n_steps:
+        count = min(chunk, n_steps - done)
+        rk4_batch(w, q, inertia_soa, params, step, count)
+        done += count
+        times.append(done * step)
+        if record_every is not None:
+            history_w.append(w.T.copy())
+            history_q.append(q.T.copy())
+    diverged = ~(np.isfinite(w).all(axis=0) & np.isfinite(q).all(axis=0))
+    if np.any(diverged):
+        k = int(np.flatnonzero(diverged)[0])
+        raise IntegrationError(
+            f"Expected the integration to stay finite, got NaN or inf for "
+            f"{int(diverged.sum())} bodies (first: body {k}) with dt = {step:.3g} s: reduce dt."
+        )
+
+    def to_body(ws: Array, qs: Array) -> tuple[Array, Array]:
+        if axes is None or q_axes is None:
+            return ws, qs
+        conjugate = q_axes * np.array([1.0, -1.0, -1.0, -1.0])
+        return np.einsum("nij,nj->ni", axes, ws), quaternion_multiply(qs, conjugate)
+
+    final_w, final_q = to_body(w.T.copy(), q.T.copy())
+    if record_every is None:
+        return BatchResult(final_w, final_q, np.array([total_time]), None, None, step, "rk4")
+    pairs = [to_body(a, b) for a, b in zip(history_w, history_q, strict=True)]
+    return BatchResult(
+        final_w,
+        final_q,
+        np.asarray(times),
+        np.stack([p[0] for p in pairs]),
+        np.stack([p[1] for p in pairs]),
+        step,
+        "rk4",
+    )

@@ -29,3 +29,15 @@ njit_parallel: Any = partial(
 )
 
 prange: Any = numba.prange
+
+#: Kernels vectorised across bodies: the compiler may contract to FMA and
+#: reassociate, but NaN and infinity keep their meaning (no 'nnan'/'ninf'), so
+#: a diverging state is still detected.
+njit_vector: Any = partial(
+    numba.njit,
+    cache=CACHE,
+    nogil=True,
+    error_model="numpy",
+    parallel=True,
+    fastmath={"contract", "arcp", "nsz", "reassoc", "afn"},
+)
