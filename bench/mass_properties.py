@@ -82,8 +82,14 @@ SIZES: dict[str, tuple[int, int]] = {
 DEFAULT_REPEAT: dict[str, int] = {"10k": 7, "100k": 7, "1M": 7, "4M": 5}
 
 #: Environment variables that change how numba's (and numpy's) threads run.
-THREAD_SETTINGS = ("NUMBA_NUM_THREADS", "NUMBA_THREADING_LAYER", "OMP_NUM_THREADS",
-                   "OMP_WAIT_POLICY", "GOMP_SPINCOUNT", "OPENBLAS_NUM_THREADS")
+THREAD_SETTINGS = (
+    "NUMBA_NUM_THREADS",
+    "NUMBA_THREADING_LAYER",
+    "OMP_NUM_THREADS",
+    "OMP_WAIT_POLICY",
+    "GOMP_SPINCOUNT",
+    "OPENBLAS_NUM_THREADS",
+)
 
 #: Accuracy target: results equal to this relative difference.
 TARGET_RELATIVE = 1e-10
@@ -121,8 +127,7 @@ def bumpy_torus(n_ring: int, n_tube: int) -> Mesh:
     ).reshape(-1, 3)
     axis = np.array([1.0, 2.0, 3.0]) / np.sqrt(14.0)
     angle = np.radians(40.0)
-    cross = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]],
-                      [-axis[1], axis[0], 0.0]])
+    cross = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
     rotation = np.eye(3) + np.sin(angle) * cross + (1.0 - np.cos(angle)) * cross @ cross
     transform = rotation @ np.diag([1.0, 0.6, 0.35])
     vertices = np.ascontiguousarray(points @ transform.T + np.array([0.4, -0.25, 0.7]))
@@ -246,8 +251,10 @@ def machine() -> str:
         layer: str = numba.threading_layer()
     except ValueError:  # no parallel kernel has run yet
         layer = "not started"
-    settings = ", ".join(f"{name}={os.environ[name]}" for name in THREAD_SETTINGS
-                         if name in os.environ) or "none set"
+    settings = (
+        ", ".join(f"{name}={os.environ[name]}" for name in THREAD_SETTINGS if name in os.environ)
+        or "none set"
+    )
     return (
         f"nproc {os.cpu_count()}, usable CPUs {len(os.sched_getaffinity(0))}, CPU {model!r}\n"
         f"thread settings in the environment: {settings}\n"
@@ -258,13 +265,25 @@ def machine() -> str:
 
 def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
-    parser.add_argument("--sizes", nargs="+", choices=list(SIZES), default=list(SIZES),
-                        help="mesh sizes to run (default: all)")
-    parser.add_argument("--repeat", type=int, default=None,
-                        help="timed repeats per method (default: 7, and 5 at 4M)")
-    parser.add_argument("--breakdown", action="store_true",
-                        help="also time the stages: topology checks, kernel on 1 thread and "
-                             "all threads, trimesh's gather")
+    parser.add_argument(
+        "--sizes",
+        nargs="+",
+        choices=list(SIZES),
+        default=list(SIZES),
+        help="mesh sizes to run (default: all)",
+    )
+    parser.add_argument(
+        "--repeat",
+        type=int,
+        default=None,
+        help="timed repeats per method (default: 7, and 5 at 4M)",
+    )
+    parser.add_argument(
+        "--breakdown",
+        action="store_true",
+        help="also time the stages: topology checks, kernel on 1 thread and "
+        "all threads, trimesh's gather",
+    )
     args = parser.parse_args(argv)
     if args.repeat is not None and args.repeat < 1:
         parser.error("--repeat must be >= 1")
@@ -288,11 +307,15 @@ def main(argv: Sequence[str] | None = None) -> None:
     print(f"numba warm-up (compile or cache load) {warm_up:.2f} s, excluded from the timings")
     print()
 
-    header = (f"{'triangles':>10} {'rep':>3} | {'kernel':>9} {'full':>9} | {'tm v[f]':>9} "
-              f"{'tm tri':>9} | {'x kernel':>8} {'x kern*':>8} {'x full':>7} | "
-              f"{'d vol':>8} {'d COM':>8} {'d I':>8}")
-    print("times: median ms; x kernel = tm v[f] / kernel, x kern* = tm tri / kernel, "
-          "x full = tm v[f] / full")
+    header = (
+        f"{'triangles':>10} {'rep':>3} | {'kernel':>9} {'full':>9} | {'tm v[f]':>9} "
+        f"{'tm tri':>9} | {'x kernel':>8} {'x kern*':>8} {'x full':>7} | "
+        f"{'d vol':>8} {'d COM':>8} {'d I':>8}"
+    )
+    print(
+        "times: median ms; x kernel = tm v[f] / kernel, x kern* = tm tri / kernel, "
+        "x full = tm v[f] / full"
+    )
     print(header)
     print("-" * len(header))
     results: dict[str, tuple[dict[str, float], Accuracy]] = {}
@@ -303,13 +326,15 @@ def main(argv: Sequence[str] | None = None) -> None:
         accuracy = compare(mesh)
         results[label] = (times, accuracy)
         ms = {name: 1e3 * t for name, t in times.items()}
-        print(f"{mesh.n_triangles:>10} {repeat:>3} | {ms['kernel']:>9.2f} {ms['full']:>9.2f} | "
-              f"{ms['tm v[f]']:>9.2f} {ms['tm tri']:>9.2f} | "
-              f"{times['tm v[f]'] / times['kernel']:>8.1f} "
-              f"{times['tm tri'] / times['kernel']:>8.1f} "
-              f"{times['tm v[f]'] / times['full']:>7.2f} | "
-              f"{accuracy.volume:>8.1e} {accuracy.com:>8.1e} {accuracy.inertia:>8.1e}",
-              flush=True)
+        print(
+            f"{mesh.n_triangles:>10} {repeat:>3} | {ms['kernel']:>9.2f} {ms['full']:>9.2f} | "
+            f"{ms['tm v[f]']:>9.2f} {ms['tm tri']:>9.2f} | "
+            f"{times['tm v[f]'] / times['kernel']:>8.1f} "
+            f"{times['tm tri'] / times['kernel']:>8.1f} "
+            f"{times['tm v[f]'] / times['full']:>7.2f} | "
+            f"{accuracy.volume:>8.1e} {accuracy.com:>8.1e} {accuracy.inertia:>8.1e}",
+            flush=True,
+        )
         del mesh
         gc.collect()
 
@@ -318,18 +343,22 @@ def main(argv: Sequence[str] | None = None) -> None:
         kernel_speedup = times["tm v[f]"] / times["kernel"]
         full_speedup = times["tm v[f]"] / times["full"]
         print()
-        print(f"target at 1M: speed-up >= {TARGET_SPEEDUP:g}x: kernel {kernel_speedup:.1f}x "
-              f"({'met' if kernel_speedup >= TARGET_SPEEDUP else 'NOT met'}), "
-              f"full path {full_speedup:.2f}x "
-              f"({'met' if full_speedup >= TARGET_SPEEDUP else 'NOT met'}); "
-              f"relative difference <= {TARGET_RELATIVE:g}: {accuracy.worst:.1e} "
-              f"({'met' if accuracy.worst <= TARGET_RELATIVE else 'NOT met'})")
+        print(
+            f"target at 1M: speed-up >= {TARGET_SPEEDUP:g}x: kernel {kernel_speedup:.1f}x "
+            f"({'met' if kernel_speedup >= TARGET_SPEEDUP else 'NOT met'}), "
+            f"full path {full_speedup:.2f}x "
+            f"({'met' if full_speedup >= TARGET_SPEEDUP else 'NOT met'}); "
+            f"relative difference <= {TARGET_RELATIVE:g}: {accuracy.worst:.1e} "
+            f"({'met' if accuracy.worst <= TARGET_RELATIVE else 'NOT met'})"
+        )
 
     if args.breakdown:
         print()
-        print("breakdown: median ms; topology = all of full's checks (merge, renumbering the "
-              "faces, edges);\nkernel NT = the kernel on N numba threads; "
-              "gather = building vertices[faces]")
+        print(
+            "breakdown: median ms; topology = all of full's checks (merge, renumbering the "
+            "faces, edges);\nkernel NT = the kernel on N numba threads; "
+            "gather = building vertices[faces]"
+        )
         names: list[str] = []
         for label in sizes:
             mesh = bumpy_torus(*SIZES[label])
@@ -339,8 +368,11 @@ def main(argv: Sequence[str] | None = None) -> None:
                 row = f"{'triangles':>10} | " + " ".join(f"{name:>12}" for name in names)
                 print(row)
                 print("-" * len(row))
-            print(f"{mesh.n_triangles:>10} | "
-                  + " ".join(f"{1e3 * stages[name]:>12.2f}" for name in names), flush=True)
+            print(
+                f"{mesh.n_triangles:>10} | "
+                + " ".join(f"{1e3 * stages[name]:>12.2f}" for name in names),
+                flush=True,
+            )
             del mesh
             gc.collect()
 

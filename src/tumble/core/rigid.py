@@ -259,8 +259,10 @@ def _steps_block(
     sixth = dt / 6.0
     for _ in range(n_steps):
         for j in range(m):
-            a = _rates_fast(w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j],
-                       c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], params, attitude_torque)  # fmt: skip
+            a = _rates_fast(
+                w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j],
+                c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], params, attitude_torque,
+            )  # fmt: skip
             b = _rates_fast(
                 w1[j] + h * a[0], w2[j] + h * a[1], w3[j] + h * a[2],
                 q0[j] + h * a[3], q1[j] + h * a[4], q2[j] + h * a[5], q3[j] + h * a[6],
