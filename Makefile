@@ -39,6 +39,8 @@ test: lint typecheck contracts pytest pytest-nojit
 
 bench: setup
 	$(BIN)/python bench/mass_properties.py
+	$(BIN)/python bench/free_body.py
+	$(BIN)/python bench/batch.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache .hypothesis
