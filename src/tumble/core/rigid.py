@@ -249,9 +249,9 @@ def rk4_batch(w, q, inertia, params, dt, n_steps):  # type: ignore[no-untyped-de
 
 
 @njit(inline="always")
-def _steps_block(
+def _steps_block(  # type: ignore[no-untyped-def]
     w1, w2, w3, q0, q1, q2, q3, c1, c2, c3, r1, r2, r3, params, dt, n_steps, attitude_torque
-):  # type: ignore[no-untyped-def]
+):
     """RK4 steps for one block of bodies (arrays of its states), in place; called
     with a literal ``attitude_torque`` so the torque-free loop has no branch."""
     m = w1.shape[0]

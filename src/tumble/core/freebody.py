@@ -1,0 +1,117 @@
+"""Exact angular velocity of a torque-free rigid body (Jacobi elliptic functions).
+
+In the principal frame, with ``I1 ≤ I2 ≤ I3``, energy E and ``L = |L|``, on the
+side of the separatrix where ``L² > 2 E I2`` (rotation about the axis of I3):
+
+    ω1 = s A1 cn(λ t + τ0 | m),  ω2 = A2 sn(λ t + τ0 | m),  ω3 = s A3 dn(λ t + τ0 | m)
+
+    A1² = (2EI3 − L²) / (I1 (I3 − I1)),  A2² = (2EI3 − L²) / (I2 (I3 − I2)),
+    A3² = (L² − 2EI1) / (I3 (I3 − I1)),  λ² = (I3 − I2)(L² − 2EI1) / (I1 I2 I3),
+    m = (I2 − I1)(2EI3 − L²) / ((I3 − I2)(L² − 2EI1)),  s = sign ω3(0)
+
+(Landau & Lifshitz, Mechanics §37; each amplitude relation was checked
+against Euler's equations by differentiation). On the other side the same
+formulas hold for the relabelled body ``(I3, I2, I1)`` with ``(ω3, −ω2, ω1)``,
+which obeys the same Euler equations (the relabelling is odd, and flipping ω2
+restores the cyclic signs), run with ``λ → −λ``: its moments descend, so the
+signed differences in the amplitude relations change sign.
+
+Near the separatrix the differences are formed without cancellation from the
+components themselves, e.g. ``L² − 2EI2 = I1 ω1² (I1 − I2) + I3 ω3² (I3 − I2)``,
+so ``1 − m = (I3 − I1)(L² − 2EI2) / ((I3 − I2)(L² − 2EI1))`` keeps its digits.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tumble.core._jit import njit
+from tumble.core.elliptic import ellipj_mc, ellipk_mc, elliprf
+
+
+@njit
+def _incomplete_first_kind(phi, m, mc):  # type: ignore[no-untyped-def]
+    """F(φ | m) for −π ≤ φ ≤ π, via Carlson: F = sin φ R_F(cos²φ, cos²φ + mc sin²φ, 1)."""
+    sign = 1.0
+    if phi < 0.0:
+        phi = -phi
+        sign = -1.0
+    if phi > 0.5 * math.pi:
+        # F(π − φ) = 2K − F(φ)
+        rest = math.pi - phi
+        s = math.sin(rest)
+        c = math.cos(rest)
+        return sign * (2.0 * ellipk_mc(mc) - s * elliprf(c * c, c * c + mc * s * s, 1.0))
+    s = math.sin(phi)
+    c = math.cos(phi)
+    return sign * s * elliprf(c * c, c * c + mc * s * s, 1.0)
+
+
+@njit
+def _solve_side(i1, i2, i3, w1, w2, w3, times, out, k1, k2, k3, flip2, direction):  # type: ignore[no-untyped-def]
+    """ω(t) on the side L² ≥ 2 E I2 of the body (i1, i2, i3); writes component a
+    to ``out[:, k_a]``, with ω2 negated if ``flip2``. ``direction`` is +1 for
+    ascending moments and −1 for descending ones (the relabelled body), whose
+    signed differences reverse the sense of the motion along the solution."""
+    p1 = i1 * w1 * w1
+    p2 = i2 * w2 * w2
+    p3 = i3 * w3 * w3
+    upper = p1 * (i3 - i1) + p2 * (i3 - i2)  # 2EI3 − L²
+    lower = p2 * (i2 - i1) + p3 * (i3 - i1)  # L² − 2EI1
+    middle = p1 * (i1 - i2) + p3 * (i3 - i2)  # L² − 2EI2
+    a1 = math.sqrt(upper / (i1 * (i3 - i1)))
+    a2 = math.sqrt(upper / (i2 * (i3 - i2)))
+    a3 = math.sqrt(lower / (i3 * (i3 - i1)))
+    rate = direction * math.sqrt((i3 - i2) * lower / (i1 * i2 * i3))
+    denominator = (i3 - i2) * lower
+    m = (i2 - i1) * upper / denominator
+    mc = (i3 - i1) * middle / denominator
+    s = 1.0 if w3 >= 0.0 else -1.0
+    sn0 = w2 / a2 if a2 > 0.0 else 0.0
+    cn0 = s * w1 / a1 if a1 > 0.0 else 1.0
+    phase = _incomplete_first_kind(math.atan2(sn0, cn0), m, mc)
+    for n in range(times.shape[0]):
+        sn, cn, dn = ellipj_mc(rate * times[n] + phase, mc)
+        out[n, k1] = s * a1 * cn
+        out[n, k2] = -a2 * sn if flip2 else a2 * sn
+        out[n, k3] = s * a3 * dn
+
+
+@njit
+def free_omega(moments, omega0, times):  # type: ignore[no-untyped-def]
+    """Exact principal-frame angular velocity of a torque-free body at ``times``.
+
+    Parameters
+    ----------
+    moments : (3,) principal moments, ascending, kg·m², all > 0.
+    omega0 : (3,) angular velocity at t = 0 in the principal frame, rad/s.
+    times : (n,) s, any order and sign.
+
+    Returns
+    -------
+    (n, 3) ω(t), rad/s. A rotation exactly about a principal axis (including
+    the unstable middle one) and a spherical body keep ω constant.
+    """
+    i1, i2, i3 = moments[0], moments[1], moments[2]
+    w1, w2, w3 = omega0[0], omega0[1], omega0[2]
+    out = np.empty((times.shape[0], 3))
+    zeros = 0
+    for component in (w1, w2, w3):
+        if component == 0.0:
+            zeros += 1
+    on_axis = zeros >= 2
+    if on_axis or i1 == i3:
+        for n in range(times.shape[0]):
+            out[n, 0] = w1
+            out[n, 1] = w2
+            out[n, 2] = w3
+        return out
+    middle = i1 * w1 * w1 * (i1 - i2) + i3 * w3 * w3 * (i3 - i2)  # L² − 2EI2
+    if middle >= 0.0 and i3 > i2:
+        _solve_side(i1, i2, i3, w1, w2, w3, times, out, 0, 1, 2, False, 1.0)
+    else:
+        # The other side, or the prolate case I2 = I3: relabel to (I3, I2, I1), (ω3, −ω2, ω1).
+        _solve_side(i3, i2, i1, w3, -w2, w1, times, out, 2, 1, 0, True, -1.0)
+    return out

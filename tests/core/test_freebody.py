@@ -1,0 +1,117 @@
+"""Exact torque-free ω(t) against a reference integration, conservation laws and closed forms.
+
+Also run with NUMBA_DISABLE_JIT=1 (small sample counts).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from scipy.integrate import solve_ivp
+from scipy.special import ellipk
+
+from tumble.core.freebody import free_omega
+
+BODIES = [(1.0, 2.0, 3.0), (0.7, 1.3, 1.9), (1.0, 1.0, 2.0), (1.0, 2.0, 2.0), (2.0, 2.1, 3.9)]
+OMEGAS = [
+    (0.5, 1.2, -0.3),
+    (1.5, 0.3, -0.2),
+    (-0.3, 1.0, -1.2),
+    (0.2, -0.5, 0.1),
+    (1.0, 0.0, 0.5),
+    (-1.0, 0.4, 0.3),
+]
+
+
+def euler(moments):
+    i1, i2, i3 = moments
+
+    def rhs(_t, w):
+        return [
+            (i2 - i3) / i1 * w[1] * w[2],
+            (i3 - i1) / i2 * w[2] * w[0],
+            (i1 - i2) / i3 * w[0] * w[1],
+        ]
+
+    return rhs
+
+
+@pytest.mark.parametrize("moments", BODIES)
+@pytest.mark.parametrize("omega0", OMEGAS)
+def test_exact_omega_matches_a_reference_integration(moments, omega0) -> None:
+    # DOP853 at rtol 1e-13 over |t| <= 20 s keeps ω to ~1e-12 away from the
+    # separatrix; both sides of it, both symmetric tops and negative times are here.
+    times = np.array([-7.0, 0.0, 3.3, 20.0])
+    exact = free_omega(np.array(moments), np.array(omega0), times)
+    for t, w in zip(times, exact, strict=True):
+        ref = (
+            omega0
+            if t == 0
+            else solve_ivp(
+                euler(moments), (0, t), omega0, method="DOP853", rtol=1e-13, atol=1e-15
+            ).y[:, -1]
+        )
+        assert_allclose(w, ref, atol=1e-11)
+
+
+@pytest.mark.parametrize(
+    "omega0", [(0.01, 2.0, 0.01), (1e-7, 2.0, -1e-7), (0.01, 2.0, -0.01), (0.02, 2.0, 0.0005)]
+)
+def test_conserves_energy_and_momentum_to_round_off_near_the_separatrix(omega0) -> None:
+    # The closed form has no truncation error: E and |L| hold to a few ulp
+    # at any time, even 1e-7 from the separatrix and after 1e4 s.
+    moments = np.array([1.0, 2.0, 3.0])
+    w0 = np.array(omega0)
+    times = np.linspace(0.0, 1e4, 301)
+    w = free_omega(moments, w0, times)
+    energy = np.sum(moments * w**2, axis=1)
+    momentum = np.sum((moments * w) ** 2, axis=1)
+    assert_allclose(energy, np.sum(moments * w0**2), rtol=2e-14)
+    assert_allclose(momentum, np.sum((moments * w0) ** 2), rtol=2e-14)
+
+
+def test_period_is_four_k_over_lambda() -> None:
+    # Landau & Lifshitz §37: T = 4 K(m) / λ; ω(t + T) = ω(t).
+    moments = np.array([1.0, 2.0, 3.0])
+    w0 = np.array([0.3, 2.0, 0.2])
+    i1, i2, i3 = moments
+    energy2 = np.sum(moments * w0**2)
+    momentum2 = np.sum((moments * w0) ** 2)
+    lam = math.sqrt((i3 - i2) * (momentum2 - energy2 * i1) / (i1 * i2 * i3))
+    m = (i2 - i1) * (energy2 * i3 - momentum2) / ((i3 - i2) * (momentum2 - energy2 * i1))
+    period = 4 * ellipk(m) / lam
+    times = np.array([0.7, 0.7 + period, 0.7 + 10 * period])
+    w = free_omega(moments, w0, times)
+    assert_allclose(w[1], w[0], atol=1e-13)
+    assert_allclose(w[2], w[0], atol=1e-12)
+
+
+def test_symmetric_top_closed_form() -> None:
+    # I1 = I2: ω⊥ turns at Ω = (I3 − I1)/I1 ω3 in the body frame.
+    moments = np.array([1.0, 1.0, 1.6])
+    times = np.linspace(0, 10, 11)
+    w = free_omega(moments, np.array([0.4, 0.0, 5.0]), times)
+    rate = 0.6 * 5.0
+    assert_allclose(
+        w,
+        np.column_stack([0.4 * np.cos(rate * times), 0.4 * np.sin(rate * times), np.full(11, 5.0)]),
+        atol=1e-13,
+    )
+
+
+@pytest.mark.parametrize(
+    ("moments", "omega0"),
+    [
+        ((1.0, 2.0, 3.0), (0.0, 2.0, 0.0)),
+        ((1.0, 2.0, 3.0), (0.0, 0.0, -1.0)),
+        ((2.0, 2.0, 2.0), (0.3, -0.2, 0.9)),
+    ],
+)
+def test_axis_rotations_and_spheres_keep_omega(moments, omega0) -> None:
+    # Steady rotation about a principal axis (even the unstable middle one, exactly)
+    # and any rotation of a sphere are equilibria of Euler's equations.
+    w = free_omega(np.array(moments), np.array(omega0), np.array([0.0, 5.0, 1e3]))
+    assert np.array_equal(w, np.tile(omega0, (3, 1)))
