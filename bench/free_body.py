@@ -6,8 +6,8 @@ the error of ω at T against a reference, the relative drift of the energy and
 of |L|, the wall time (median of repeats), and tumble's speed ratio against each
 scipy peer that reaches equal or worse accuracy.
 
-Reference: tumble RK4 at dt = 2e-5 s; scipy DOP853 at rtol 1e-13 is printed
-beside it as a cross-check (their difference bounds the reference's error).
+Reference: tumble's exact solution (Jacobi elliptic functions); tumble RK4 at
+dt = 2e-5 s and scipy DOP853 at rtol 1e-13 are printed beside it as cross-checks.
 
 Run from the repository root::
 
@@ -66,13 +66,16 @@ def main() -> None:
     body = tb.MassProperties(1.0, [0, 0, 0], np.diag(MOMENTS))
     duration = args.duration
 
-    tb.simulate(body, OMEGA0, duration=0.01, dt=1e-3)  # compile / load the kernel
-    reference = tb.simulate(body, OMEGA0, duration=duration, dt=2e-5, record_every=10**9).omega[-1]
+    tb.simulate(body, OMEGA0, duration=0.01, dt=1e-3, method="rk4")  # compile the kernels
+    tb.simulate(body, OMEGA0, duration=0.01, dt=1e-3, method="exact")
+    reference = tb.simulate(body, OMEGA0, duration=duration, dt=duration, method="exact").omega[-1]
+    fine = tb.simulate(body, OMEGA0, duration=duration, dt=2e-5, method="rk4", record_every=10**9)
     dop_ref = solve_ivp(euler_rhs, (0, duration), OMEGA0, method="DOP853", rtol=1e-13, atol=1e-15)
     print(f"free body I = {MOMENTS.tolist()}, ω0 = {OMEGA0.tolist()}, T = {duration:g} s")
     print(
-        f"reference: tumble RK4 dt = 2e-5; |ω_ref − ω_DOP853(rtol 1e-13)| = "
-        f"{np.linalg.norm(reference - dop_ref.y[:, -1]):.1e}\n"
+        f"reference: tumble exact; |ω_exact − ω_RK4(dt 2e-5)| = "
+        f"{np.linalg.norm(reference - fine.omega[-1]):.1e}, "
+        f"|ω_exact − ω_DOP853(rtol 1e-13)| = {np.linalg.norm(reference - dop_ref.y[:, -1]):.1e}\n"
     )
 
     rows = []
@@ -93,10 +96,20 @@ def main() -> None:
             )
         )
 
+    for samples in (1, 1000):
+        seconds, run = timed(
+            lambda n=samples: (
+                tb.simulate(body, OMEGA0, duration=duration, dt=duration / n, method="exact").omega
+            ),
+            args.repeat,
+        )
+        add(f"tumble exact, {samples} samples", seconds, run, run[-1], "none")
     for dt in (1e-2, 3e-3, 1e-3):
         seconds, run = timed(
             lambda dt=dt: (
-                tb.simulate(body, OMEGA0, duration=duration, dt=dt, record_every=100).omega
+                tb.simulate(
+                    body, OMEGA0, duration=duration, dt=dt, method="rk4", record_every=100
+                ).omega
             ),
             args.repeat,
         )

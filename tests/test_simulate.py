@@ -70,12 +70,12 @@ def test_rk4_is_fourth_order_against_a_reference() -> None:
     w_ref, a_ref = reference(TUMBLER, omega0, q0, 5.0)
     errors = []
     for dt in (0.02, 0.01):
-        run = tb.simulate(TUMBLER, omega0, attitude0=q0, duration=5.0, dt=dt)
+        run = tb.simulate(TUMBLER, omega0, attitude0=q0, duration=5.0, dt=dt, method="rk4")
         errors.append(
             np.linalg.norm(run.omega[-1] - w_ref) + attitude_error(run.quaternion[-1], a_ref)
         )
     assert 12 < errors[0] / errors[1] < 20
-    run = tb.simulate(TUMBLER, omega0, attitude0=q0, duration=5.0, dt=1e-3)
+    run = tb.simulate(TUMBLER, omega0, attitude0=q0, duration=5.0, dt=1e-3, method="rk4")
     # 20⁴ = 1.6e5 times smaller than at dt = 0.02, i.e. ~1e-10 here; 1e-9 allows for round-off.
     assert np.linalg.norm(run.omega[-1] - w_ref) < max(errors[0] / 1e5, 1e-9)
     assert attitude_error(run.quaternion[-1], a_ref) < max(errors[0] / 1e5, 1e-9)
@@ -84,18 +84,21 @@ def test_rk4_is_fourth_order_against_a_reference() -> None:
 def test_free_body_conserves_energy_and_angular_momentum() -> None:
     # RK4 is not symplectic, but its drift per step is O(dt⁵): over 1e5 steps of
     # 1e-3 s on this body the energy and L move by well under 1e-10.
-    run = tb.simulate(TUMBLER, [0.01, 2.0, 0.01], duration=100.0, dt=1e-3, record_every=100)
+    run = tb.simulate(
+        TUMBLER, [0.01, 2.0, 0.01], duration=100.0, dt=1e-3, record_every=100, method="rk4"
+    )
     assert run.drift["energy"] < 1e-10
     assert run.drift["angular_momentum_norm"] < 1e-10
     assert run.drift["angular_momentum_vector"] < 1e-10
 
 
-def test_free_symmetric_top_precesses_in_the_body_frame() -> None:
+@pytest.mark.parametrize("method", ["exact", "rk4"])
+def test_free_symmetric_top_precesses_in_the_body_frame(method: str) -> None:
     # I1 = I2: ω⊥ turns in the body frame at Ω = (I3 − I1)/I1 ω3, ω3 constant:
     # ω1 = a cos Ωt, ω2 = a sin Ωt (Euler's equations, solved by hand).
     top = tb.MassProperties(2.0, [0, 0, 0], np.diag([1.0, 1.0, 1.6]))
     a, w3 = 0.4, 5.0
-    run = tb.simulate(top, [a, 0.0, w3], duration=10.0, dt=1e-3, record_every=50)
+    run = tb.simulate(top, [a, 0.0, w3], duration=10.0, dt=1e-3, record_every=50, method=method)
     rate = (1.6 - 1.0) / 1.0 * w3
     expected = np.column_stack(
         [a * np.cos(rate * run.t), a * np.sin(rate * run.t), np.full_like(run.t, w3)]
@@ -215,10 +218,12 @@ def test_gravity_exerts_no_torque_on_a_free_body() -> None:
 
 
 def test_recording_keeps_every_kth_state_and_the_last() -> None:
-    run = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=0.01, record_every=30)
+    run = tb.simulate(
+        TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=0.01, record_every=30, method="rk4"
+    )
     assert run.t[-1] == 1.0
     assert_allclose(run.t[:-1], np.arange(4) * 0.3, atol=1e-15)
-    full = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=0.01)
+    full = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=0.01, method="rk4")
     assert np.array_equal(run.omega[:-1], full.omega[::30])
     assert np.array_equal(run.omega[-1], full.omega[-1])
 
@@ -282,7 +287,7 @@ def test_read_parquet_errors(tmp_path) -> None:
 
 def test_repr_reports_method_and_drift() -> None:
     text = repr(tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-3))
-    assert "method rk4" in text and "relative drift: energy" in text
+    assert "method exact" in text and "torque-free" in text and "relative drift: energy" in text
 
 
 @pytest.mark.parametrize(
@@ -302,7 +307,7 @@ def test_repr_reports_method_and_drift() -> None:
         ({"duration": 1.0, "pivot": [0, 0, -0.1]}, r"Expected `gravity` with `pivot`, got none"),
         (
             {"duration": 1.0, "method": "euler"},
-            r"Expected `method` to be one of auto, rk4, got 'euler'",
+            r"Expected `method` to be one of auto, exact, rk4, got 'euler'",
         ),
         (
             {"duration": 1.0, "record_every": 0},
@@ -337,16 +342,82 @@ def test_a_diverging_integration_stops_with_the_step_named() -> None:
             IntegrationError,
             match=r"got NaN or inf at step \d+ \(t = [0-9.e+]+ s\) with dt = 50 s: reduce dt",
         ):
-            tb.simulate(TUMBLER, [0.3, 10.0, -0.5], duration=1e6, dt=50.0)
+            tb.simulate(TUMBLER, [0.3, 10.0, -0.5], duration=1e6, dt=50.0, method="rk4")
 
 
 def test_a_coarse_step_warns() -> None:
     with pytest.warns(
         CoarseStepWarning, match=r"dt = 0.5 s gives [0-9.]+ steps per turn of the fastest rotation"
     ):
-        tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=0.5)
+        tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=0.5, method="rk4")
 
 
 def test_damping_must_not_be_negative() -> None:
     with pytest.raises(tb.InputError, match=r"Expected `coefficient` >= 0 N·m·s, got -1.0"):
         tb.torques.LinearDamping(-1.0)
+
+
+# ------------------------------------------------------------ exact solution
+@pytest.mark.parametrize(
+    "omega0",
+    [(0.5, 1.5, -0.3), (0.01, 2.0, 0.01), (2.0, 0.1, 0.1), (-0.2, 0.3, 1.9), (1e-6, 2.0, -1e-6)],
+)
+def test_exact_solution_matches_a_reference_integration(omega0) -> None:
+    # Both sides of the separatrix and 1e-6 from it, in non-principal body axes.
+    # DOP853 at rtol 1e-13 over 20 s is good to ~1e-11 (it is the limit here).
+    q0 = Rotation.from_rotvec([0.2, 0.1, -0.4]).as_quat(scalar_first=True)
+    run = tb.simulate(TUMBLER, omega0, attitude0=q0, duration=20.0, dt=0.5, method="exact")
+    w_ref, a_ref = reference(TUMBLER, np.array(omega0), q0, 20.0)
+    assert np.linalg.norm(run.omega[-1] - w_ref) < 1e-10
+    assert attitude_error(run.quaternion[-1], a_ref) < 1e-10
+
+
+def test_exact_solution_conserves_l_to_round_off_over_long_times() -> None:
+    # No truncation error: the space-frame L is fixed to a few ulp after 1e5 s
+    # (≈ 6000 periods, 12 000 flips), where any integrator would drift.
+    run = tb.simulate(TUMBLER, [0.01, 2.0, 0.01], duration=1e5, dt=97.0, method="exact")
+    assert run.drift["angular_momentum_vector"] < 1e-12
+    assert run.drift["energy"] < 1e-13
+
+
+def test_auto_picks_exact_when_torque_free_and_rk4_otherwise() -> None:
+    free = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-2)
+    assert free.method == "exact" and "torque-free" in free.reason
+    forced = tb.simulate(
+        TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-2, torque=tb.torques.LinearDamping(0.1)
+    )
+    assert forced.method == "rk4" and "torques act" in forced.reason
+
+
+@pytest.mark.parametrize(
+    ("body", "omega0"), [(TUMBLER, None), (tb.shapes.solid_sphere(1.0, 0.2), (0.3, -0.2, 2.0))]
+)
+def test_exact_steady_rotations(body, omega0) -> None:
+    # About a principal axis (the unstable middle one too, exactly) or any axis
+    # of a sphere, ω is constant and the body turns uniformly about it.
+    if omega0 is None:
+        _, axes = body.principal()
+        omega0 = 1.5 * axes[:, 1]
+    run = tb.simulate(body, omega0, duration=10.0, dt=1.0, method="exact")
+    assert_allclose(run.omega, np.tile(omega0, (len(run.t), 1)), atol=1e-15)
+    # A(t) = exp([ω]× t) from the identity: compare rotations sample by sample.
+    expected = Rotation.from_rotvec(np.outer(run.t, omega0))
+    assert np.max((run.rotation * expected.inv()).magnitude()) < 1e-13
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        (
+            {"pivot": [0, 0, -0.1], "gravity": [0, 0, -9.81]},
+            r"Expected a torque-free body for method 'exact' \(no pivot, no torque model other than gravity\), got a pivot",
+        ),
+        (
+            {"torque": tb.torques.ConstantSpaceTorque([0, 0, 1])},
+            r"got ConstantSpaceTorque\(\[0.0, 0.0, 1.0\] N·m\)",
+        ),
+    ],
+)
+def test_exact_needs_a_torque_free_body(kwargs, message) -> None:
+    with pytest.raises(tb.InputError, match=message):
+        tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, method="exact", **kwargs)

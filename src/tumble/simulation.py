@@ -51,7 +51,7 @@ DEFAULT_STEPS_PER_TURN = 200
 #: Steps per call of the compiled kernel between progress reports.
 PROGRESS_CHUNK = 1 << 17
 
-METHODS = ("auto", "rk4")
+METHODS = ("auto", "exact", "rk4")
 
 
 class CoarseStepWarning(UserWarning):
@@ -142,9 +142,9 @@ def simulate(
         body coordinates into space coordinates (normalised here), or a scipy
         ``Rotation``; default the identity.
     duration : simulated time, s, > 0.
-    dt : integration step, s, > 0. Default: 1/200 of a turn of the fastest
-        rotation (see ``DEFAULT_STEPS_PER_TURN``). It is shortened slightly so a
-        whole number of steps spans ``duration``.
+    dt : integration step (RK4) or sampling interval (exact), s, > 0. Default:
+        1/200 of a turn of the fastest rotation (see ``DEFAULT_STEPS_PER_TURN``).
+        It is shortened slightly so a whole number of steps spans ``duration``.
     pivot : None for a free body (rotation about the centre of mass), or a body
         point (3,), m, held fixed in space; then the dynamics use the inertia
         about the pivot and gravity acts at the centre of mass.
@@ -152,8 +152,10 @@ def simulate(
         ``[0, 0, -9.81]``. Required with a pivot (pass zeros to mean none); on a
         free body it exerts no torque about the centre of mass.
     torque : a torque model from :mod:`tumble.torques`, or a sum of them.
-    method : ``"rk4"`` (classical Runge–Kutta, fixed step, quaternion
-        renormalised each step) or ``"auto"`` (RK4 in this version).
+    method : ``"exact"`` (torque-free bodies: the closed-form solution, sampled
+        every ``dt``; no stepping error), ``"rk4"`` (classical Runge–Kutta, fixed
+        step, quaternion renormalised each step), or ``"auto"``: exact when
+        torque-free, RK4 otherwise. ``Trajectory.reason`` says which ran and why.
     record_every : keep every k-th step (the final state is always kept).
     progress : None or a callable ``progress(done_steps, total_steps)``.
 
@@ -228,6 +230,7 @@ def simulate(
     fastest = _fastest_rate(
         moments, axes.T @ omega, mp.mass * float(np.linalg.norm(g)), lever, pivot
     )
+    per_turn = math.inf
     if dt is None:
         step = 2 * math.pi / fastest / DEFAULT_STEPS_PER_TURN if fastest > 0 else total_time
     else:
@@ -235,40 +238,62 @@ def simulate(
         if step <= 0:
             raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
         per_turn = 2 * math.pi / (fastest * step) if fastest > 0 else math.inf
-        if per_turn < MIN_STEPS_PER_TURN:
-            warnings.warn(
-                f"dt = {step:.3g} s gives {per_turn:.1f} steps per turn of the fastest rotation "
-                f"({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the result is inaccurate.",
-                CoarseStepWarning,
-                stacklevel=2,
-            )
     n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
     step = total_time / n_steps
 
+    torque_free = pivot is None and not (np.any(model.body) or np.any(model.space) or model.damping)
+    if method == "exact" and not torque_free:
+        raise InputError(
+            "Expected a torque-free body for method 'exact' (no pivot, no torque model other "
+            "than gravity), got " + ("a pivot." if pivot is not None else f"{model!r}.")
+        )
+    chosen = "exact" if method == "exact" or (method == "auto" and torque_free) else "rk4"
+    if method == "auto":
+        reason = (
+            "auto: torque-free, so the exact solution (Jacobi elliptic functions)"
+            if torque_free
+            else "auto: torques act, so RK4 (fixed step, quaternion renormalised)"
+        )
+    else:
+        reason = "requested"
+    if chosen == "rk4" and per_turn < MIN_STEPS_PER_TURN:  # the exact method only samples
+        warnings.warn(
+            f"dt = {step:.3g} s gives {per_turn:.1f} steps per turn of the fastest rotation "
+            f"({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the result is inaccurate.",
+            CoarseStepWarning,
+            stacklevel=2,
+        )
+
     n_rows = n_steps // record_every + 1
     tail = n_steps % record_every != 0
-    out_w = np.empty((n_rows + tail, 3))
-    out_q = np.empty((n_rows + tail, 4))
+    times = np.asarray(np.arange(n_rows) * (record_every * step), dtype=np.float64)
+    if tail:
+        times = np.append(times, total_time)
     w = axes.T @ omega
     q_axes = matrix_to_quaternion(axes)
     q = quaternion_multiply(q0, q_axes)  # principal → body → space
-    out_w[0], out_q[0] = w, q
-    done = 0
-    while done < n_steps:
-        count = min(PROGRESS_CHUNK, n_steps - done)
-        status = rk4_run(w, q, moments, params, step, count, done, record_every, out_w, out_q)
-        if status != FINITE:
-            raise IntegrationError(
-                f"Expected the integration to stay finite, got NaN or inf at step {status} "
-                f"(t = {status * step:.6g} s) with dt = {step:.3g} s: reduce dt."
-            )
-        done += count
+    if chosen == "exact":
+        out_w, out_q = _exact_principal(moments, w, q, times)
         if progress is not None:
-            progress(done, n_steps)
-    times = np.asarray(np.arange(n_rows) * (record_every * step), dtype=np.float64)
-    if tail:
-        out_w[-1], out_q[-1] = w, q
-        times = np.append(times, total_time)
+            progress(n_steps, n_steps)
+    else:
+        out_w = np.empty((n_rows + tail, 3))
+        out_q = np.empty((n_rows + tail, 4))
+        out_w[0], out_q[0] = w, q
+        done = 0
+        while done < n_steps:
+            count = min(PROGRESS_CHUNK, n_steps - done)
+            status = rk4_run(w, q, moments, params, step, count, done, record_every, out_w, out_q)
+            if status != FINITE:
+                raise IntegrationError(
+                    f"Expected the integration to stay finite, got NaN or inf at step {status} "
+                    f"(t = {status * step:.6g} s) with dt = {step:.3g} s: reduce dt."
+                )
+            done += count
+            if progress is not None:
+                progress(done, n_steps)
+        if tail:
+            out_w[-1], out_q[-1] = w, q
     conjugate = q_axes * np.array([1.0, -1.0, -1.0, -1.0])
     return Trajectory(
         t=times,
@@ -277,10 +302,45 @@ def simulate(
         mass_properties=mp,
         pivot=None if pivot is None else point,
         gravity=g,
-        method="rk4",
-        reason="auto: RK4, the method of this version" if method == "auto" else "requested",
+        method=chosen,
+        reason=reason,
         dt=step,
     )
+
+
+def _exact_principal(moments: Array, w0: Array, q0: Array, times: Array) -> tuple[Array, Array]:
+    """Exact torque-free ω (principal frame) and attitude (principal → space) at ``times``.
+
+    ω from Jacobi elliptic functions (:func:`tumble.core.freebody.free_omega`).
+    The attitude is written with z-x-z Euler angles about the fixed L
+    (Landau & Lifshitz §37): with L along the Z axis of a space frame R_L,
+    ``A = R_L Rz(φ) Rx(θ) Rz(ψ)``, where ``cos θ = L3/L`` and ``tan ψ = L1/L2``
+    follow from ω, and φ is the integral of
+    ``φ̇ = L (I1 ω1² + I2 ω2²)/(I1² ω1² + I2² ω2²)``
+    (:func:`tumble.core.freebody.free_precession_angle`).
+    """
+    from scipy.spatial.transform import Rotation
+
+    from tumble.core.freebody import free_omega, free_precession_angle
+
+    start = Rotation.from_quat(q0, scalar_first=True)
+    on_axis = np.count_nonzero(w0 == 0.0) >= 2 or moments[0] == moments[2]
+    if on_axis:
+        # Steady rotation about a principal axis, or any rotation of a sphere.
+        attitude = start * Rotation.from_rotvec(np.outer(times, w0))
+        return np.tile(w0, (times.size, 1)), attitude.as_quat(scalar_first=True)
+    w = free_omega(moments, w0, times)
+    momentum = moments * w
+    theta = np.arctan2(np.hypot(momentum[:, 0], momentum[:, 1]), momentum[:, 2])
+    psi = np.arctan2(momentum[:, 0], momentum[:, 1])
+    phi = free_precession_angle(moments, w0, times)
+    l0 = moments * w0
+    initial = Rotation.from_euler(
+        "ZXZ", [0.0, np.arctan2(np.hypot(l0[0], l0[1]), l0[2]), np.arctan2(l0[0], l0[1])]
+    )
+    frame = start * initial.inv()  # R_L: its Z axis is along L in space
+    attitude = frame * Rotation.from_euler("ZXZ", np.column_stack([phi, theta, psi]))
+    return w, attitude.as_quat(scalar_first=True)
 
 
 def _fastest_rate(moments: Array, w: Array, weight: float, lever: Array, pivot: Any) -> float:
