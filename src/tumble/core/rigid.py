@@ -63,9 +63,9 @@ def derivatives(w, q, inertia, params, dw, dq):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _rates(w1, w2, w3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque):  # type: ignore[no-untyped-def]
-    """(ω̇1, ω̇2, ω̇3, q̇0, q̇1, q̇2, q̇3) as scalars; ``attitude_torque`` False skips
-    the torque terms that depend on the attitude (space torque, gravity)."""
+def _torque(w1, w2, w3, q0, q1, q2, q3, params, attitude_torque):  # type: ignore[no-untyped-def]
+    """Torque in principal-body coordinates (N·m) from the packed ``params``;
+    ``attitude_torque`` False skips the terms that depend on the attitude."""
     t1 = params[0] - params[12] * w1
     t2 = params[1] - params[12] * w2
     t3 = params[2] - params[12] * w3
@@ -78,6 +78,14 @@ def _rates(w1, w2, w3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque):  # 
         t1 += ts[0] + (ry * fb[2] - rz * fb[1])
         t2 += ts[1] + (rz * fb[0] - rx * fb[2])
         t3 += ts[2] + (rx * fb[1] - ry * fb[0])
+    return t1, t2, t3
+
+
+@njit(inline="always")
+def _rates(w1, w2, w3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque):  # type: ignore[no-untyped-def]
+    """(ω̇1, ω̇2, ω̇3, q̇0, q̇1, q̇2, q̇3) as scalars; ``attitude_torque`` False skips
+    the torque terms that depend on the attitude (space torque, gravity)."""
+    t1, t2, t3 = _torque(w1, w2, w3, q0, q1, q2, q3, params, attitude_torque)
     return (
         (t1 - (i3 - i2) * w2 * w3) / i1,
         (t2 - (i1 - i3) * w3 * w1) / i2,
@@ -93,18 +101,7 @@ def _rates(w1, w2, w3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque):  # 
 def _rates_fast(w1, w2, w3, q0, q1, q2, q3, c1, c2, c3, r1, r2, r3, params, attitude_torque):  # type: ignore[no-untyped-def]
     """As :func:`_rates`, with ``c1 = (I2 − I3)/I1`` (cyclic) and ``r = 1/I``
     precomputed: multiplications only, which vectorise across bodies."""
-    t1 = params[0] - params[12] * w1
-    t2 = params[1] - params[12] * w2
-    t3 = params[2] - params[12] * w3
-    if attitude_torque:
-        ts = rotate_to_body((q0, q1, q2, q3), (params[3], params[4], params[5]))
-        fb = rotate_to_body((q0, q1, q2, q3), (params[9], params[10], params[11]))
-        rx = params[6]
-        ry = params[7]
-        rz = params[8]
-        t1 += ts[0] + (ry * fb[2] - rz * fb[1])
-        t2 += ts[1] + (rz * fb[0] - rx * fb[2])
-        t3 += ts[2] + (rx * fb[1] - ry * fb[0])
+    t1, t2, t3 = _torque(w1, w2, w3, q0, q1, q2, q3, params, attitude_torque)
     return (
         t1 * r1 + c1 * w2 * w3,
         t2 * r2 + c2 * w3 * w1,
