@@ -112,6 +112,7 @@ def test_batch_with_a_space_torque_and_damping() -> None:
         ({"dt": 0.0}, r"Expected `dt` > 0 s, got 0.0"),
         ({"method": "exact"}, r"Expected `method` to be rk4, got 'exact'"),
         ({"torque": tb.torques.Gravity()}, r"Expected `torque` without gravity"),
+        ({"torque": 3.0}, r"Expected `torque` to be a model from tumble.torques, got float"),
         ({"record_every": 0}, r"Expected `record_every` to be None or an integer >= 1, got 0"),
         (
             {

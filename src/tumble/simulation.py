@@ -21,10 +21,11 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
 
 from tumble.core.rigid import FINITE, N_TORQUE_PARAMS, rk4_batch, rk4_run
 from tumble.errors import InputError
-from tumble.massprops import MassProperties
+from tumble.massprops import MassProperties, principal_decomposition
 from tumble.torques import TorqueModel
 from tumble.units import to_si, vector_to_si
 
@@ -63,45 +64,15 @@ class IntegrationError(InputError):
 
 
 # --------------------------------------------------------------- quaternions
-def quaternion_multiply(a: Array, b: Array) -> Array:
-    """Hamilton product of scalar-first quaternions, broadcasting over leading axes."""
-    aw, ax, ay, az = np.moveaxis(np.asarray(a), -1, 0)
-    bw, bx, by, bz = np.moveaxis(np.asarray(b), -1, 0)
-    return np.stack(
-        [
-            aw * bw - ax * bx - ay * by - az * bz,
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-        ],
-        axis=-1,
+def _compose(quaternions: Array, rotation: Rotation) -> Array:
+    """Scalar-first quaternions of ``R(q) · rotation`` (scipy broadcasts stacks)."""
+    return np.asarray(
+        (Rotation.from_quat(quaternions, scalar_first=True) * rotation).as_quat(scalar_first=True)
     )
-
-
-def quaternion_to_matrix(q: Array) -> Array:
-    """Rotation matrices (..., 3, 3) of unit scalar-first quaternions (..., 4), body → space."""
-    w, x, y, z = np.moveaxis(np.asarray(q), -1, 0)
-    return np.stack(
-        [
-            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
-        ],
-        axis=-2,
-    )
-
-
-def matrix_to_quaternion(matrix: Array) -> Array:
-    """Scalar-first unit quaternion of a proper rotation matrix (via scipy)."""
-    from scipy.spatial.transform import Rotation
-
-    return np.asarray(Rotation.from_matrix(matrix).as_quat(scalar_first=True), dtype=float)
 
 
 def _attitude(attitude0: Any) -> Array:
     """A unit quaternion from None, a quaternion (4,) or a scipy Rotation."""
-    from scipy.spatial.transform import Rotation
-
     if attitude0 is None:
         return np.array([1.0, 0.0, 0.0, 0.0])
     if isinstance(attitude0, Rotation):
@@ -208,8 +179,6 @@ def simulate(
         )
     point = mp.center_of_mass if pivot is None else vector_to_si(pivot, "length", "pivot")
     inertia = mp.inertia if pivot is None else mp.inertia_about(point)
-    from tumble.massprops import principal_decomposition
-
     moments, axes = principal_decomposition(inertia)
     if moments[0] <= 1e-12 * moments[2]:
         raise InputError(
@@ -241,7 +210,7 @@ def simulate(
     n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
     step = total_time / n_steps
 
-    torque_free = pivot is None and not (np.any(model.body) or np.any(model.space) or model.damping)
+    torque_free = pivot is None and model.conservative
     if method == "exact" and not torque_free:
         raise InputError(
             "Expected a torque-free body for method 'exact' (no pivot, no torque model other "
@@ -270,8 +239,8 @@ def simulate(
     if tail:
         times = np.append(times, total_time)
     w = axes.T @ omega
-    q_axes = matrix_to_quaternion(axes)
-    q = quaternion_multiply(q0, q_axes)  # principal → body → space
+    principal_axes = Rotation.from_matrix(axes)
+    q = _compose(q0, principal_axes)  # principal → body → space
     if chosen == "exact":
         out_w, out_q = _exact_principal(moments, w, q, times)
         if progress is not None:
@@ -294,11 +263,10 @@ def simulate(
                 progress(done, n_steps)
         if tail:
             out_w[-1], out_q[-1] = w, q
-    conjugate = q_axes * np.array([1.0, -1.0, -1.0, -1.0])
     return Trajectory(
         t=times,
         omega=out_w @ axes.T,
-        quaternion=quaternion_multiply(out_q, conjugate),
+        quaternion=_compose(out_q, principal_axes.inv()),
         mass_properties=mp,
         pivot=None if pivot is None else point,
         gravity=g,
@@ -319,8 +287,6 @@ def _exact_principal(moments: Array, w0: Array, q0: Array, times: Array) -> tupl
     ``φ̇ = L (I1 ω1² + I2 ω2²)/(I1² ω1² + I2² ω2²)``
     (:func:`tumble.core.freebody.free_precession_angle`).
     """
-    from scipy.spatial.transform import Rotation
-
     from tumble.core.freebody import free_omega, free_precession_angle
 
     start = Rotation.from_quat(q0, scalar_first=True)
@@ -386,13 +352,11 @@ class Trajectory:
     @cached_property
     def rotation(self) -> Any:
         """The attitudes as one scipy ``Rotation`` (n rotations), body → space."""
-        from scipy.spatial.transform import Rotation
-
         return Rotation.from_quat(self.quaternion, scalar_first=True)
 
     @cached_property
     def _matrices(self) -> Array:
-        return quaternion_to_matrix(self.quaternion)
+        return np.asarray(self.rotation.as_matrix())
 
     @cached_property
     def _inertia(self) -> Array:
@@ -652,12 +616,12 @@ def simulate_batch(
         )
     if axes is None:
         w = np.ascontiguousarray(omega.T)
-        q_axes = None
+        principal_axes = None
         q = np.ascontiguousarray(q0.T)
     else:
         w = np.ascontiguousarray(np.einsum("nji,nj->in", axes, omega))
-        q_axes = np.array([matrix_to_quaternion(a) for a in axes])
-        q = np.ascontiguousarray(quaternion_multiply(q0, q_axes).T)
+        principal_axes = Rotation.from_matrix(axes)
+        q = np.ascontiguousarray(_compose(q0, principal_axes).T)
     params = np.zeros(N_TORQUE_PARAMS)
     params[0:3] = model.body
     params[3:6] = model.space
@@ -687,10 +651,9 @@ def simulate_batch(
         )
 
     def to_body(ws: Array, qs: Array) -> tuple[Array, Array]:
-        if axes is None or q_axes is None:
+        if axes is None or principal_axes is None:
             return ws, qs
-        conjugate = q_axes * np.array([1.0, -1.0, -1.0, -1.0])
-        return np.einsum("nij,nj->ni", axes, ws), quaternion_multiply(qs, conjugate)
+        return np.einsum("nij,nj->ni", axes, ws), _compose(qs, principal_axes.inv())
 
     final_w, final_q = to_body(w.T.copy(), q.T.copy())
     if record_every is None:

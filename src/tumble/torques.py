@@ -63,13 +63,9 @@ class TorqueModel:
 
     @property
     def conservative(self) -> bool:
-        """True when the torque derives from a potential (gravity only, or none)."""
+        """True when the torque derives from a potential (gravity only, or none): a
+        free body under it is torque-free, gravity acting at its centre of mass."""
         return not (np.any(self.body) or np.any(self.space) or self.damping)
-
-    @property
-    def torque_free(self) -> bool:
-        """True when nothing here acts (gravity may still be listed, see ``simulate``)."""
-        return self.conservative and not np.any(self.gravity)
 
     def __repr__(self) -> str:
         terms = []
