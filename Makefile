@@ -38,6 +38,7 @@ pytest-nojit: setup
 test: lint typecheck contracts pytest pytest-nojit
 
 bench: setup
+	$(BIN)/python -m pip install --quiet -e '.[dev,bench]'
 	$(BIN)/python bench/mass_properties.py
 	$(BIN)/python bench/free_body.py
 	$(BIN)/python bench/batch.py

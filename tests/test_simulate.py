@@ -9,11 +9,11 @@ import warnings
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
-from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 from scipy.special import ellipk
 
 import tumble as tb
+from reference import attitude_error, reference
 from tumble.simulation import CoarseStepWarning, IntegrationError
 
 # A body whose principal axes are not its body axes, so every test also checks
@@ -22,44 +22,6 @@ AXES = Rotation.from_rotvec([0.3, -0.5, 0.8])
 TUMBLER = tb.MassProperties(
     1.0, [0.0, 0.0, 0.0], AXES.as_matrix() @ np.diag([1.0, 2.0, 3.0]) @ AXES.as_matrix().T
 )
-
-
-def reference(mp, omega0, q0, duration, pivot=None, gravity=(0.0, 0.0, 0.0), rtol=1e-13):
-    """Euler's equations in the *body* axes with the full tensor, by DOP853.
-
-    Written independently of tumble's principal-frame kernel: I ω̇ = τ − ω × I ω
-    with τ = r × (Aᵀ m g) about the pivot, and Ȧ = A [ω]×.
-    """
-    inertia = mp.inertia if pivot is None else mp.inertia_about(pivot)
-    inverse = np.linalg.inv(inertia)
-    lever = np.zeros(3) if pivot is None else mp.center_of_mass - np.asarray(pivot)
-    weight = mp.mass * np.asarray(gravity, dtype=float)
-
-    def rhs(_t, y):
-        w = y[:3]
-        a = y[3:].reshape(3, 3)
-        torque = np.cross(lever, a.T @ weight)
-        w_dot = inverse @ (torque - np.cross(w, inertia @ w))
-        skew = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
-        return np.concatenate([w_dot, (a @ skew).ravel()])
-
-    a0 = Rotation.from_quat(q0, scalar_first=True).as_matrix()
-    sol = solve_ivp(
-        rhs,
-        (0, duration),
-        np.concatenate([omega0, a0.ravel()]),
-        method="DOP853",
-        rtol=rtol,
-        atol=1e-14,
-    )
-    return sol.y[:3, -1], sol.y[3:, -1].reshape(3, 3)
-
-
-def attitude_error(q, matrix) -> float:
-    """Angle (rad) between a quaternion's rotation and a rotation matrix."""
-    return (
-        Rotation.from_quat(q, scalar_first=True) * Rotation.from_matrix(matrix).inv()
-    ).magnitude()
 
 
 def test_rk4_is_fourth_order_against_a_reference() -> None:
@@ -307,7 +269,7 @@ def test_repr_reports_method_and_drift() -> None:
         ({"duration": 1.0, "pivot": [0, 0, -0.1]}, r"Expected `gravity` with `pivot`, got none"),
         (
             {"duration": 1.0, "method": "euler"},
-            r"Expected `method` to be one of auto, exact, rk4, got 'euler'",
+            r"Expected `method` to be one of auto, exact, splitting, strang, rk4, adaptive, got 'euler'",
         ),
         (
             {"duration": 1.0, "record_every": 0},
@@ -380,13 +342,22 @@ def test_exact_solution_conserves_l_to_round_off_over_long_times() -> None:
     assert run.drift["energy"] < 1e-13
 
 
-def test_auto_picks_exact_when_torque_free_and_rk4_otherwise() -> None:
+def test_auto_picks_exact_splitting_or_adaptive() -> None:
     free = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-2)
     assert free.method == "exact" and "torque-free" in free.reason
+    # On a pivot without gravity the body is torque-free about the pivot.
+    weightless = tb.simulate(
+        TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-2, pivot=[0, 0, -0.1], gravity=[0, 0, 0]
+    )
+    assert weightless.method == "exact"
+    top = tb.simulate(
+        TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-2, pivot=[0, 0, -0.1], gravity=[0, 0, -9.81]
+    )
+    assert top.method == "splitting" and "conservative" in top.reason
     forced = tb.simulate(
         TUMBLER, [0.3, 1.0, -0.5], duration=1.0, dt=1e-2, torque=tb.torques.LinearDamping(0.1)
     )
-    assert forced.method == "rk4" and "torques act" in forced.reason
+    assert forced.method == "adaptive" and "non-conservative" in forced.reason
 
 
 @pytest.mark.parametrize(
@@ -410,7 +381,7 @@ def test_exact_steady_rotations(body, omega0) -> None:
     [
         (
             {"pivot": [0, 0, -0.1], "gravity": [0, 0, -9.81]},
-            r"Expected a torque-free body for method 'exact' \(no pivot, no torque model other than gravity\), got a pivot",
+            r"Expected a torque-free body for method 'exact' \(no torque model other than gravity, and no gravity with a pivot\), got gravity about a pivot",
         ),
         (
             {"torque": tb.torques.ConstantSpaceTorque([0, 0, 1])},

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
@@ -92,6 +93,11 @@ def test_batch_with_a_space_torque_and_damping() -> None:
         assert_allclose(batch.omega[k], one.omega[-1], atol=1e-12)
 
 
+@numba.njit
+def _user_torque(t, omega, quaternion, params, out):
+    out[0] = 1.0
+
+
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
@@ -110,16 +116,24 @@ def test_batch_with_a_space_torque_and_damping() -> None:
         ),
         ({"duration": -1.0}, r"Expected `duration` > 0 s, got -1.0"),
         ({"dt": 0.0}, r"Expected `dt` > 0 s, got 0.0"),
-        ({"method": "exact"}, r"Expected `method` to be rk4, got 'exact'"),
+        (
+            {"method": "exact"},
+            r"Expected `method` to be one of rk4, splitting, strang, got 'exact'",
+        ),
         ({"torque": tb.torques.Gravity()}, r"Expected `torque` without gravity"),
         ({"torque": 3.0}, r"Expected `torque` to be a model from tumble.torques, got float"),
         ({"record_every": 0}, r"Expected `record_every` to be None or an integer >= 1, got 0"),
         (
-            {
-                "inertia": np.eye(3)[None] * [1.0, 2.0, 2.5],
-                "torque": tb.torques.ConstantBodyTorque([1, 0, 0]),
-            },
-            r"Expected principal moments \(N, 3\) with a body-fixed torque",
+            {"torque": tb.torques.LinearDamping([0.1, 0.2])},
+            r"Expected per-body LinearDamping values of shape \(1,\) for 1 bodies, got \(2,\)",
+        ),
+        (
+            {"torque": tb.torques.ConstantBodyTorque([[1, 0, 0], [0, 1, 0]])},
+            r"Expected per-body ConstantBodyTorque values of shape \(1, 3\) for 1 bodies, got \(2, 3\)",
+        ),
+        (
+            {"torque": tb.torques.UserTorque(_user_torque)},
+            r"Expected `torque` without a UserTorque in a batch, got UserTorque\(_user_torque",
         ),
     ],
 )
@@ -144,4 +158,73 @@ def test_batch_divergence_is_reported() -> None:
             [[0.1, 0.1, 0.1], [0.1, 300.0, 0.1]],
             duration=2000.0,
             dt=2.0,
+        )
+
+
+@pytest.mark.parametrize("method", ["rk4", "splitting", "strang"])
+def test_per_body_torques_equal_separate_simulations(method) -> None:
+    # Tensors (non-principal body axes), per-body body torques, space torques and
+    # damping: each body must move as simulate() moves it alone with its own model.
+    rng = np.random.default_rng(11)
+    n = 5
+    rotations = Rotation.random(n, random_state=3)
+    moments = np.sort(rng.uniform(0.5, 1.0, size=(n, 3)), axis=1)
+    moments[:, 2] = np.minimum(moments[:, 2], moments[:, 0] + moments[:, 1])
+    tensors = np.einsum("nij,nj,nkj->nik", rotations.as_matrix(), moments, rotations.as_matrix())
+    omega0 = rng.normal(size=(n, 3))
+    body = rng.normal(scale=0.1, size=(n, 3))
+    space = rng.normal(scale=0.1, size=(n, 3))
+    damping = rng.uniform(0.0, 0.05, size=n)
+    model = (
+        tb.torques.ConstantBodyTorque(body)
+        + tb.torques.ConstantSpaceTorque(space)
+        + tb.torques.LinearDamping(damping)
+    )
+    batch = tb.simulate_batch(tensors, omega0, duration=2.0, dt=1e-2, method=method, torque=model)
+    assert batch.method == method
+    for k in range(n):
+        alone = tb.simulate(
+            tb.MassProperties(1.0, [0, 0, 0], tensors[k]),
+            omega0[k],
+            duration=2.0,
+            dt=1e-2,
+            method=method,
+            torque=tb.torques.ConstantBodyTorque(body[k])
+            + tb.torques.ConstantSpaceTorque(space[k])
+            + tb.torques.LinearDamping(damping[k]),
+        )
+        # Same kernels and arithmetic, up to the eigen-decomposition (numpy's batched
+        # eigh vs one at a time) and fast-math contractions: round-off, amplified by
+        # the flow over 200 steps to < 1e-12.
+        assert_allclose(batch.omega[k], alone.omega[-1], atol=1e-12)
+        assert_allclose(
+            Rotation.from_quat(batch.quaternion[k], scalar_first=True).as_matrix(),
+            alone.rotation[-1].as_matrix(),
+            atol=1e-12,
+        )
+
+
+def test_batch_splitting_keeps_l_to_round_off() -> None:
+    # Torque-free splitting in a batch: |L| is unchanged by every rotation.
+    rng = np.random.default_rng(2)
+    moments = np.column_stack([np.ones(300), rng.uniform(1.1, 2.0, 300), np.full(300, 2.1)])
+    omega0 = rng.normal(size=(300, 3))
+    batch = tb.simulate_batch(moments, omega0, duration=100.0, dt=1e-2, method="splitting")
+    before = np.linalg.norm(moments * omega0, axis=1)
+    after = np.linalg.norm(moments * batch.omega, axis=1)
+    # 1e4 steps, ~10 rounded operations each: random walk ≈ 1e-16·√1e5 ≈ 3e-14.
+    assert np.max(np.abs(after / before - 1)) < 1e-13
+
+
+def test_batch_splitting_reports_divergence() -> None:
+    with pytest.raises(
+        tb.simulation.IntegrationError, match=r"got NaN or inf for 1 bodies \(first: body 1\)"
+    ):
+        tb.simulate_batch(
+            [[1.0, 2.0, 2.5], [1.0, 2.0, 2.5]],
+            [[0.1, 1.0, 0.0], [0.1, 1.0, 0.0]],
+            duration=1.0,
+            dt=0.1,
+            method="splitting",
+            torque=tb.torques.ConstantBodyTorque([[0, 0, 0], [1e308, 1e308, 0]]),
         )

@@ -23,7 +23,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from tumble.core.rigid import FINITE, N_TORQUE_PARAMS, rk4_batch, rk4_run
+from tumble.core.rigid import FINITE, N_TORQUE_PARAMS, rk4_batch, rk4_run, rk4_run_hooked
+from tumble.core.splitting import splitting_batch
 from tumble.errors import InputError
 from tumble.massprops import MassProperties, principal_decomposition
 from tumble.torques import TorqueModel
@@ -52,7 +53,8 @@ DEFAULT_STEPS_PER_TURN = 200
 #: Steps per call of the compiled kernel between progress reports.
 PROGRESS_CHUNK = 1 << 17
 
-METHODS = ("auto", "exact", "rk4")
+METHODS = ("auto", "exact", "splitting", "strang", "rk4", "adaptive")
+BATCH_METHODS = ("rk4", "splitting", "strang")
 
 
 class CoarseStepWarning(UserWarning):
@@ -102,6 +104,8 @@ def simulate(
     method: str = "auto",
     record_every: int = 1,
     progress: Callable[[int, int], object] | None = None,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
 ) -> Trajectory:
     """Simulate the rotation of a rigid body under Euler's equations.
 
@@ -113,9 +117,10 @@ def simulate(
         body coordinates into space coordinates (normalised here), or a scipy
         ``Rotation``; default the identity.
     duration : simulated time, s, > 0.
-    dt : integration step (RK4) or sampling interval (exact), s, > 0. Default:
-        1/200 of a turn of the fastest rotation (see ``DEFAULT_STEPS_PER_TURN``).
-        It is shortened slightly so a whole number of steps spans ``duration``.
+    dt : integration step (rk4, strang, splitting) or sampling interval (exact,
+        adaptive), s, > 0. Default: 1/200 of a turn of the fastest rotation (see
+        ``DEFAULT_STEPS_PER_TURN``). It is shortened slightly so a whole number
+        of steps spans ``duration``.
     pivot : None for a free body (rotation about the centre of mass), or a body
         point (3,), m, held fixed in space; then the dynamics use the inertia
         about the pivot and gravity acts at the centre of mass.
@@ -123,12 +128,27 @@ def simulate(
         ``[0, 0, -9.81]``. Required with a pivot (pass zeros to mean none); on a
         free body it exerts no torque about the centre of mass.
     torque : a torque model from :mod:`tumble.torques`, or a sum of them.
-    method : ``"exact"`` (torque-free bodies: the closed-form solution, sampled
-        every ``dt``; no stepping error), ``"rk4"`` (classical Runge–Kutta, fixed
-        step, quaternion renormalised each step), or ``"auto"``: exact when
-        torque-free, RK4 otherwise. ``Trajectory.reason`` says which ran and why.
+    method :
+        * ``"exact"``: torque-free bodies (free, or on a pivot without gravity):
+          the closed-form solution, sampled every ``dt``; no stepping error.
+        * ``"splitting"``: fourth-order symplectic splitting (Yoshida's
+          composition of ``"strang"``): exact rotations of the free motion
+          composed with torque kicks (:mod:`tumble.core.splitting`); |L| kept
+          to round-off when torque-free, bounded energy error under gravity;
+          exact free motion for a symmetric body.
+        * ``"strang"``: the same splitting at second order.
+        * ``"rk4"``: classical Runge–Kutta, fixed step, quaternion renormalised.
+        * ``"adaptive"``: Dormand–Prince 5(4) with step-size control to
+          ``rtol``/``atol`` and dense output at every ``dt``.
+        * ``"auto"``: exact when torque-free, splitting when the only torque
+          is gravity about a pivot (conservative), adaptive otherwise.
+        ``Trajectory.reason`` says which ran and why.
     record_every : keep every k-th step (the final state is always kept).
-    progress : None or a callable ``progress(done_steps, total_steps)``.
+    progress : None or a callable ``progress(done, total)`` (steps, or samples
+        for the adaptive method).
+    rtol, atol : tolerances of the adaptive method: each step's local error in
+        each component of ω (rad/s) and of the quaternion is kept below
+        ``atol + rtol · |value|`` (root-mean-square over the components).
 
     Returns
     -------
@@ -150,6 +170,11 @@ def simulate(
     """
     if not isinstance(mp, MassProperties):
         raise InputError(f"Expected `mp` to be a MassProperties, got {type(mp).__name__}.")
+    if torque is not None and isinstance(torque, TorqueModel) and torque.per_body:
+        raise InputError(
+            f"Expected one torque for one body, got per-body values ({torque!r}): those are "
+            "for simulate_batch."
+        )
     if method not in METHODS:
         raise InputError(f"Expected `method` to be one of {', '.join(METHODS)}, got {method!r}.")
     if torque is not None and not isinstance(torque, TorqueModel):
@@ -210,22 +235,40 @@ def simulate(
     n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
     step = total_time / n_steps
 
-    torque_free = pivot is None and model.conservative
+    torque_free = model.conservative and (pivot is None or not np.any(g))
+    conservative = model.conservative
     if method == "exact" and not torque_free:
         raise InputError(
-            "Expected a torque-free body for method 'exact' (no pivot, no torque model other "
-            "than gravity), got " + ("a pivot." if pivot is not None else f"{model!r}.")
+            "Expected a torque-free body for method 'exact' (no torque model other than "
+            "gravity, and no gravity with a pivot), got "
+            + ("gravity about a pivot." if conservative else f"{model!r}.")
         )
-    chosen = "exact" if method == "exact" or (method == "auto" and torque_free) else "rk4"
     if method == "auto":
-        reason = (
-            "auto: torque-free, so the exact solution (Jacobi elliptic functions)"
-            if torque_free
-            else "auto: torques act, so RK4 (fixed step, quaternion renormalised)"
-        )
+        if torque_free:
+            chosen = "exact"
+            reason = "auto: torque-free, so the exact solution (Jacobi elliptic functions)"
+        elif conservative:
+            chosen = "splitting"
+            reason = (
+                "auto: gravity about a pivot is conservative, so the symplectic splitting "
+                "(bounded energy error)"
+            )
+        else:
+            chosen = "adaptive"
+            reason = (
+                "auto: non-conservative torques, so the adaptive Dormand–Prince 5(4) "
+                f"(rtol {rtol:g}, atol {atol:g})"
+            )
     else:
-        reason = "requested"
-    if chosen == "rk4" and per_turn < MIN_STEPS_PER_TURN:  # the exact method only samples
+        chosen, reason = method, "requested"
+    if chosen == "adaptive":
+        for name, value in (("rtol", rtol), ("atol", atol)):
+            if not (isinstance(value, float | int) and math.isfinite(value) and value > 0):
+                raise InputError(f"Expected `{name}` > 0, got {value!r}.")
+        if rtol < 1e-15:
+            raise InputError(f"Expected `rtol` >= 1e-15 (round-off), got {rtol!r}.")
+    stepping = chosen in ("rk4", "strang", "splitting")
+    if stepping and per_turn < MIN_STEPS_PER_TURN:
         warnings.warn(
             f"dt = {step:.3g} s gives {per_turn:.1f} steps per turn of the fastest rotation "
             f"({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the result is inaccurate.",
@@ -241,10 +284,16 @@ def simulate(
     w = axes.T @ omega
     principal_axes = Rotation.from_matrix(axes)
     q = _compose(q0, principal_axes)  # principal → body → space
+    hook = _user_hook(model, axes, principal_axes)
+    steps_taken = 0
     if chosen == "exact":
         out_w, out_q = _exact_principal(moments, w, q, times)
         if progress is not None:
             progress(n_steps, n_steps)
+    elif chosen == "adaptive":
+        out_w, out_q, steps_taken = _adaptive(
+            moments, params, hook, w, q, times, rtol, atol, progress
+        )
     else:
         out_w = np.empty((n_rows + tail, 3))
         out_q = np.empty((n_rows + tail, 4))
@@ -252,7 +301,9 @@ def simulate(
         done = 0
         while done < n_steps:
             count = min(PROGRESS_CHUNK, n_steps - done)
-            status = rk4_run(w, q, moments, params, step, count, done, record_every, out_w, out_q)
+            status = _fixed_steps(
+                chosen, moments, params, hook, w, q, step, count, done, record_every, out_w, out_q
+            )
             if status != FINITE:
                 raise IntegrationError(
                     f"Expected the integration to stay finite, got NaN or inf at step {status} "
@@ -263,6 +314,7 @@ def simulate(
                 progress(done, n_steps)
         if tail:
             out_w[-1], out_q[-1] = w, q
+        steps_taken = n_steps
     return Trajectory(
         t=times,
         omega=out_w @ axes.T,
@@ -273,7 +325,118 @@ def simulate(
         method=chosen,
         reason=reason,
         dt=step,
+        steps=steps_taken,
     )
+
+
+#: Samples per call of the adaptive kernel between progress reports.
+ADAPTIVE_CHUNK = 4096
+
+
+def _user_hook(model: TorqueModel, axes: Array, principal_axes: Rotation) -> Any:
+    """The kernels' context for a model with a user function, else None."""
+    if model.function is None:
+        return None
+    from tumble.core.rigid import compile_user_torque
+
+    callback = _CALLBACKS.get(model.function)
+    if callback is None:
+        callback = _CALLBACKS[model.function] = compile_user_torque(model.function)
+    return (
+        np.ascontiguousarray(axes),
+        np.asarray(principal_axes.as_quat(scalar_first=True), dtype=float),
+        np.array(model.function_params, dtype=float),  # writable copy
+        np.zeros(3),
+        np.zeros(4),
+        np.zeros(3),
+        callback,
+    )
+
+
+#: One C callback per user function, compiled on first use.
+_CALLBACKS: dict[Any, Any] = {}
+
+
+def _fixed_steps(
+    method: str,
+    moments: Array,
+    params: Array,
+    hook: Any,
+    w: Array,
+    q: Array,
+    step: float,
+    count: int,
+    done: int,
+    record_every: int,
+    out_w: Array,
+    out_q: Array,
+) -> int:
+    """Run ``count`` steps of a fixed-step method; the kernel's status."""
+    from tumble.core import splitting
+
+    args = (w, q, moments, params, step, count, done, record_every, out_w, out_q)
+    if method == "rk4":
+        if hook is None:
+            return int(rk4_run(*args))
+        return int(rk4_run_hooked(*args, hook))
+    order = 4 if method == "splitting" else 2
+    if hook is None:
+        return int(splitting.splitting_run(*args, order))
+    return int(splitting.splitting_run_hooked(*args, order, hook))
+
+
+def _adaptive(
+    moments: Array,
+    params: Array,
+    hook: Any,
+    w: Array,
+    q: Array,
+    times: Array,
+    rtol: float,
+    atol: float,
+    progress: Callable[[int, int], object] | None,
+) -> tuple[Array, Array, int]:
+    """The adaptive method sampled at ``times`` (times[0] = 0): (ω, q, steps)."""
+    from tumble.core import adaptive
+
+    out_w = np.empty((times.size, 3))
+    out_q = np.empty((times.size, 4))
+    out_w[0], out_q[0] = w, q
+    control = np.array([0.0, rtol, atol, 0.0, 0.0, 0.0])
+    total = times.size - 1
+    for first in range(1, times.size, ADAPTIVE_CHUNK):
+        last = min(first + ADAPTIVE_CHUNK, times.size)
+        samples = times[first:last]
+        args = (w, q, moments, params, times[first - 1], times[last - 1], control, samples,
+                out_w[first:last], out_q[first:last])  # fmt: skip
+        if hook is None:
+            status = adaptive.adaptive_run(*args)
+        else:
+            status = adaptive.adaptive_run_hooked(*args, hook)
+        if status != FINITE:
+            raise IntegrationError(
+                "Expected the integration to stay finite, got a step size below round-off at "
+                f"t = {control[adaptive.FAILED_AT]:.6g} s (the state became NaN or infinite, "
+                "or the torque is singular there)."
+            )
+        if progress is not None:
+            progress(last - 1, total)
+    return out_w, out_q, int(control[adaptive.ACCEPTED])
+
+
+def exact_solution(
+    mp: MassProperties, omega0: Array, attitude0: Array, times: Array
+) -> tuple[Array, Array]:
+    """Exact torque-free (ω in body axes, q body → space) of ``mp`` at ``times``
+    from ω0 (body axes, rad/s) and the unit quaternion ``attitude0``."""
+    moments, axes = principal_decomposition(mp.inertia)
+    if moments[0] <= 1e-12 * moments[2]:
+        raise InputError(
+            f"Expected a body with no zero principal moment, got moments {moments.tolist()} kg·m²."
+        )
+    principal_axes = Rotation.from_matrix(axes)
+    w, q = _exact_principal(moments, axes.T @ omega0, _compose(attitude0, principal_axes), times)
+    return w @ axes.T, _compose(q, principal_axes.inv())
 
 
 def _exact_principal(moments: Array, w0: Array, q0: Array, times: Array) -> tuple[Array, Array]:
@@ -336,7 +499,10 @@ class Trajectory:
     pivot : None (free body) or the fixed body point, m.
     gravity : (3,) gravitational acceleration in space coordinates, m/s².
     method : the integrator that ran; ``reason``: why it was chosen.
-    dt : the integration step used, s.
+    dt : the integration step used (fixed-step methods) or the sampling
+        interval (exact, adaptive), s.
+    steps : integration steps taken (accepted steps for the adaptive method;
+        0 for the exact solution).
     """
 
     t: Array
@@ -348,6 +514,7 @@ class Trajectory:
     method: str
     reason: str
     dt: float
+    steps: int = 0
 
     @cached_property
     def rotation(self) -> Any:
@@ -408,7 +575,8 @@ class Trajectory:
         kind = "free body" if self.pivot is None else f"pivot at {self.pivot.tolist()} m"
         return (
             f"Trajectory({len(self.t)} samples over {self.t[-1]:.6g} s, {kind}, "
-            f"method {self.method} (dt = {self.dt:.3g} s; {self.reason}); relative drift: "
+            f"method {self.method} (dt = {self.dt:.3g} s, {self.steps} steps; {self.reason}); "
+            "relative drift: "
             f"energy {drift['energy']:.2e}, |L| {drift['angular_momentum_norm']:.2e}, "
             f"L vector {drift['angular_momentum_vector']:.2e})"
         )
@@ -443,6 +611,7 @@ class Trajectory:
             "method": self.method,
             "reason": self.reason,
             "dt": self.dt,
+            "steps": self.steps,
             "units": "SI: s, rad/s, kg, m, kg*m^2; quaternion [w, x, y, z] body -> space",
         }
         table = pa.table(columns).replace_schema_metadata({"tumble": json.dumps(meta)})
@@ -480,6 +649,7 @@ class Trajectory:
             method=meta["method"],
             reason=meta["reason"],
             dt=float(meta["dt"]),
+            steps=int(meta.get("steps", 0)),
         )
 
 
@@ -518,7 +688,7 @@ def simulate_batch(
     torque: TorqueModel | None = None,
     record_every: int | None = None,
 ) -> BatchResult:
-    """Simulate N free bodies at once, in parallel, with RK4.
+    """Simulate N free bodies at once, in parallel.
 
     Parameters
     ----------
@@ -527,19 +697,25 @@ def simulate_batch(
     omega0 : (N, 3) initial angular velocities in body coordinates, rad/s.
     attitude0 : None (identity) or (N, 4) quaternions ``[w, x, y, z]``, body → space.
     duration, dt : s, > 0; dt is shortened slightly so whole steps span duration.
-    method : ``"rk4"``.
-    torque : one torque model from :mod:`tumble.torques` shared by all bodies
-        (constant torques and damping; gravity needs a pivot and is refused here).
+    method : ``"rk4"`` (vectorised across bodies: the fastest per step),
+        ``"splitting"`` or ``"strang"`` (as in :func:`simulate`).
+    torque : a torque model from :mod:`tumble.torques`: constant body and space
+        torques and linear damping, each either one value for all bodies or one
+        per body (``ConstantBodyTorque(array (N, 3))``, ``LinearDamping(array
+        (N,))``). Gravity needs a pivot and is refused here; so are user
+        functions (use :func:`simulate`).
     record_every : None to keep only the final states (memory stays O(N)), or k
         to also keep every k-th state.
 
     Returns
     -------
     BatchResult — the same states as N separate :func:`simulate` calls with
-    ``method="rk4"`` and the same ``dt``, to round-off.
+    the same method and ``dt``, to round-off.
     """
-    if method != "rk4":
-        raise InputError(f"Expected `method` to be rk4, got {method!r}.")
+    if method not in BATCH_METHODS:
+        raise InputError(
+            f"Expected `method` to be one of {', '.join(BATCH_METHODS)}, got {method!r}."
+        )
     moments_in = vector_to_si(
         inertia, "inertia", "inertia", (-1, 3) if np.ndim(inertia) == 2 else (-1, 3, 3)
     )
@@ -599,6 +775,21 @@ def simulate_batch(
             "Expected `torque` without gravity: a free body feels no torque from gravity, and "
             "batches have no pivot (use simulate for a top on a pivot)."
         )
+    if model.function is not None:
+        raise InputError(
+            "Expected `torque` without a UserTorque in a batch, got "
+            f"{model!r} (use simulate for user torque functions)."
+        )
+    for name, value, shape in (
+        ("ConstantBodyTorque", model.body, (n, 3)),
+        ("ConstantSpaceTorque", model.space, (n, 3)),
+        ("LinearDamping", model.damping, (n,)),
+    ):
+        if np.ndim(value) == len(shape) and np.shape(value) != shape:
+            raise InputError(
+                f"Expected per-body {name} values of shape {shape} for {n} bodies, got "
+                f"{np.shape(value)}."
+            )
     if record_every is not None and (isinstance(record_every, bool) or record_every < 1):
         raise InputError(
             f"Expected `record_every` to be None or an integer >= 1, got {record_every!r}."
@@ -606,14 +797,8 @@ def simulate_batch(
     n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
     step = total_time / n_steps
 
-    # Principal frame: ω_p = Rᵀ ω, q_p = q ⊗ q(R). A body torque is the same
-    # vector in every body (a shared model), so it is rotated per body: with
-    # tensors given, only torque-free or space-torque batches keep one params.
-    if axes is not None and np.any(model.body):
-        raise InputError(
-            "Expected principal moments (N, 3) with a body-fixed torque, got tensors (N, 3, 3) "
-            "(the torque's body axes would differ from body to body)."
-        )
+    # Principal frame: ω_p = Rᵀ ω, q_p = q ⊗ q(R); a body torque turns with each
+    # body's principal axes, so with tensors it becomes one value per body.
     if axes is None:
         w = np.ascontiguousarray(omega.T)
         principal_axes = None
@@ -622,11 +807,16 @@ def simulate_batch(
         w = np.ascontiguousarray(np.einsum("nji,nj->in", axes, omega))
         principal_axes = Rotation.from_matrix(axes)
         q = np.ascontiguousarray(_compose(q0, principal_axes).T)
-    params = np.zeros(N_TORQUE_PARAMS)
-    params[0:3] = model.body
-    params[3:6] = model.space
+    body_torque = np.asarray(model.body, dtype=float)
+    if axes is not None and np.any(body_torque):
+        body_torque = np.einsum("nji,nj->ni", axes, np.broadcast_to(body_torque, (n, 3)))
+    per_body = body_torque.ndim == 2 or model.per_body
+    params = np.zeros((N_TORQUE_PARAMS, n if per_body else 1))
+    params[0:3] = np.broadcast_to(body_torque, (params.shape[1], 3)).T
+    params[3:6] = np.broadcast_to(model.space, (params.shape[1], 3)).T
     params[12] = model.damping
     inertia_soa = np.ascontiguousarray(moments.T)
+    status = np.full(n, FINITE, dtype=np.int64)
 
     chunk = n_steps if record_every is None else record_every
     history_w, history_q, times = [], [], [0.0]
@@ -636,13 +826,20 @@ def simulate_batch(
     done = 0
     while done < n_steps:
         count = min(chunk, n_steps - done)
-        rk4_batch(w, q, inertia_soa, params, step, count)
+        if method == "rk4":
+            rk4_batch(w, q, inertia_soa, params, step, count)
+        else:
+            splitting_batch(
+                w, q, inertia_soa, params, step, count, 4 if method == "splitting" else 2, status
+            )
+            if np.any(status != FINITE):
+                break
         done += count
         times.append(done * step)
         if record_every is not None:
             history_w.append(w.T.copy())
             history_q.append(q.T.copy())
-    diverged = ~(np.isfinite(w).all(axis=0) & np.isfinite(q).all(axis=0))
+    diverged = ~(np.isfinite(w).all(axis=0) & np.isfinite(q).all(axis=0)) | (status != FINITE)
     if np.any(diverged):
         k = int(np.flatnonzero(diverged)[0])
         raise IntegrationError(
@@ -657,7 +854,7 @@ def simulate_batch(
 
     final_w, final_q = to_body(w.T.copy(), q.T.copy())
     if record_every is None:
-        return BatchResult(final_w, final_q, np.array([total_time]), None, None, step, "rk4")
+        return BatchResult(final_w, final_q, np.array([total_time]), None, None, step, method)
     pairs = [to_body(a, b) for a, b in zip(history_w, history_q, strict=True)]
     return BatchResult(
         final_w,
@@ -666,5 +863,5 @@ def simulate_batch(
         np.stack([p[0] for p in pairs]),
         np.stack([p[1] for p in pairs]),
         step,
-        "rk4",
+        method,
     )

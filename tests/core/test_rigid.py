@@ -44,7 +44,7 @@ def test_batch_kernel_equals_the_single_body_kernel() -> None:
     params = np.zeros(N_TORQUE_PARAMS)
     params[3:6] = [0.1, -0.2, 0.05]  # a space torque exercises the attitude-dependent path
     w_batch, q_batch = w.copy(), q.copy()
-    rk4_batch(w_batch, q_batch, inertia, params, 1e-2, 50)
+    rk4_batch(w_batch, q_batch, inertia, params[:, None].copy(), 1e-2, 50)  # shared: one column
     for k in (0, 77, 129):
         wk, qk = w[:, k].copy(), q[:, k].copy()
         rk4_run(
