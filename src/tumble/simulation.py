@@ -67,7 +67,15 @@ class IntegrationError(InputError):
 
 # --------------------------------------------------------------- quaternions
 def _compose(quaternions: Array, rotation: Rotation) -> Array:
-    """Scalar-first quaternions of ``R(q) · rotation`` (scipy broadcasts stacks)."""
+    """Scalar-first quaternions of ``R(q) · rotation``: a compiled loop for one
+    rotation (the samples of a trajectory), scipy for one rotation per row."""
+    if rotation.single:
+        from tumble.core.quaternion import multiply_right
+
+        stack = np.ascontiguousarray(np.atleast_2d(quaternions), dtype=float)
+        r = np.asarray(rotation.as_quat(scalar_first=True), dtype=float)
+        out = multiply_right(stack, r)
+        return np.asarray(out[0] if np.ndim(quaternions) == 1 else out)
     return np.asarray(
         (Rotation.from_quat(quaternions, scalar_first=True) * rotation).as_quat(scalar_first=True)
     )
@@ -450,7 +458,7 @@ def _exact_principal(moments: Array, w0: Array, q0: Array, times: Array) -> tupl
     ``φ̇ = L (I1 ω1² + I2 ω2²)/(I1² ω1² + I2² ω2²)``
     (:func:`tumble.core.freebody.free_precession_angle`).
     """
-    from tumble.core.freebody import free_omega, free_precession_angle
+    from tumble.core.freebody import free_attitude
 
     start = Rotation.from_quat(q0, scalar_first=True)
     on_axis = np.count_nonzero(w0 == 0.0) >= 2 or moments[0] == moments[2]
@@ -458,18 +466,13 @@ def _exact_principal(moments: Array, w0: Array, q0: Array, times: Array) -> tupl
         # Steady rotation about a principal axis, or any rotation of a sphere.
         attitude = start * Rotation.from_rotvec(np.outer(times, w0))
         return np.tile(w0, (times.size, 1)), attitude.as_quat(scalar_first=True)
-    w = free_omega(moments, w0, times)
-    momentum = moments * w
-    theta = np.arctan2(np.hypot(momentum[:, 0], momentum[:, 1]), momentum[:, 2])
-    psi = np.arctan2(momentum[:, 0], momentum[:, 1])
-    phi = free_precession_angle(moments, w0, times)
     l0 = moments * w0
     initial = Rotation.from_euler(
         "ZXZ", [0.0, np.arctan2(np.hypot(l0[0], l0[1]), l0[2]), np.arctan2(l0[0], l0[1])]
     )
-    frame = start * initial.inv()  # R_L: its Z axis is along L in space
-    attitude = frame * Rotation.from_euler("ZXZ", np.column_stack([phi, theta, psi]))
-    return w, attitude.as_quat(scalar_first=True)
+    frame = (start * initial.inv()).as_quat(scalar_first=True)  # R_L: its z axis along L
+    w, q = free_attitude(moments, w0, np.asarray(frame, dtype=float), times)
+    return w, q
 
 
 def _fastest_rate(moments: Array, w: Array, weight: float, lever: Array, pivot: Any) -> float:

@@ -203,6 +203,13 @@ def _reduced_phase(u, mc, mc_lo):  # type: ignore[no-untyped-def]
     the second term is below the first unless the phase lies within
     ``2^-50 |u A|`` of zero, or ``|u|`` exceeds ``2^50 K``.
     """
+    fh, fl = _inverse_period(mc, mc_lo)
+    return _reduce(u, fh, fl)
+
+
+@njit
+def _inverse_period(mc, mc_lo):  # type: ignore[no-untyped-def]
+    """``1 / 4K = A / 2π`` in double-double, ``A = AGM(1, √(mc + mc_lo))``."""
     ah = 1.0
     al = 0.0
     if mc < 2.0**-900:
@@ -227,6 +234,13 @@ def _reduced_phase(u, mc, mc_lo):  # type: ignore[no-untyped-def]
     x = ((ah - bh) + (al - bl)) / sh  # ah - bh is exact; the low parts matter at x ~ 2^-40
     sh, sl = _fast_two_sum(sh, sl - sh * (0.25 * x * x))  # 2A
     fh, fl = _dd_mul(sh, sl, _INV_4PI_HI, _INV_4PI_LO)  # A / (2π) = 1 / (4K)
+    return fh, fl
+
+
+@njit
+def _reduce(u, fh, fl):  # type: ignore[no-untyped-def]
+    """``2π`` times the fractional part of ``u (fh + fl)``, with ``fh + fl = 1/4K``
+    in double-double (from :func:`_inverse_period`), in ``[-π, π]``."""
     scale = 1.0
     if abs(u) > _SPLIT_LIMIT:
         u *= 2.0**-64
@@ -249,36 +263,67 @@ def _sech(u):  # type: ignore[no-untyped-def]
     return 2.0 * math.exp(-a)  # cosh = e^a/2 (1 + e^-2a), and e^-1400 is nothing
 
 
+#: Layout of the table from :func:`jacobi_table`: the AGM means a_i and b_i,
+#: then the ladder's top index, A = AGM(1, √mc), 1/4K in double-double (NaN
+#: until needed), and mc in double-double.
+_TABLE_TOP = 2 * _MAX_AGM
+_TABLE_SIZE = 2 * _MAX_AGM + 6
+
+
 @njit
-def _ellipj_unit(u, mc, mc_lo):  # type: ignore[no-untyped-def]
-    """sn, cn, dn for ``0 <= mc = mc + mc_lo <= 1``; Bulirsch's descending Gauss transformation."""
-    if mc == 0.0:
-        s = _sech(u)
-        return math.tanh(u), s, s
-    if not abs(u) < math.inf:
-        return math.nan, math.nan, math.nan
-    if abs(u) < _TINY:
-        return u, 1.0, 1.0
-    # The AGM ladder, read back in reverse: means a_i in ladder[i], b_i in ladder[_MAX_AGM + i]
-    # (one allocation, not two: it costs about as much as the rest of the arithmetic).
-    ladder = np.empty(2 * _MAX_AGM)
+def jacobi_table(mc, mc_lo, with_period=True):  # type: ignore[no-untyped-def]
+    """What sn, cn, dn need from the parameter alone, for ``0 < mc + mc_lo <= 1``:
+    the AGM ladder and (``with_period``, else on first need) the double-double
+    inverse period. Computing it once and calling :func:`jacobi_from_table` for
+    many u saves most of :func:`ellipj`'s cost per call."""
+    table = np.empty(_TABLE_SIZE)
     a = 1.0
     b = math.sqrt(mc)
     c = 1.0
     top = 0
     for i in range(_MAX_AGM):
-        ladder[i] = a
-        ladder[_MAX_AGM + i] = b
+        table[i] = a
+        table[_MAX_AGM + i] = b
         top = i
         c = 0.5 * (a + b)
         if abs(a - b) <= _AGM_TOL * a:
             break
         b = math.sqrt(a * b)
         a = c
+    table[_TABLE_TOP] = top
     # c = AGM(1, √mc) = π/(2K): the phase u c runs through 2π in one period 4K.
+    table[_TABLE_TOP + 1] = c
+    table[_TABLE_TOP + 4] = mc
+    table[_TABLE_TOP + 5] = mc_lo
+    table[_TABLE_TOP + 2] = math.nan
+    table[_TABLE_TOP + 3] = math.nan
+    if with_period:
+        _fill_period(table)
+    return table
+
+
+@njit
+def _fill_period(table):  # type: ignore[no-untyped-def]
+    fh, fl = _inverse_period(table[_TABLE_TOP + 4], table[_TABLE_TOP + 5])
+    table[_TABLE_TOP + 2] = fh
+    table[_TABLE_TOP + 3] = fl
+
+
+@njit
+def jacobi_from_table(u, table):  # type: ignore[no-untyped-def]
+    """sn, cn, dn of u for the parameter of ``table`` (:func:`jacobi_table`);
+    Bulirsch's descending Gauss transformation (see :func:`ellipj`)."""
+    if not abs(u) < math.inf:
+        return math.nan, math.nan, math.nan
+    if abs(u) < _TINY:
+        return u, 1.0, 1.0
+    top = int(table[_TABLE_TOP])
+    c = table[_TABLE_TOP + 1]
     v = u * c
     if not abs(v) <= math.pi:
-        v = _reduced_phase(u, mc, mc_lo)
+        if table[_TABLE_TOP + 2] != table[_TABLE_TOP + 2]:
+            _fill_period(table)
+        v = _reduce(u, table[_TABLE_TOP + 2], table[_TABLE_TOP + 3])
     if abs(v) < _TINY:
         return v / c, 1.0, 1.0
     s = math.sin(v)
@@ -290,13 +335,26 @@ def _ellipj_unit(u, mc, mc_lo):  # type: ignore[no-untyped-def]
     c *= a
     dn = 1.0
     for i in range(top, -1, -1):
-        b = ladder[i]
+        b = table[i]
         a *= c
         c *= dn
-        dn = (ladder[_MAX_AGM + i] + a) / (b + a)
+        dn = (table[_MAX_AGM + i] + a) / (b + a)
         a = c / b
     sn = math.copysign(1.0 / math.sqrt(c * c + 1.0), s)
     return sn, c * sn, dn
+
+
+@njit
+def _ellipj_unit(u, mc, mc_lo):  # type: ignore[no-untyped-def]
+    """sn, cn, dn for ``0 <= mc = mc + mc_lo <= 1``; Bulirsch's descending Gauss transformation."""
+    if mc == 0.0:
+        s = _sech(u)
+        return math.tanh(u), s, s
+    if not abs(u) < math.inf:
+        return math.nan, math.nan, math.nan
+    if abs(u) < _TINY:
+        return u, 1.0, 1.0
+    return jacobi_from_table(u, jacobi_table(mc, mc_lo, False))
 
 
 @njit

@@ -28,7 +28,14 @@ import math
 import numpy as np
 
 from tumble.core._jit import njit
-from tumble.core.elliptic import ellipj_mc, ellipk_mc, elliprf
+from tumble.core.elliptic import (
+    ellipj_mc,
+    ellipk_mc,
+    elliprf,
+    jacobi_from_table,
+    jacobi_table,
+)
+from tumble.core.quaternion import multiply
 
 
 @njit
@@ -72,8 +79,13 @@ def _solve_side(i1, i2, i3, w1, w2, w3, times, out, k1, k2, k3, flip2, direction
     sn0 = w2 / a2 if a2 > 0.0 else 0.0
     cn0 = s * w1 / a1 if a1 > 0.0 else 1.0
     phase = _incomplete_first_kind(math.atan2(sn0, cn0), m, mc)
+    table = jacobi_table(mc, 0.0) if mc > 0.0 else np.zeros(1)
     for n in range(times.shape[0]):
-        sn, cn, dn = ellipj_mc(rate * times[n] + phase, mc)
+        u = rate * times[n] + phase
+        if mc > 0.0:
+            sn, cn, dn = jacobi_from_table(u, table)
+        else:
+            sn, cn, dn = ellipj_mc(u, mc)
         out[n, k1] = s * a1 * cn
         out[n, k2] = -a2 * sn if flip2 else a2 * sn
         out[n, k3] = s * a3 * dn
@@ -166,16 +178,85 @@ def elliptic_rate_and_mc(moments, omega0):  # type: ignore[no-untyped-def]
     return rate, mc
 
 
+#: Degree of the Chebyshev expansion of φ on each panel: the integrand is
+#: analytic on a neighbourhood of the panel (panels ``_PANEL_U`` wide in u), so
+#: degree 16 reaches round-off, as the 16-point Gauss–Legendre rule does.
+_CHEB_DEGREE = 16
+
+
+@njit
+def _phi_rate_at(moments, w, momentum, n):  # type: ignore[no-untyped-def]
+    a = moments[0] * w[n, 0] * w[n, 0]
+    b = moments[1] * w[n, 1] * w[n, 1]
+    return momentum * (a + b) / (moments[0] * a + moments[1] * b)
+
+
+@njit
+def _panel_expansions(moments, omega0, momentum, width, panels):  # type: ignore[no-untyped-def]
+    """Chebyshev coefficients (panels, degree + 2) of ∫ φ̇ dt from the start of
+    each panel [j w, (j+1) w], in x ∈ [−1, 1] (t = start + (x + 1) w / 2).
+
+    φ̇ is sampled at the Chebyshev–Lobatto points, its interpolating series is
+    integrated term by term (Numerical Recipes §5.9, ``chebint``), and the
+    constant term makes the integral vanish at the panel's start.
+    """
+    n = _CHEB_DEGREE
+    nodes = np.empty(n + 1)
+    for k in range(n + 1):
+        nodes[k] = math.cos(math.pi * k / n)
+    times = np.empty(panels * (n + 1))
+    for j in range(panels):
+        for k in range(n + 1):
+            times[j * (n + 1) + k] = (j + 0.5 * (nodes[k] + 1.0)) * width
+    w = free_omega(moments, omega0, times)
+    out = np.zeros((panels, n + 2))
+    c = np.empty(n + 3)
+    for j in range(panels):
+        for i in range(n + 1):
+            total = 0.0
+            for k in range(n + 1):
+                weight = 0.5 if k == 0 or k == n else 1.0
+                total += (
+                    weight
+                    * _phi_rate_at(moments, w, momentum, j * (n + 1) + k)
+                    * math.cos(math.pi * i * k / n)
+                )
+            c[i] = 2.0 * total / n
+        c[n] *= 0.5  # the series is c0/2 + Σ c_i T_i with the last term halved
+        c[n + 1] = 0.0
+        c[n + 2] = 0.0
+        # ∫ (c0/2 + Σ c_i T_i) dx = C0/2 + Σ_{i>=1} C_i T_i, C_i = (c_{i-1} − c_{i+1}) / 2i,
+        # times dt/dx = w/2.
+        alternating = 0.0
+        for i in range(1, n + 2):
+            out[j, i] = 0.25 * width * (c[i - 1] - c[i + 1]) / i
+            alternating += out[j, i] if i % 2 == 0 else -out[j, i]
+        out[j, 0] = -2.0 * alternating  # zero at x = −1
+    return out
+
+
+@njit(inline="always")
+def _clenshaw(coefficients, j, x):  # type: ignore[no-untyped-def]
+    """c0/2 + Σ c_i T_i(x) for row j of ``coefficients``."""
+    b1 = 0.0
+    b2 = 0.0
+    for i in range(coefficients.shape[1] - 1, 0, -1):
+        b1, b2 = 2.0 * x * b1 - b2 + coefficients[j, i], b1
+    return x * b1 - b2 + 0.5 * coefficients[j, 0]
+
+
 @njit
 def free_precession_angle(moments, omega0, times):  # type: ignore[no-untyped-def]
     """The angle φ(t) − φ(0) through which the body precesses about L, rad.
 
-    ``φ̇`` is periodic with the half period ``P = 2K/|λ|`` of ω1², ω2²: the
-    integral over one P and over panels of one P (``_PANEL_U`` wide in u) is
-    taken once by Gauss–Legendre quadrature, the quadrature that ACM TOMS 903
-    offers in place of the elliptic integral of the third kind; each time then
-    costs one panel. On the separatrix itself (P infinite) every time is
-    integrated from 0.
+    ``φ̇`` is periodic with the half period ``P = 2K/|λ|`` of ω1², ω2². Over one
+    P, cut into panels ``_PANEL_U`` wide in u, its integral is expanded once
+    in Chebyshev series (degree ``_CHEB_DEGREE``, to round-off; the expansion
+    stands in for the elliptic integral of the third kind, as quadrature does
+    in ACM TOMS 903); each time then costs one series evaluation:
+    ``φ(t) = turns · φ(P) + cumulative(panel) + series(panel, t)``. On the
+    separatrix itself (P infinite) every time is integrated from 0 by
+    16-point Gauss–Legendre panels.
 
     Parameters as :func:`free_omega`; not for rotations exactly about a
     principal axis or a spherical body (the caller handles those).
@@ -200,20 +281,48 @@ def free_precession_angle(moments, omega0, times):  # type: ignore[no-untyped-de
     period = 2.0 * ellipk_mc(mc) / rate
     panels = max(8, int(math.ceil(2.0 * ellipk_mc(mc) / _PANEL_U)))  # noqa: RUF046 (numba)
     width = period / panels
+    series = _panel_expansions(moments, omega0, momentum, width, panels)
     cumulative = np.empty(panels + 1)
     cumulative[0] = 0.0
     for j in range(panels):
-        cumulative[j + 1] = cumulative[j] + _phi_integral(
-            moments, omega0, momentum, j * width, (j + 1) * width
-        )
+        cumulative[j + 1] = cumulative[j] + _clenshaw(series, j, 1.0)
     for n in range(times.shape[0]):
         t = times[n]
         turns = math.floor(t / period)
         rest = t - turns * period
         j = min(int(rest / width), panels - 1)
-        out[n] = (
-            turns * cumulative[panels]
-            + cumulative[j]
-            + _phi_integral(moments, omega0, momentum, j * width, rest)
-        )
+        x = 2.0 * (rest - j * width) / width - 1.0
+        out[n] = turns * cumulative[panels] + cumulative[j] + _clenshaw(series, j, x)
     return out
+
+
+@njit
+def free_attitude(moments, omega0, frame, times):  # type: ignore[no-untyped-def]
+    """ω (n, 3) and the attitude quaternions (n, 4), principal → space, at ``times``.
+
+    With z-x-z Euler angles about the fixed L (Landau & Lifshitz §37), the
+    attitude is ``frame ⊗ qz(φ) ⊗ qx(θ) ⊗ qz(ψ)``, where ``frame`` (4,) turns
+    space axes with z along L into space axes, ``cos θ = L3/|L|``,
+    ``tan ψ = L1/L2`` and φ from :func:`free_precession_angle`. Not for
+    rotations exactly about a principal axis or a spherical body.
+    """
+    w = free_omega(moments, omega0, times)
+    phi = free_precession_angle(moments, omega0, times)
+    out = np.empty((times.shape[0], 4))
+    f0, f1, f2, f3 = frame[0], frame[1], frame[2], frame[3]
+    for n in range(times.shape[0]):
+        l1 = moments[0] * w[n, 0]
+        l2 = moments[1] * w[n, 1]
+        l3 = moments[2] * w[n, 2]
+        theta = math.atan2(math.hypot(l1, l2), l3)
+        psi = math.atan2(l1, l2)
+        a0, a3 = math.cos(0.5 * phi[n]), math.sin(0.5 * phi[n])
+        b0, b1 = math.cos(0.5 * theta), math.sin(0.5 * theta)
+        c0, c3 = math.cos(0.5 * psi), math.sin(0.5 * psi)
+        # qz(φ) ⊗ qx(θ) = (a0 b0, a0 b1, a3 b1, a3 b0), then ⊗ qz(ψ)
+        p0, p1, p2, p3 = a0 * b0, a0 * b1, a3 * b1, a3 * b0
+        r = multiply(f0, f1, f2, f3, p0 * c0 - p3 * c3, c0 * p1 + p2 * c3,
+                     c0 * p2 - p1 * c3, p0 * c3 + c0 * p3)  # fmt: skip
+        for i in range(4):
+            out[n, i] = r[i]
+    return w, out
