@@ -79,7 +79,8 @@ _RJ_HUGE_P = 2.0**-60
 
 
 # --------------------------------------------------------------------------
-# Double-double arithmetic (Dekker 1971), used only to reduce u modulo 4K.
+# Double-double arithmetic (Dekker 1971), used to reduce u modulo 4K (and by
+# tumble.core.freebody for the phase λ t).
 # --------------------------------------------------------------------------
 
 
@@ -310,20 +311,25 @@ def _fill_period(table):  # type: ignore[no-untyped-def]
 
 
 @njit
-def jacobi_from_table(u, table):  # type: ignore[no-untyped-def]
-    """sn, cn, dn of u for the parameter of ``table`` (:func:`jacobi_table`);
-    Bulirsch's descending Gauss transformation (see :func:`ellipj`)."""
+def jacobi_from_table(u, table, u_lo=0.0):  # type: ignore[no-untyped-def]
+    """sn, cn, dn of ``u + u_lo`` for the parameter of ``table``
+    (:func:`jacobi_table`); Bulirsch's descending Gauss transformation (see
+    :func:`ellipj`). ``u_lo`` carries the low part of an argument known in
+    double-double (a phase ``λ t`` at very large t), so its reduction modulo
+    the period stays exact."""
     if not abs(u) < math.inf:
         return math.nan, math.nan, math.nan
     if abs(u) < _TINY:
         return u, 1.0, 1.0
     top = int(table[_TABLE_TOP])
     c = table[_TABLE_TOP + 1]
-    v = u * c
+    v = u * c + u_lo * c
     if not abs(v) <= math.pi:
         if table[_TABLE_TOP + 2] != table[_TABLE_TOP + 2]:
             _fill_period(table)
-        v = _reduce(u, table[_TABLE_TOP + 2], table[_TABLE_TOP + 3])
+        fh = table[_TABLE_TOP + 2]
+        v = _reduce(u, fh, table[_TABLE_TOP + 3])
+        v = v + 2.0 * math.pi * (u_lo * fh)  # the low part's share of the phase
     if abs(v) < _TINY:
         return v / c, 1.0, 1.0
     s = math.sin(v)
