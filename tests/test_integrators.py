@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import warnings
 
 import numba
 import numpy as np
@@ -330,3 +331,22 @@ def test_progress_and_recording_for_the_adaptive_method() -> None:
     assert len(run.t) == 10000 // 7 + 2 and run.t[-1] == 1.0
     assert calls[-1] == (len(run.t) - 1, len(run.t) - 1)
     assert_allclose(np.diff(run.t[:-1]), 7e-4, rtol=1e-12)
+
+
+def test_the_coarse_step_warning_knows_the_splitting_spins_a_symmetric_top_exactly() -> None:
+    # The gyroscope disk spins at 200 rad/s (a turn in 31 ms) but its axis moves
+    # at |L|/I⊥ ≈ 80 rad/s. dt = 3 ms is 10 steps a turn of the spin: coarse for
+    # RK4, which must resolve it, but 26 steps a turn of the axis for the
+    # splitting, whose free flow turns the symmetric disk exactly.
+    disk = tb.shapes.thin_disk(1.0, 0.1)
+    kwargs = {
+        "attitude0": [math.sqrt(0.5), 0, math.sqrt(0.5), 0], "duration": 0.1, "dt": 3.0e-3,
+        "pivot": [0, 0, -0.1], "gravity": [0, 0, -9.81],
+    }  # fmt: skip
+    with pytest.warns(
+        CoarseStepWarning, match=r"steps per turn of the fastest rotation \(2\d\d rad/s\)"
+    ):
+        tb.simulate(disk, [0, 0, 200.0], method="rk4", **kwargs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CoarseStepWarning)
+        tb.simulate(disk, [0, 0, 200.0], method="splitting", **kwargs)

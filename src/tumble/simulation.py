@@ -229,20 +229,6 @@ def simulate(
         params[9:12] = mp.mass * g
     params[12] = model.damping
 
-    fastest = _fastest_rate(
-        moments, axes.T @ omega, mp.mass * float(np.linalg.norm(g)), lever, pivot
-    )
-    per_turn = math.inf
-    if dt is None:
-        step = 2 * math.pi / fastest / DEFAULT_STEPS_PER_TURN if fastest > 0 else total_time
-    else:
-        step = to_si(dt, "time", "dt")
-        if step <= 0:
-            raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
-        per_turn = 2 * math.pi / (fastest * step) if fastest > 0 else math.inf
-    n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
-    step = total_time / n_steps
-
     torque_free = model.conservative and (pivot is None or not np.any(g))
     conservative = model.conservative
     if method == "exact" and not torque_free:
@@ -275,6 +261,25 @@ def simulate(
                 raise InputError(f"Expected `{name}` > 0, got {value!r}.")
         if rtol < 1e-15:
             raise InputError(f"Expected `rtol` >= 1e-15 (round-off), got {rtol!r}.")
+    fastest = _fastest_rate(
+        moments,
+        axes.T @ omega,
+        mp.mass * float(np.linalg.norm(g)),
+        lever,
+        pivot,
+        exact_spin=chosen in ("splitting", "strang"),
+    )
+    per_turn = math.inf
+    if dt is None:
+        step = 2 * math.pi / fastest / DEFAULT_STEPS_PER_TURN if fastest > 0 else total_time
+    else:
+        step = to_si(dt, "time", "dt")
+        if step <= 0:
+            raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
+        per_turn = 2 * math.pi / (fastest * step) if fastest > 0 else math.inf
+    n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
+    step = total_time / n_steps
+
     stepping = chosen in ("rk4", "strang", "splitting")
     if stepping and per_turn < MIN_STEPS_PER_TURN:
         warnings.warn(
@@ -475,14 +480,25 @@ def _exact_principal(moments: Array, w0: Array, q0: Array, times: Array) -> tupl
     return w, q
 
 
-def _fastest_rate(moments: Array, w: Array, weight: float, lever: Array, pivot: Any) -> float:
-    """An upper estimate of the body's fastest angular rate, rad/s.
+def _fastest_rate(
+    moments: Array, w: Array, weight: float, lever: Array, pivot: Any, exact_spin: bool = False
+) -> float:
+    """An upper estimate of the fastest angular rate a step must resolve, rad/s.
 
     Torque-free, |ω| never exceeds |L| / I1. A heavy top adds the pendulum rate
-    √(m g l / I1) and nutation at up to about I3 ω / I1.
+    √(m g l / I1) and nutation at up to about I3 ω / I1. With ``exact_spin``
+    (the splitting methods), a symmetric body's free motion is exact, so its
+    spin about the symmetry axis needs no resolving: the rate is |L| / I⊥, that
+    of the precession of the axis about L (and of nutation).
     """
     momentum = float(np.linalg.norm(moments * w))
     rate = momentum / moments[0]
+    if exact_spin:
+        close = 1e-12 * moments[2]
+        if abs(moments[1] - moments[0]) <= close:  # oblate: symmetry axis 3
+            rate = momentum / moments[0]
+        elif abs(moments[2] - moments[1]) <= close:  # prolate: symmetry axis 1
+            rate = momentum / moments[1]
     if pivot is not None:
         rate += math.sqrt(weight * float(np.linalg.norm(lever)) / moments[0])
     return rate
@@ -654,6 +670,28 @@ class Trajectory:
             dt=float(meta["dt"]),
             steps=int(meta.get("steps", 0)),
         )
+
+    # ------------------------------------------------------------ notebooks
+    def _repr_html_(self) -> str:
+        from tumble.report.html import trajectory_html
+
+        return trajectory_html(self)
+
+    def plot(self) -> dict[str, Any]:
+        """Matplotlib figures by name: ``omega`` (ω(t), body axes), ``angular_momentum``
+        (L(t), space axes), ``drift`` (energy and |L|) and ``polhode`` (L in principal
+        axes on the energy ellipsoid). See :mod:`tumble.report.figures`."""
+        from tumble.report import figures
+
+        return figures(self)
+
+    def view(self, frames: int = 300) -> Any:
+        """The interactive 3D viewer (the body as an ellipsoid of equal inertia, its
+        principal axes, ω and L, play / pause and a time slider): shown inline in a
+        notebook, ``.save(path)`` writes a self-contained HTML file."""
+        from tumble.report import view
+
+        return view(self, frames=frames)
 
 
 # -------------------------------------------------------------------- batches
