@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 from tumble.errors import InputError, MeshError
 
 if TYPE_CHECKING:
-    from tumble import models, shapes, theory, torques, units
+    from tumble import analysis, models, shapes, theory, torques, units
     from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
     from tumble.massprops import MassProperties, point_masses
     from tumble.mesh import MeshOrientationWarning, from_mesh
@@ -45,7 +45,7 @@ _WHERE = {
     "Trajectory": "tumble.simulation",
     "simulate_batch": "tumble.simulation",
 }
-_SUBMODULES = {"models", "shapes", "theory", "torques", "units"}
+_SUBMODULES = {"analysis", "models", "shapes", "symbolic", "theory", "torques", "units"}
 
 __all__ = [
     "InputError",
@@ -54,6 +54,7 @@ __all__ = [
     "MeshOrientationWarning",
     "Trajectory",
     "__version__",
+    "analysis",
     "angular_momentum",
     "from_mesh",
     "kinetic_energy",
