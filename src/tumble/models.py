@@ -34,10 +34,9 @@ from tumble.massprops import MassProperties
 from tumble.simulation import (
     DEFAULT_STEPS_PER_TURN,
     MIN_STEPS_PER_TURN,
-    PROGRESS_CHUNK,
     CoarseStepWarning,
-    IntegrationError,
     Trajectory,
+    step_in_chunks,
 )
 from tumble.theory import _axial_and_transverse, _mass_properties
 from tumble.units import to_si
@@ -321,18 +320,12 @@ def gyrocompass(
     y = np.array([theta0, theta_rate0, 0.0])
     out = np.empty((n_rows + tail, 3))
     out[0] = y
-    done = 0
-    while done < n_steps:
-        count = min(PROGRESS_CHUNK, n_steps - done)
-        status = int(gimbal.rk4_run(y, params, step, count, done, record_every, out))
-        if status != gimbal.FINITE:
-            raise IntegrationError(
-                f"Expected the integration to stay finite, got NaN or inf at step {status} "
-                f"(t = {status * step:.6g} s) with dt = {step:.3g} s: reduce dt."
-            )
-        done += count
-        if progress is not None:
-            progress(done, n_steps)
+    step_in_chunks(
+        lambda done, count: gimbal.rk4_run(y, params, step, count, done, record_every, out),
+        n_steps,
+        step,
+        progress,
+    )
     if tail:
         out[-1] = y
 

@@ -311,20 +311,14 @@ def simulate(
         out_w = np.empty((n_rows + tail, 3))
         out_q = np.empty((n_rows + tail, 4))
         out_w[0], out_q[0] = w, q
-        done = 0
-        while done < n_steps:
-            count = min(PROGRESS_CHUNK, n_steps - done)
-            status = _fixed_steps(
+        step_in_chunks(
+            lambda done, count: _fixed_steps(
                 chosen, moments, params, hook, w, q, step, count, done, record_every, out_w, out_q
-            )
-            if status != FINITE:
-                raise IntegrationError(
-                    f"Expected the integration to stay finite, got NaN or inf at step {status} "
-                    f"(t = {status * step:.6g} s) with dt = {step:.3g} s: reduce dt."
-                )
-            done += count
-            if progress is not None:
-                progress(done, n_steps)
+            ),
+            n_steps,
+            step,
+            progress,
+        )
         if tail:
             out_w[-1], out_q[-1] = w, q
         steps_taken = n_steps
@@ -340,6 +334,35 @@ def simulate(
         dt=step,
         steps=steps_taken,
     )
+
+
+def step_in_chunks(
+    run: Callable[[int, int], int],
+    n_steps: int,
+    step: float,
+    progress: Callable[[int, int], object] | None,
+) -> None:
+    """Call ``run(done, count)`` (a compiled kernel's status: ``FINITE`` or the
+    number of the first non-finite step) over chunks of ``PROGRESS_CHUNK``
+    steps, reporting ``progress(done, n_steps)`` after each.
+
+    Raises
+    ------
+    IntegrationError
+        When a chunk reports a non-finite step; the message names it and its time.
+    """
+    done = 0
+    while done < n_steps:
+        count = min(PROGRESS_CHUNK, n_steps - done)
+        status = int(run(done, count))
+        if status != FINITE:
+            raise IntegrationError(
+                f"Expected the integration to stay finite, got NaN or inf at step {status} "
+                f"(t = {status * step:.6g} s) with dt = {step:.3g} s: reduce dt."
+            )
+        done += count
+        if progress is not None:
+            progress(done, n_steps)
 
 
 #: Samples per call of the adaptive kernel between progress reports.
@@ -680,7 +703,7 @@ class Trajectory:
     def plot(self) -> dict[str, Any]:
         """Matplotlib figures by name: ``omega`` (ω(t), body axes), ``angular_momentum``
         (L(t), space axes), ``drift`` (energy and |L|) and ``polhode`` (L in principal
-        axes on the energy ellipsoid). See :mod:`tumble.report.figures`."""
+        axes on the energy ellipsoid). See :mod:`tumble.report.plots`."""
         from tumble.report import figures
 
         return figures(self)
