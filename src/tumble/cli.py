@@ -142,6 +142,234 @@ def inertia(
     _run(work)
 
 
+# ------------------------------------------------------------------ scenarios
+@app.command("run")
+def run_scenario(
+    scenario: Annotated[
+        str | None,
+        typer.Argument(
+            metavar="SCENARIO|FILE.toml",
+            help="A built-in scenario (see `tumble list`) or a scenario file; default: gyroscope.",
+            show_default=False,
+        ),
+    ] = None,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o",
+            "--output",
+            help="Run folder to write; default runs/NAME-YYYYmmdd-HHMMSS.",
+            show_default=False,
+        ),
+    ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Replace the output folder if it holds files.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")] = False,
+    as_json: Annotated[
+        bool, typer.Option("--json", help="Print the run's summary as JSON on stdout.")
+    ] = False,
+) -> None:
+    """Simulate a scenario, compare with theory, and write a run folder with a report."""
+
+    def work() -> None:
+        from tumble.report import check_folder, write_run
+        from tumble.scenario import load, run
+
+        loaded = load(scenario)
+        folder = output if output is not None else _default_folder(loaded.name)
+        check_folder(folder, force)  # before simulating: say it at once
+        with _LazyProgress(enabled=not quiet) as progress:
+            result = run(loaded, progress=progress.steps)
+            write_run(result, folder, force=force, progress=progress.stage)
+        report = folder / "report.html"
+        if as_json:
+            summary = result.summary()
+            summary["folder"] = str(folder)
+            summary["report"] = str(report)
+            summary["viewer"] = (
+                str(folder / "viewer.html") if (folder / "viewer.html").exists() else None
+            )
+            typer.echo(json.dumps(summary, indent=2, allow_nan=False))
+        elif not quiet:
+            _print_run(result, folder)
+
+    _run(work)
+
+
+def _default_folder(name: str) -> Path:
+    """runs/NAME-YYYYmmdd-HHMMSS, with -2, -3, ... if that exists already."""
+    import time
+
+    base = Path("runs") / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    folder, k = base, 1
+    while folder.exists():
+        k += 1
+        folder = base.with_name(f"{base.name}-{k}")
+    return folder
+
+
+class _LazyProgress:
+    """A rich progress bar on stderr that appears only once a run has taken about a second."""
+
+    DELAY = 1.0
+
+    def __init__(self, enabled: bool) -> None:
+        import time
+
+        self.enabled = enabled
+        self.start = time.monotonic()
+        self.bar: Any = None
+        self.task: Any = None
+        self.description = "simulating"
+
+    def __enter__(self) -> _LazyProgress:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+
+    def _show(self) -> bool:
+        import time
+
+        if not self.enabled:
+            return False
+        if self.bar is None and time.monotonic() - self.start > self.DELAY:
+            from rich.console import Console
+            from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+            self.bar = Progress(
+                TextColumn("{task.description}"),
+                BarColumn(),
+                TextColumn("{task.percentage:>3.0f}%"),
+                TimeElapsedColumn(),
+                console=Console(stderr=True),
+                transient=True,
+            )
+            self.bar.start()
+            self.task = self.bar.add_task(self.description, total=None)
+        return self.bar is not None
+
+    def steps(self, done: int, total: int) -> None:
+        """The library's progress callback: steps done of total."""
+        if self._show():
+            self.bar.update(self.task, description="simulating", completed=done, total=total)
+
+    def stage(self, name: str) -> None:
+        """A stage of writing the run folder."""
+        self.description = f"writing {name}"
+        if self._show():
+            self.bar.update(self.task, description=self.description, total=None)
+
+
+def _print_run(result: Any, folder: Path) -> None:
+    import math
+
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console()
+    spec = result.scenario.spec
+    traj = result.trajectory
+    console.print(
+        f"[bold]{spec.scenario.title or spec.scenario.name}[/bold]  "
+        f"({traj.method}, {len(traj.t)} samples over {traj.t[-1]:.4g} s, {result.elapsed:.2f} s)",
+        highlight=False,
+    )
+    if result.comparisons:
+        table = Table(title=f"Theory ({result.theory}) vs simulation", title_justify="left")
+        table.add_column("quantity")
+        table.add_column("theory", justify="right")
+        table.add_column("simulation", justify="right")
+        table.add_column("relative error", justify="right")
+        table.add_column("unit")
+        for row in result.comparisons:
+            error = row["relative_error"]
+            table.add_row(
+                row["quantity"],
+                f"{row['theory']:.9g}",
+                f"{row['measured']:.9g}",
+                f"{error:.2e}" if math.isfinite(error) else "inf",
+                row.get("unit", ""),
+            )
+        console.print(table)
+    drift = result.drift
+    conserved = set(drift.get("conserved", []))
+    parts = []
+    for key, label in (
+        ("energy", "energy"),
+        ("angular_momentum_norm", "|L|"),
+        ("angular_momentum_vector", "L vector"),
+    ):
+        mark = "" if key in conserved else " (not conserved)"
+        parts.append(f"{label} {drift[key]:.2e}{mark}")
+    console.print("Relative drift: " + ", ".join(parts), highlight=False)
+    console.print(f"Run folder: {folder}", highlight=False, soft_wrap=True)
+    console.print(f"Report: {folder / 'report.html'}", highlight=False, soft_wrap=True)
+
+
+def _sweep_examples() -> dict[str, str]:
+    """Example sweeps by name, with a one-line description, where tumble.sweep offers them."""
+    import importlib
+
+    try:
+        found = importlib.import_module("tumble.sweep").builtin_sweeps()
+    except (ImportError, AttributeError):
+        return {}
+    items: Any = (
+        found.items()
+        if isinstance(found, dict)
+        else ((getattr(item, "name", item), item) for item in found)
+    )
+    examples = {}
+    for name, value in items:
+        text = (
+            value
+            if isinstance(value, str)
+            else getattr(value, "title", None) or getattr(value, "description", "")
+        )
+        examples[str(name)] = str(text or "").strip().splitlines()[0] if text else ""
+    return examples
+
+
+@app.command("list")
+def list_scenarios() -> None:
+    """The built-in scenarios (and example sweeps), one line each."""
+
+    def work() -> None:
+        from tumble.scenario import builtin_description, builtin_names
+
+        names = builtin_names()
+        sweeps = _sweep_examples()
+        width = max(len(n) for n in [*names, *sweeps])
+        for name in names:
+            typer.echo(f"{name:<{width}}  {builtin_description(name)}")
+        for name, text in sweeps.items():
+            typer.echo(f"{name:<{width}}  sweep: {text}".rstrip())
+
+    _run(work)
+
+
+@app.command("show")
+def show_scenario(
+    name: Annotated[str, typer.Argument(metavar="SCENARIO", help="A name from `tumble list`.")],
+) -> None:
+    """Print a built-in scenario as TOML, to copy and edit."""
+
+    def work() -> None:
+        from tumble.scenario import builtin_names, builtin_text
+
+        if name not in builtin_names() and name in _sweep_examples():
+            import importlib
+
+            typer.echo(importlib.import_module("tumble.sweep").show_sweep(name), nl=False)
+            return
+        typer.echo(builtin_text(name), nl=False)
+
+    _run(work)
+
+
 def _run(work: Any) -> None:
     """Run a command body: user errors become one line and exit code 2, warnings one line each."""
     import warnings

@@ -203,6 +203,11 @@ class MassProperties:
             return self
         return NotImplemented
 
+    def _repr_html_(self) -> str:
+        from tumble.report.html import mass_properties_html
+
+        return mass_properties_html(self)
+
     def __repr__(self) -> str:
         moments, _ = self.principal()
         rows = np.array2string(

@@ -1,0 +1,171 @@
+"""Reports of runs: figures (matplotlib), the 3D viewer (plotly), HTML pages, run folders.
+
+* :func:`write_run` — a scenario's run folder: ``trajectory.parquet``,
+  ``summary.json``, ``report.html``, PNG figures and ``viewer.html``.
+* :func:`figures` — matplotlib figures of a trajectory (``Trajectory.plot``).
+* :func:`view` — the interactive viewer (``Trajectory.view``).
+
+Everything written is self-contained and works offline; every file is written
+to a temporary name and renamed, and a run folder is filled beside its final
+place and moved there whole, so a reader never sees half a run.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from tumble.errors import InputError
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from tumble.report.viewer import Viewer
+    from tumble.scenario.build import Geometry
+    from tumble.scenario.execute import RunResult
+    from tumble.simulation import Trajectory
+
+__all__ = ["RunFolderExistsError", "figures", "view", "write_run"]
+
+#: The files of a run folder, whatever the scenario (PNG figures come besides).
+RUN_FILES = ("trajectory.parquet", "summary.json", "report.html", "viewer.html")
+
+
+class RunFolderExistsError(InputError):
+    """The output folder already holds files and ``force`` was not given."""
+
+
+def figures(traj: Trajectory) -> dict[str, Figure]:
+    """Matplotlib figures of a trajectory by name: omega, angular_momentum, drift, polhode."""
+    from tumble.report.plots import trajectory_figures
+
+    return trajectory_figures(traj)
+
+
+def view(traj: Trajectory, geometry: Geometry | None = None, frames: int = 300) -> Viewer:
+    """The interactive 3D viewer of a trajectory (an ellipsoid of equal inertia
+    unless ``geometry`` gives the body's mesh)."""
+    from tumble.report.viewer import Viewer, viewer_html
+
+    return Viewer(viewer_html(traj, geometry, frames=frames))
+
+
+def _write_parquet(traj: Trajectory, path: Path, scenario: str, label: str) -> None:
+    """The trajectory's Parquet file, its metadata extended with the scenario."""
+    import pyarrow.parquet as pq
+
+    from tumble.report.files import write_bytes
+
+    staging = path.with_name(f".{path.name}.staging")
+    traj.to_parquet(staging)
+    table = pq.read_table(staging)
+    staging.unlink()
+    meta = dict(table.schema.metadata or {})
+    tumble_meta = json.loads(meta.get(b"tumble", b"{}"))
+    tumble_meta["scenario"] = scenario
+    tumble_meta["run"] = label
+    meta[b"tumble"] = json.dumps(tumble_meta).encode()
+    meta[b"scenario"] = scenario.encode()
+    import pyarrow as pa
+
+    sink = pa.BufferOutputStream()
+    pq.write_table(table.replace_schema_metadata(meta), sink)
+    write_bytes(path, sink.getvalue().to_pybytes())
+
+
+def check_folder(folder: Path, force: bool) -> None:
+    """Refuse a folder that holds files unless ``force``; a file in its place is refused."""
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"Expected `-o` to be a folder, got {str(folder)!r}, which is a file.")
+    if folder.is_dir() and any(folder.iterdir()) and not force:
+        raise RunFolderExistsError(
+            f"Expected an empty or new output folder, got {str(folder)!r}, which holds files "
+            "(use --force to replace them)."
+        )
+
+
+def write_run(
+    result: RunResult,
+    folder: str | os.PathLike[str],
+    *,
+    force: bool = False,
+    progress: Callable[[str], object] | None = None,
+) -> Path:
+    """Write a run folder for ``result``.
+
+    The folder gets ``trajectory.parquet`` (one more ``trajectory-LABEL.parquet``
+    per extra run), ``summary.json``, ``report.html``, one PNG per figure and
+    ``viewer.html`` (unless the scenario's ``[output]`` turns figures or the
+    viewer off). It is filled under a temporary name beside ``folder`` and then
+    renamed; with ``force`` an existing folder is replaced whole.
+
+    Raises
+    ------
+    RunFolderExistsError
+        If ``folder`` holds files and ``force`` is false.
+    """
+    from tumble.report.files import permissions, write_bytes, write_text
+    from tumble.report.html import report_html
+
+    target = Path(folder)
+    check_folder(target, force)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(
+        tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent)
+    )
+    os.chmod(staging, permissions(directory=True))
+    step = progress or (lambda _: None)
+    try:
+        spec = result.scenario.spec
+        name = spec.scenario.name
+        step("trajectory.parquet")
+        for label, traj in result.runs.items():
+            file = "trajectory.parquet" if label == "main" else f"trajectory-{label}.parquet"
+            _write_parquet(traj, staging / file, name, label)
+        pngs: dict[str, bytes] = {}
+        if spec.output.figures:
+            step("figures")
+            from tumble.report.plots import png_bytes, trajectory_figures
+
+            for figure_name, figure in trajectory_figures(
+                result.trajectory, result.panels, result.drift.get("conserved")
+            ).items():
+                pngs[figure_name] = png_bytes(figure)
+                write_bytes(staging / f"{figure_name}.png", pngs[figure_name])
+        viewer = None
+        if spec.output.viewer:
+            step("viewer.html")
+            from tumble.report.viewer import viewer_html
+
+            title = spec.scenario.title or name
+            page = viewer_html(
+                result.trajectory, result.geometry, frames=spec.output.viewer_frames, title=title
+            )
+            write_text(staging / "viewer.html", page)
+            viewer = "viewer.html"
+        step("report.html")
+        write_text(staging / "report.html", report_html(result, pngs, viewer))
+        summary = result.summary()
+        summary["files"] = sorted([*(p.name for p in staging.iterdir()), "summary.json"])
+        write_text(staging / "summary.json", json.dumps(summary, indent=2, allow_nan=False) + "\n")
+        _replace(staging, target)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return target
+
+
+def _replace(staging: Path, target: Path) -> None:
+    """Move the finished folder into place; an old one is moved aside first, then removed."""
+    if target.exists():
+        aside = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent))
+        os.replace(target, aside / target.name)
+        os.replace(staging, target)
+        shutil.rmtree(aside, ignore_errors=True)
+    else:
+        os.replace(staging, target)

@@ -1,0 +1,250 @@
+"""HTML: the run report (one self-contained page) and the notebook summaries of
+:class:`~tumble.MassProperties` and :class:`~tumble.Trajectory`.
+
+Nothing here loads from the network: figures are PNG data URIs, styles inline.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from tumble.massprops import MassProperties
+    from tumble.scenario.execute import RunResult
+    from tumble.simulation import Trajectory
+
+__all__ = ["mass_properties_html", "report_html", "trajectory_html"]
+
+_STYLE = """
+body { font-family: system-ui, sans-serif; max-width: 980px; margin: 24px auto; padding: 0 16px;
+       color: #222; line-height: 1.45; }
+h1 { font-size: 1.5rem; margin-bottom: 4px; }
+h2 { font-size: 1.15rem; margin-top: 28px; border-bottom: 1px solid #ddd; }
+table { border-collapse: collapse; margin: 8px 0; font-size: 0.92rem; }
+th, td { border: 1px solid #ddd; padding: 3px 8px; }
+th { background: #f3f3f3; text-align: left; }
+td.num { text-align: right; font-variant-numeric: tabular-nums;
+         font-family: ui-monospace, monospace; }
+.good { color: #1a7f37; } .fair { color: #9a6700; } .poor { color: #cf222e; }
+img { max-width: 100%; display: block; margin: 8px 0 18px 0; }
+pre { background: #f6f8fa; padding: 10px; overflow-x: auto; font-size: 0.85rem; }
+p.small { font-size: 0.85rem; color: #555; }
+"""
+
+
+def _e(value: Any) -> str:
+    return html.escape(str(value))
+
+
+def _number(value: Any) -> str:
+    if value is None:
+        return "—"
+    number = float(value)
+    if math.isinf(number):
+        return "∞" if number > 0 else "−∞"
+    if math.isnan(number):
+        return "NaN"
+    return f"{number:.9g}"
+
+
+def _grade(error: Any) -> str:
+    if error is None or not math.isfinite(float(error)):
+        return "poor"
+    return "good" if error < 1e-3 else ("fair" if error < 5e-2 else "poor")
+
+
+def _table(header: Sequence[str], rows: Sequence[Sequence[str]], numeric: Sequence[bool]) -> str:
+    head = "".join(f"<th>{_e(h)}</th>" for h in header) if any(header) else ""
+    body = []
+    for row in rows:
+        cells = []
+        for cell, is_number in zip(row, numeric, strict=True):
+            cells.append(f'<td class="num">{cell}</td>' if is_number else f"<td>{cell}</td>")
+        body.append("<tr>" + "".join(cells) + "</tr>")
+    thead = f"<thead><tr>{head}</tr></thead>" if head else ""
+    return f"<table>{thead}<tbody>{''.join(body)}</tbody></table>"
+
+
+def comparisons_html(rows: Sequence[Mapping[str, Any]]) -> str:
+    """The theory-vs-simulation rows as an HTML table."""
+    if not rows:
+        return "<p>No closed form applies to this scenario; see the drift below.</p>"
+    out = []
+    for row in rows:
+        error = row.get("relative_error")
+        grade = _grade(error)
+        shown = (
+            "—"
+            if error is None
+            else (f"{float(error):.2e}" if math.isfinite(float(error)) else "∞")
+        )
+        out.append(
+            [
+                _e(row["quantity"]),
+                _number(row["theory"]),
+                _number(row["measured"]),
+                f'<span class="{grade}">{shown}</span>',
+                _e(row.get("unit", "")),
+            ]
+        )
+    return _table(
+        ("quantity", "theory", "simulation", "relative error", "unit"),
+        out,
+        (False, True, True, True, False),
+    )
+
+
+def drift_html(drift: Mapping[str, Any]) -> str:
+    """The drift of the conserved quantities as an HTML table."""
+    conserved = set(drift.get("conserved", []))
+    names = {
+        "energy": "energy E",
+        "angular_momentum_norm": "|L|",
+        "angular_momentum_vector": "vector L",
+    }
+    rows = []
+    for key, label in names.items():
+        value = drift.get(key)
+        rows.append(
+            [
+                _e(label),
+                "—" if value is None else f"{float(value):.3e}",
+                "conserved" if key in conserved else "not conserved here",
+            ]
+        )
+    return _table(("quantity", "largest relative drift", "physics"), rows, (False, True, False))
+
+
+def png_data_uri(png: bytes) -> str:
+    return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+
+
+_CAPTIONS = {
+    "omega": "Angular velocity ω(t) in body axes.",
+    "angular_momentum": "Angular momentum L(t) in space axes.",
+    "drift": "Energy and |L| drift: the numerical error where they are conserved.",
+    "polhode": "The polhode: L in principal axes on the energy ellipsoid.",
+}
+
+
+def report_html(result: RunResult, figures: Mapping[str, bytes], viewer: str | None = None) -> str:
+    """The run's report: the scenario, theory vs simulation, drift, figures, the TOML."""
+    from tumble import __version__
+
+    spec = result.scenario.spec
+    traj = result.trajectory
+    info = spec.scenario
+    title = info.title or info.name
+    parts = [
+        "<!DOCTYPE html>",
+        '<html lang="en"><head><meta charset="utf-8">',
+        f"<title>{_e(title)} — tumble</title><style>{_STYLE}</style></head><body>",
+        f"<h1>{_e(title)}</h1>",
+        f'<p class="small">Scenario <b>{_e(info.name)}</b> ({_e(result.scenario.source)}), '
+        f"tumble {_e(__version__)}.</p>",
+    ]
+    if info.description:
+        parts.append(f"<p>{_e(info.description.strip())}</p>")
+    if viewer:
+        parts.append(
+            f'<p><a href="{_e(viewer)}">Open the 3D viewer</a> (the body, its principal axes, '
+            "ω and L, play / pause and a time slider).</p>"
+        )
+    parts.append("<h2>Theory vs simulation</h2>")
+    if result.theory:
+        parts.append(
+            f'<p class="small">Closed form: <b>{_e(result.theory)}</b> (tumble.theory); '
+            "measured on the trajectory with tumble.analysis.</p>"
+        )
+    parts.append(comparisons_html(result.comparisons))
+    parts.append("<h2>Run</h2>")
+    run_rows = [
+        ["method", _e(f"{traj.method} — {traj.reason}")],
+        ["time step", _e(f"{traj.dt:.4g} s, {traj.steps} steps")],
+        ["duration, samples", _e(f"{traj.t[-1]:.6g} s, {len(traj.t)} samples")],
+        [
+            "body",
+            _e(
+                f"mass {traj.mass_properties.mass:.6g} kg, principal moments "
+                + ", ".join(f"{m:.6g}" for m in traj.mass_properties.principal()[0])
+                + " kg·m²"
+            ),
+        ],
+        [
+            "fixed point",
+            _e(
+                "none (free body)"
+                if traj.pivot is None
+                else f"pivot at {np.round(traj.pivot, 9).tolist()} m"
+            ),
+        ],
+        ["wall time", _e(f"{result.elapsed:.2f} s to simulate and measure")],
+    ]
+    parts.append(_table(("", ""), run_rows, (False, False)))
+    parts.append("<h3>Drift</h3>")
+    parts.append(drift_html(result.drift))
+    for note in result.notes:
+        parts.append(f'<p class="small">{_e(note)}</p>')
+    parts.append("<h2>Figures</h2>")
+    panel_titles = {panel.name: panel.title for panel in result.panels}
+    for name, png in figures.items():
+        caption = _CAPTIONS.get(name) or panel_titles.get(name, name)
+        parts.append(
+            f'<figure><img alt="{_e(name)}" src="{png_data_uri(png)}">'
+            f'<figcaption class="small">{_e(caption)} ({_e(name)}.png)</figcaption></figure>'
+        )
+    parts.append("<h2>Scenario</h2>")
+    parts.append(f"<pre>{_e(result.scenario.text)}</pre>")
+    parts.append("</body></html>")
+    return "\n".join(parts) + "\n"
+
+
+# ------------------------------------------------------------------ notebooks
+def _matrix(values: Any) -> str:
+    rows = "".join(
+        "<tr>" + "".join(f'<td class="num">{float(v):.6g}</td>' for v in row) + "</tr>"
+        for row in np.asarray(values)
+    )
+    return f"<table>{rows}</table>"
+
+
+def mass_properties_html(mp: MassProperties) -> str:
+    """A small HTML table of mass properties (notebooks)."""
+    moments, axes = mp.principal()
+    rows = [
+        ["mass", f"{mp.mass:.6g} kg"],
+        ["centre of mass", "[" + ", ".join(f"{v:.6g}" for v in mp.center_of_mass) + "] m (body)"],
+        ["inertia about the centre of mass, body axes (kg·m²)", _matrix(mp.inertia)],
+        ["principal moments", ", ".join(f"{v:.6g}" for v in moments) + " kg·m²"],
+        ["principal axes (columns)", _matrix(axes)],
+    ]
+    body = "".join(f"<tr><th>{_e(k)}</th><td>{v}</td></tr>" for k, v in rows)
+    return f"<table><caption>MassProperties</caption>{body}</table>"
+
+
+def trajectory_html(traj: Trajectory) -> str:
+    """A small HTML summary of a trajectory (notebooks)."""
+    drift = traj.drift
+    kind = "free body" if traj.pivot is None else f"pivot at {np.round(traj.pivot, 9).tolist()} m"
+    rows = [
+        ["samples", f"{len(traj.t)} over {traj.t[-1]:.6g} s"],
+        ["body", f"{traj.mass_properties.mass:.6g} kg, {kind}"],
+        ["method", f"{traj.method} (dt = {traj.dt:.3g} s, {traj.steps} steps): {traj.reason}"],
+        [
+            "relative drift",
+            f"energy {drift['energy']:.2e}, |L| {drift['angular_momentum_norm']:.2e}, "
+            f"L vector {drift['angular_momentum_vector']:.2e}",
+        ],
+        ["ω at the end (body)", "[" + ", ".join(f"{v:.6g}" for v in traj.omega[-1]) + "] rad/s"],
+    ]
+    body = "".join(f"<tr><th>{_e(k)}</th><td>{_e(v)}</td></tr>" for k, v in rows)
+    return (
+        f"<table><caption>Trajectory</caption>{body}</table>"
+        '<p style="font-size:0.85em">.plot() for figures, .view() for the 3D viewer</p>'
+    )

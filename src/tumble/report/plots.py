@@ -1,0 +1,197 @@
+"""Static figures of a trajectory, drawn with matplotlib (Agg: no display needed).
+
+Each function returns a ``matplotlib.figure.Figure`` made without pyplot, so
+nothing is kept in a global figure registry and no window opens; notebooks
+show the returned figures as images.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from tumble.scenario.execute import Panel
+    from tumble.simulation import Trajectory
+
+__all__ = [
+    "angular_momentum_figure",
+    "drift_figure",
+    "omega_figure",
+    "panel_figure",
+    "polhode_figure",
+    "trajectory_figures",
+]
+
+_COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
+
+
+def _figure(figsize: tuple[float, float] = (8.0, 4.0)) -> Figure:
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=figsize)
+    # Fixed margins: a layout engine would double the time to draw each figure.
+    figure.subplots_adjust(left=0.1, right=0.97, top=0.91, bottom=0.13)
+    return figure
+
+
+def omega_figure(traj: Trajectory) -> Figure:
+    """ω(t) in body axes, and |ω|."""
+    figure = _figure()
+    axes = figure.add_subplot()
+    for k, (name, colour) in enumerate(zip("xyz", _COLOURS, strict=False)):
+        axes.plot(traj.t, traj.omega[:, k], color=colour, lw=1.0, label=f"ω_{name} (body)")
+    axes.plot(traj.t, np.linalg.norm(traj.omega, axis=1), color="k", lw=1.2, ls="--", label="|ω|")
+    axes.set(xlabel="t (s)", ylabel="ω (rad/s)", title="Angular velocity in body axes")
+    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    axes.grid(alpha=0.3)
+    return figure
+
+
+def angular_momentum_figure(traj: Trajectory) -> Figure:
+    """L(t) in space axes (about the centre of mass, or about the pivot), and |L|."""
+    figure = _figure()
+    axes = figure.add_subplot()
+    momentum = traj.angular_momentum
+    for k, (name, colour) in enumerate(zip("xyz", _COLOURS, strict=False)):
+        axes.plot(traj.t, momentum[:, k], color=colour, lw=1.0, label=f"L_{name} (space)")
+    axes.plot(traj.t, np.linalg.norm(momentum, axis=1), color="k", lw=1.2, ls="--", label="|L|")
+    about = "the centre of mass" if traj.pivot is None else "the pivot"
+    axes.set(
+        xlabel="t (s)", ylabel="L (kg·m²/s)", title=f"Angular momentum about {about}, space axes"
+    )
+    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    axes.grid(alpha=0.3)
+    return figure
+
+
+def drift_figure(traj: Trajectory, conserved: Sequence[str] | None = None) -> Figure:
+    """Relative change of the energy and of |L| from their initial values
+    (only those in ``conserved``, when given)."""
+    figure = _figure()
+    axes = figure.add_subplot()
+    energy = traj.energy
+    scale = max(float(np.max(np.abs(energy))), np.finfo(float).tiny)
+    norms = np.linalg.norm(traj.angular_momentum, axis=1)
+    size = max(float(norms[0]), np.finfo(float).tiny)
+    shown = set(conserved) if conserved else {"energy", "angular_momentum_norm"}
+    if "energy" in shown:
+        axes.plot(traj.t, (energy - energy[0]) / scale, lw=1.0, color=_COLOURS[0],
+                  label="(E − E₀) / |E|max")  # fmt: skip
+    if "angular_momentum_norm" in shown:
+        axes.plot(traj.t, (norms - norms[0]) / size, lw=1.0, color=_COLOURS[1],
+                  label="(|L| − |L₀|) / |L₀|")  # fmt: skip
+    axes.set(
+        xlabel="t (s)",
+        ylabel="relative change",
+        title=f"Drift of the conserved quantities (method {traj.method})"
+        if conserved
+        else f"Change of energy and |L| (method {traj.method})",
+    )
+    axes.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
+    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    axes.grid(alpha=0.3)
+    return figure
+
+
+def polhode_figure(traj: Trajectory) -> Figure:
+    """The polhode: L in principal body axes on the energy ellipsoid.
+
+    Torque-free, L (body axes) stays on the sphere |L| = const and on the energy
+    ellipsoid ``Σ L_i² / (2 E I_i) = 1``: its path is their intersection. Under
+    torques the ellipsoid is drawn for the initial kinetic energy only as a guide.
+    """
+    figure = _figure(figsize=(6.0, 5.5))
+    figure.subplots_adjust(left=0.0, right=0.95, top=0.93, bottom=0.03)
+    axes = figure.add_subplot(projection="3d")
+    mp = traj.mass_properties
+    inertia = mp.inertia if traj.pivot is None else mp.inertia_about(traj.pivot)
+    from tumble.massprops import principal_decomposition
+
+    moments, frame = principal_decomposition(inertia)
+    momentum = (traj.omega @ frame) * moments  # L in principal axes
+    kinetic = 0.5 * float(np.sum(momentum[0] ** 2 / moments))
+    semi = np.sqrt(2.0 * kinetic * moments)
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 36), np.linspace(0, np.pi, 18))
+    axes.plot_wireframe(
+        semi[0] * np.cos(u) * np.sin(v),
+        semi[1] * np.sin(u) * np.sin(v),
+        semi[2] * np.cos(v),
+        color="0.75",
+        lw=0.4,
+    )
+    axes.plot(
+        momentum[:, 0],
+        momentum[:, 1],
+        momentum[:, 2],
+        color=_COLOURS[1],
+        lw=1.5,
+        label="L (polhode)",
+    )
+    axes.scatter(*momentum[0], color="k", s=12, label="t = 0")
+    axes.set(xlabel="L₁", ylabel="L₂", zlabel="L₃")
+    axes.set_box_aspect(semi / semi.max())
+    axes.set_title("Polhode: L in principal axes on the energy ellipsoid", fontsize="medium")
+    axes.legend(loc="upper left", fontsize="small")
+    return figure
+
+
+def panel_figure(panel: Panel) -> Figure:
+    """A scenario's own plot (theory dashed, simulation solid)."""
+    figure = _figure()
+    axes = figure.add_subplot()
+    simulated = sum(curve.style == "simulation" for curve in panel.curves)
+    colour = _COLOURS[0]
+    count = 0
+    for curve in panel.curves:
+        if curve.style == "simulation":
+            colour = _COLOURS[count % len(_COLOURS)]
+            count += 1
+            axes.plot(curve.t, curve.values, lw=1.0, color=colour, label=curve.label)
+        elif curve.style == "fit":
+            axes.plot(curve.t, curve.values, ls=":", lw=1.4, color="0.4", label=curve.label)
+        else:  # theory: dashed, black, or in the colour of the simulation it goes with
+            paired = "k" if simulated <= 1 else colour
+            axes.plot(
+                curve.t, curve.values, ls="--", lw=1.4, color=paired, alpha=0.8, label=curve.label
+            )
+    title = panel.title
+    if panel.until is not None:
+        axes.set_xlim(0.0, panel.until)
+        title += f" (first {panel.until:.3g} s)"
+    axes.set(xlabel="t (s)", ylabel=panel.ylabel, title=title)
+    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    axes.grid(alpha=0.3)
+    return figure
+
+
+def trajectory_figures(
+    traj: Trajectory, panels: Sequence[Panel] = (), conserved: Sequence[str] | None = None
+) -> dict[str, Figure]:
+    """All figures of a trajectory by name: omega, angular_momentum, drift, polhode,
+    then one per panel. ``conserved`` names what the drift figure shows."""
+    figures = {
+        "omega": omega_figure(traj),
+        "angular_momentum": angular_momentum_figure(traj),
+        "drift": drift_figure(traj, conserved),
+        "polhode": polhode_figure(traj),
+    }
+    for panel in panels:
+        figures[panel.name] = panel_figure(panel)
+    return figures
+
+
+def png_bytes(figure: Figure, dpi: int = 100) -> bytes:
+    """The figure as PNG bytes."""
+    import io
+
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=dpi, pil_kwargs={"compress_level": 3})
+    return buffer.getvalue()

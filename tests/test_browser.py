@@ -1,0 +1,107 @@
+"""The report and the viewer in a real browser: headless Chromium (Debian's package,
+installed by `make setup`) driven by Playwright, with no browser download.
+
+Skipped only where Chromium is not installed and cannot be (a developer machine
+without root); under CI (``CI`` set) a missing browser is a failure.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import shutil
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tumble.report import write_run
+from tumble.scenario import run
+
+CHROMIUM = "/usr/bin/chromium"
+
+
+def _missing(reason: str) -> None:
+    if os.environ.get("CI"):
+        pytest.fail(f"{reason}: under CI the browser test must run (make setup installs it)")
+    pytest.skip(reason)
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    if not (Path(CHROMIUM).is_file() or shutil.which("chromium")):
+        _missing("Debian's chromium is not installed (apt-get install chromium)")
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        _missing("playwright is not installed (pip install -e '.[dev]')")
+    with sync_playwright() as playwright:
+        # Software WebGL (SwiftShader) for plotly's 3D scene on machines without a GPU.
+        chromium = playwright.chromium.launch(
+            executable_path=CHROMIUM if Path(CHROMIUM).is_file() else shutil.which("chromium"),
+            args=["--enable-unsafe-swiftshader", "--use-angle=swiftshader"],
+        )
+        yield chromium
+        chromium.close()
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_run(run("gyroscope"), tmp_path_factory.mktemp("browser") / "gyro")
+
+
+def _open(browser: Any, path: Path) -> tuple[Any, list[str]]:
+    page = browser.new_page(viewport={"width": 1000, "height": 760})
+    errors: list[str] = []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.on("requestfailed", lambda r: errors.append(f"request failed: {r.url}"))
+    # Offline: any request that leaves the page's own file is refused, and so reported.
+    page.route("http*://**", lambda route: route.abort())
+    page.goto(path.as_uri())
+    return page, errors
+
+
+def _not_blank(png: bytes) -> float:
+    """The spread of grey levels of a screenshot: 0 for a blank (uniform) image."""
+    from PIL import Image, ImageStat
+
+    image = Image.open(io.BytesIO(png)).convert("L")
+    return float(ImageStat.Stat(image).stddev[0])
+
+
+def test_viewer_plays(browser: Any, folder: Path) -> None:
+    page, errors = _open(browser, folder / "viewer.html")
+    page.wait_for_function(
+        "window.tumbleViewer && window.tumbleViewer.ready === true", timeout=120_000
+    )
+    assert page.evaluate("window.tumbleViewer.frame") == 0
+    start_text = page.inner_text("#time")
+    assert start_text.startswith("t = 0.000 s")
+    page.click("#play")
+    page.wait_for_function("window.tumbleViewer.frame >= 3", timeout=60_000)
+    assert page.inner_text("#play") == "Pause"
+    page.click("#play")  # pause
+    frame = page.evaluate("window.tumbleViewer.frame")
+    assert frame >= 3 and page.inner_text("#time") != start_text
+    assert int(page.input_value("#slider")) == frame
+    # The slider moves the body: the mesh's vertices change with the frame.
+    before = page.evaluate("document.getElementById('plot').data[0].x.slice(0, 5)")
+    page.eval_on_selector("#slider", "s => { s.value = 200; s.dispatchEvent(new Event('input')); }")
+    assert page.evaluate("window.tumbleViewer.frame") == 200
+    assert page.evaluate("document.getElementById('plot').data[0].x.slice(0, 5)") != before
+    assert _not_blank(page.locator("#plot").screenshot()) > 5
+    assert errors == []
+    page.close()
+
+
+def test_report_renders(browser: Any, folder: Path) -> None:
+    page, errors = _open(browser, folder / "report.html")
+    page.wait_for_load_state("load")
+    sizes = page.evaluate("Array.from(document.images).map(i => [i.complete, i.naturalWidth])")
+    assert len(sizes) == 6 and all(done and width > 100 for done, width in sizes)
+    assert page.locator("table").first.inner_text().startswith("quantity")
+    assert _not_blank(page.screenshot(full_page=True)) > 5
+    assert errors == []
+    page.close()

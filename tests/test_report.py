@@ -1,0 +1,245 @@
+"""Run folders, the HTML report, the viewer page and the notebook helpers."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import tumble as tb
+from tumble.report import RUN_FILES, RunFolderExistsError, write_run
+from tumble.scenario import run
+
+
+@pytest.fixture(scope="module")
+def gyroscope() -> object:
+    return run("gyroscope")
+
+
+@pytest.fixture(scope="module")
+def folder(gyroscope: object, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_run(gyroscope, tmp_path_factory.mktemp("runs") / "gyro")  # type: ignore[arg-type]
+
+
+def test_run_folder_holds_every_file(folder: Path) -> None:
+    names = {p.name for p in folder.iterdir()}
+    assert set(RUN_FILES) <= names
+    pngs = {
+        "omega.png",
+        "angular_momentum.png",
+        "drift.png",
+        "polhode.png",
+        "nutation.png",
+        "precession.png",
+    }
+    assert pngs <= names
+    for png in pngs:
+        assert (folder / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # Nothing half-written or staged is left behind, in the folder or beside it.
+    assert not [n for n in os.listdir(folder.parent) if n.startswith(".")]
+    assert not [n for n in names if n.startswith(".")]
+
+
+def test_summary_json(folder: Path, gyroscope: object) -> None:
+    summary = json.loads((folder / "summary.json").read_text())
+    assert summary["scenario"] == "gyroscope"
+    assert summary["tumble_version"] == tb.__version__
+    assert summary["method"] == "splitting"
+    assert summary["comparisons"], "the gyroscope has a theory"
+    for row in summary["comparisons"]:
+        assert {"quantity", "theory", "measured", "relative_error", "unit"} <= set(row)
+        assert row["relative_error"] == pytest.approx(
+            abs(row["measured"] - row["theory"]) / abs(row["theory"]), rel=1e-12
+        )
+    drift = summary["drift"]
+    assert {"energy", "angular_momentum_norm", "angular_momentum_vector"} <= set(drift)
+    assert drift["energy"] < 1e-10 and drift["conserved"] == ["energy"]
+    assert "report.html" in summary["files"] and "summary.json" in summary["files"]
+
+
+def test_parquet_round_trip_with_scenario_metadata(folder: Path, gyroscope: object) -> None:
+    import pyarrow.parquet as pq
+
+    read = tb.Trajectory.read_parquet(folder / "trajectory.parquet")
+    traj = gyroscope.trajectory  # type: ignore[attr-defined]
+    assert_allclose(read.t, traj.t, rtol=0, atol=0)
+    assert_allclose(read.omega, traj.omega, rtol=0, atol=0)
+    assert read.method == "splitting"
+    meta = json.loads(pq.read_schema(folder / "trajectory.parquet").metadata[b"tumble"])
+    assert meta["scenario"] == "gyroscope"
+    assert meta["tumble_version"] == tb.__version__
+    assert meta["method"] == "splitting"
+
+
+def test_report_is_self_contained(folder: Path, gyroscope: object) -> None:
+    page = (folder / "report.html").read_text()
+    # Nothing is fetched: no external scripts, styles or images.
+    assert not re.search(r"""(src|href)\s*=\s*["']?(https?:)?//""", page)
+    assert "<link" not in page
+    images = re.findall(r'<img [^>]*src="([^"]+)"', page)
+    assert len(images) == 6 and all(src.startswith("data:image/png;base64,") for src in images)
+    for row in gyroscope.comparisons:  # type: ignore[attr-defined]
+        assert row["quantity"] in page
+    assert 'href="viewer.html"' in page
+    assert "pivot = &quot;0, 0, -10 cm&quot;" in page  # the scenario itself, escaped
+
+
+def test_viewer_is_self_contained_and_small(folder: Path) -> None:
+    page = (folder / "viewer.html").read_text()
+    assert len(page.encode()) < 10e6
+    assert not re.search(r"""<script[^>]+src=""", page)
+    assert "Plotly" in page and "newPlot" in page
+    data = json.loads(re.search(r'id="tumble-data">(.*?)</script>', page, re.S).group(1))  # type: ignore[union-attr]
+    assert len(data["t"]) == len(data["q"]) == 300  # [output] viewer_frames
+    assert data["t"][0] == 0 and data["t"][-1] == pytest.approx(5.0)
+    assert data["exact_shape"] and data["fixed_point"] == "pivot"
+    for q in data["q"]:
+        assert np.linalg.norm(q) == pytest.approx(1.0, abs=1e-4)  # 5 digits kept
+
+
+def test_an_existing_folder_needs_force(folder: Path, gyroscope: object, tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    target.mkdir()
+    (target / "old.txt").write_text("from another run")
+    with pytest.raises(
+        RunFolderExistsError,
+        match=r"Expected an empty or new output folder, got '.*out', which holds files \(use --force to replace them\)\.",
+    ):
+        write_run(gyroscope, target)  # type: ignore[arg-type]
+    assert (target / "old.txt").exists()
+    write_run(gyroscope, target, force=True)  # type: ignore[arg-type]
+    assert not (target / "old.txt").exists()  # replaced whole, never mixed
+    assert (target / "report.html").exists()
+    assert sorted(os.listdir(tmp_path)) == ["out"]
+
+
+def test_a_failed_write_leaves_nothing(
+    gyroscope: object, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import tumble.report.html
+
+    def broken(*args: object, **kwargs: object) -> str:
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr(tumble.report.html, "report_html", broken)
+    with pytest.raises(RuntimeError, match="disk full"):
+        write_run(gyroscope, tmp_path / "out")  # type: ignore[arg-type]
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_file_in_the_way_is_refused(gyroscope: object, tmp_path: Path) -> None:
+    (tmp_path / "out").write_text("x")
+    with pytest.raises(
+        tb.InputError, match=r"Expected `-o` to be a folder, got '.*out', which is a file\."
+    ):
+        write_run(gyroscope, tmp_path / "out")  # type: ignore[arg-type]
+
+
+def test_gyrocompass_folder_has_both_runs(tmp_path: Path) -> None:
+    from tumble.scenario import builtin_text, parse
+
+    spec = builtin_text("gyrocompass") + "\n[output]\nfigures = false\nviewer = false\n"
+    result = run(parse(spec))
+    out = write_run(result, tmp_path / "gc")
+    names = sorted(p.name for p in out.iterdir())
+    assert names == [
+        "report.html",
+        "summary.json",
+        "trajectory-amplitude-100deg.parquet",
+        "trajectory.parquet",
+    ]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["drift"]["conserved"] == []
+    assert {row["run"] for row in summary["comparisons"]} == {"main", "amplitude-100deg"}
+
+
+# ------------------------------------------------------------------ notebooks
+def test_notebook_html() -> None:
+    mp = tb.shapes.solid_cone("250 g", "3 cm", "8 cm")
+    page = mp._repr_html_()
+    assert "0.25 kg" in page and "9.375e-05" in page and "<table>" in page
+    traj = tb.simulate(tb.shapes.box(1, [1, 2, 3]), [0.1, 1, 0.1], duration=1.0)
+    summary = traj._repr_html_()
+    assert f"{len(traj.t)} over 1 s" in summary and "relative drift" in summary
+
+
+def test_plot_and_view(tmp_path: Path) -> None:
+    from matplotlib.figure import Figure
+
+    traj = tb.simulate(tb.shapes.box(1, [1, 2, 3]), [0.1, 1, 0.1], duration=3.0, dt=1e-2)
+    figures = traj.plot()
+    assert set(figures) == {"omega", "angular_momentum", "drift", "polhode"}
+    assert all(isinstance(f, Figure) for f in figures.values())
+    # The ω figure shows the three body components (and |ω|).
+    lines = figures["omega"].axes[0].get_lines()
+    assert_allclose(lines[1].get_ydata(), traj.omega[:, 1])
+    viewer = traj.view(frames=50)
+    assert "srcdoc=" in viewer._repr_html_()
+    saved = viewer.save(tmp_path / "v.html")
+    page = saved.read_text()
+    data = json.loads(re.search(r'id="tumble-data">(.*?)</script>', page, re.S).group(1))  # type: ignore[union-attr]
+    assert len(data["t"]) == 50
+    assert not data["exact_shape"]  # an ellipsoid of equal inertia
+    assert data["fixed_point"] == "centre of mass"
+
+
+def test_equal_inertia_ellipsoid() -> None:
+    from tumble.scenario.build import equal_inertia_ellipsoid
+
+    body = tb.shapes.box(2.0, [0.3, 0.2, 0.1]).transformed(translation=[1, 2, 3])
+    geometry = equal_inertia_ellipsoid(body)
+    # Semi-axes a_i² = 5 (I_j + I_k − I_i) / (2 m): for a box of edges e, a = √(5/12) e.
+    semi = np.sqrt(5 / 12) * np.array([0.3, 0.2, 0.1])
+    local = geometry.vertices - [1, 2, 3]
+    assert_allclose(np.sum((local / semi) ** 2, axis=1), 1.0, rtol=1e-12)
+    assert not geometry.exact
+
+
+def test_drift_figure_shows_only_what_is_conserved(gyroscope: object) -> None:
+    from tumble.report.plots import drift_figure
+
+    traj = gyroscope.trajectory  # type: ignore[attr-defined]
+    # Under gravity |L| about the pivot is not conserved: only the energy is drawn.
+    (line,) = drift_figure(traj, ["energy"]).axes[0].get_lines()
+    energy = traj.energy
+    assert_allclose(line.get_ydata(), (energy - energy[0]) / np.max(np.abs(energy)))
+    assert len(drift_figure(traj).axes[0].get_lines()) == 2
+
+
+@pytest.mark.parametrize(
+    ("shape", "volume"),
+    [
+        ({"shape": "box", "size": [1, 2, 3]}, 6.0),
+        ({"shape": "solid-cylinder", "radius": 1, "height": 2}, 2 * np.pi),
+        (
+            {"shape": "hollow-cylinder", "inner_radius": 0.5, "outer_radius": 1, "height": 2},
+            1.5 * np.pi,
+        ),
+        ({"shape": "solid-sphere", "radius": 1}, 4 / 3 * np.pi),
+        ({"shape": "solid-cone", "radius": 1, "height": 2}, 2 / 3 * np.pi),
+        ({"shape": "torus", "major_radius": 2, "minor_radius": 0.5}, 2 * np.pi**2 * 2 * 0.25),
+        (
+            {"shape": "capsule", "radius": 0.5, "cylinder_height": 1},
+            np.pi * 0.25 + 4 / 3 * np.pi * 0.125,
+        ),
+        ({"shape": "ellipsoid", "semi_axes": [1, 2, 3]}, 8 * np.pi),
+        ({"shape": "regular-tetrahedron", "edge": 1}, 1 / (6 * np.sqrt(2))),
+    ],
+)
+def test_drawn_solids_are_closed_and_centred(shape: dict, volume: float) -> None:
+    import trimesh
+
+    from tumble.scenario.build import _shape_mesh
+    from tumble.scenario.schema import ShapeBody
+
+    vertices, faces = _shape_mesh(ShapeBody(mass=1, **shape))
+    mesh = trimesh.Trimesh(vertices, faces, process=True)
+    assert mesh.is_watertight
+    # Like tumble.shapes, centred on the centre of mass; polygons of 16-48 sides lose < 3 %.
+    assert_allclose(mesh.center_mass, 0, atol=1e-9)
+    assert abs(mesh.volume) == pytest.approx(volume, rel=0.03)
