@@ -20,8 +20,17 @@ from tumble.errors import InputError
 
 __all__ = ["SI_UNITS", "length_scale", "to_si", "ureg", "vector_to_si"]
 
+def _registry() -> pint.UnitRegistry:
+    """pint's default registry, its parsed definitions cached in the user's cache
+    folder (0.06 s to build instead of 0.5 s); without a writable cache, uncached."""
+    try:
+        return pint.UnitRegistry(cache_folder=":auto:")
+    except OSError:
+        return pint.UnitRegistry()
+
+
 #: The registry every quantity in tumble belongs to.
-ureg: pint.UnitRegistry = pint.UnitRegistry()
+ureg: pint.UnitRegistry = _registry()
 
 #: Physical kinds of value and the SI unit each is converted to (and shown in messages).
 SI_UNITS: dict[str, str] = {
