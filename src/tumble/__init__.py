@@ -45,7 +45,16 @@ _WHERE = {
     "Trajectory": "tumble.simulation",
     "simulate_batch": "tumble.simulation",
 }
-_SUBMODULES = {"analysis", "models", "shapes", "symbolic", "theory", "torques", "units"}
+_SUBMODULES = {
+    "analysis",
+    "models",
+    "shapes",
+    "sweep",
+    "symbolic",
+    "theory",
+    "torques",
+    "units",
+}
 
 __all__ = [
     "InputError",
@@ -64,6 +73,7 @@ __all__ = [
     "shapes",
     "simulate",
     "simulate_batch",
+    "sweep",
     "theory",
     "torques",
     "units",

@@ -197,6 +197,76 @@ def run_scenario(
     _run(work)
 
 
+@app.command("sweep")
+def sweep(
+    file: Annotated[
+        str,
+        typer.Argument(
+            metavar="FILE.toml",
+            help="A sweep file, or a built-in sweep (see `tumble list`), e.g. flip-map.",
+            show_default=False,
+        ),
+    ],
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o", "--output", help="Output folder; default sweep-NAME.", show_default=False
+        ),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            metavar="tcp://HOST:PORT",
+            help="Run on an existing Dask cluster.",
+            show_default=False,
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option(
+            "--workers", help="Run on a local Dask cluster of N workers.", show_default=False
+        ),
+    ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Discard the results of a different sweep there.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")] = False,
+    as_json: Annotated[
+        bool, typer.Option("--json", help="Print the sweep's summary as JSON on stdout.")
+    ] = False,
+) -> None:
+    """Run (or resume) a sweep over many bodies into a chunked Zarr store with a report."""
+
+    def work() -> None:
+        from tumble.sweep import run_sweep
+
+        with _LazyProgress(enabled=not quiet) as progress:
+            progress.description = "chunks"
+            summary = run_sweep(
+                file,
+                output,
+                workers=workers,
+                scheduler=scheduler,
+                force=force,
+                progress=progress.chunks,
+            )
+        if as_json:
+            typer.echo(json.dumps(summary.to_dict(), indent=2, allow_nan=False, default=str))
+        elif not quiet:
+            rate = summary.body_steps_per_second
+            speed = f", {rate:.3g} body-steps/s" if rate else ""
+            typer.echo(
+                f"{summary.name}: {summary.bodies} bodies in {summary.chunks} chunks "
+                f"({summary.chunks_run} run, {summary.chunks_reused} reused) on "
+                f"{summary.backend}, {summary.seconds:.2f} s{speed}"
+            )
+            typer.echo(f"Results: {summary.folder}")
+            typer.echo(f"Report: {summary.report}")
+
+    _run(work)
+
+
 def _default_folder(name: str) -> Path:
     """runs/NAME-YYYYmmdd-HHMMSS, with -2, -3, ... if that exists already."""
     import time
@@ -255,6 +325,11 @@ class _LazyProgress:
         """The library's progress callback: steps done of total."""
         if self._show():
             self.bar.update(self.task, description="simulating", completed=done, total=total)
+
+    def chunks(self, done: int, total: int) -> None:
+        """A sweep's progress callback: chunks done of total."""
+        if self._show():
+            self.bar.update(self.task, description="chunks", completed=done, total=total)
 
     def stage(self, name: str) -> None:
         """A stage of writing the run folder."""

@@ -1,0 +1,242 @@
+"""Benchmark: sweeps in this process and on Dask, and a 1e7-body flip map in bounded memory.
+
+1. Kernels: body-steps/s of the measuring batch kernel (RK4 + per-step flips,
+   nutation and drift) against the plain batch kernel (``rk4_batch``) on the
+   same bodies: the cost of measuring.
+2. Backends: one sweep (``--bodies`` bodies, ``--steps`` steps) run to the end
+   in-process, then on a Dask LocalCluster with 1 and 2 workers; wall time of
+   ``run_sweep`` (cluster start, scheduling, transfers and writing included)
+   and body-steps/s. Dask's cost: the start and stop of a cluster, and the
+   round trip of a task (measured with 400 empty tasks).
+3. Scale: the flip map with ``--big`` bodies (a 1000 × 1000 grid of I2/I1 ×
+   perturbation, ``--big / 1e6`` random azimuths each; metrics only; 1 turn/s,
+   dt = 10 ms, ``--big-steps`` steps), and with a tenth of them, each run
+   in a fresh process whose peak resident memory (VmHWM, which unlike
+   ``ru_maxrss`` does not inherit the parent's) is read from the kernel:
+   1e6 and 1e7 bodies need the same memory.
+
+Not timed tests: numbers, printed for bench/RESULTS.md. Run from the root::
+
+    .venv/bin/python bench/sweep.py [--bodies 1048576] [--steps 200] [--big 10000000]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+SWEEP = """
+[sweep]
+name = "bench"
+seed = 7
+samples = {samples}
+chunk_size = 65536
+
+[base]
+duration = {duration}
+dt = {dt}
+moment_1 = 1.0
+ratio_3 = 2.0
+spin_axis = 2
+spin_rate = "1 turn/s"
+
+[vary.ratio_2]
+start = 1.05
+stop = 1.95
+num = {grid}
+
+[vary.perturbation]
+start = 0.01
+stop = 10
+num = {grid}
+scale = "log"
+unit = "deg"
+
+[vary.perturbation_azimuth]
+distribution = "uniform"
+min = 0
+max = "360 deg"
+
+[outputs]
+metrics = ["flips", "first_flip_time", "max_nutation", "energy_drift", "momentum_drift"]
+final_state = {state}
+initial_state = {state}
+"""
+
+
+def sweep_file(
+    folder: Path, bodies: int, steps: int, state: bool, grid: int, dt: float = 0.005
+) -> Path:
+    """The flip map with a grid × grid of I2/I1 × perturbation, bodies / grid² random
+    azimuths at each point."""
+    if bodies < grid * grid:
+        grid = round(bodies**0.5)
+    path = folder / f"sweep-{bodies}.toml"
+    path.write_text(
+        SWEEP.format(
+            samples=max(1, bodies // (grid * grid)),
+            grid=grid,
+            dt=dt,
+            duration=steps * dt,
+            state="true" if state else "false",
+        )
+    )
+    return path
+
+
+def kernels(steps: int) -> None:
+    from tumble.core.rigid import rk4_batch
+    from tumble.core.sweep_metrics import N_METRICS, rk4_metrics_batch
+
+    n = 1 << 18
+    rng = np.random.default_rng(0)
+    inertia = np.vstack([np.ones(n), rng.uniform(1.05, 1.95, n), np.full(n, 2.0)])
+    w = np.vstack([rng.normal(0, 0.05, n), np.full(n, 6.28), rng.normal(0, 0.05, n)])
+    q = np.vstack([np.ones(n), np.zeros((3, n))])
+    axis = np.zeros((3, n))
+    axis[1] = 1.0
+    params = np.zeros((13, 1))
+    out = np.empty((N_METRICS, n))
+    rk4_batch(w[:, :256].copy(), q[:, :256].copy(), inertia[:, :256].copy(), params, 1e-3, 2)
+    rk4_metrics_batch(
+        w[:, :256].copy(), q[:, :256].copy(), inertia[:, :256].copy(), params, axis[:, :256].copy(),
+        1e-3, 2, out[:, :256].copy(),
+    )  # fmt: skip
+    plain, measured = [], []
+    for _ in range(5):
+        a, b = w.copy(), q.copy()
+        start = time.perf_counter()
+        rk4_batch(a, b, inertia, params, 5e-3, steps)
+        plain.append(n * steps / (time.perf_counter() - start))
+        a, b = w.copy(), q.copy()
+        start = time.perf_counter()
+        rk4_metrics_batch(a, b, inertia, params, axis, 5e-3, steps, out)
+        measured.append(n * steps / (time.perf_counter() - start))
+    p, m = max(plain), max(measured)
+    print(f"kernels, {n} bodies × {steps} steps (best of 5, alternated):")
+    print(f"  rk4_batch (no metrics)   {p:10.3g} body-steps/s")
+    cost = 100 * (p / m - 1)
+    print(f"  rk4_metrics_batch        {m:10.3g} body-steps/s   (measuring costs {cost:.0f} %)")
+
+
+def backends(folder: Path, bodies: int, steps: int) -> None:
+    from tumble.sweep import run_sweep
+
+    source = sweep_file(folder, bodies, steps, state=True, grid=1024)
+    run_sweep(source, folder / "warm", force=True)  # compile / load the kernels' cache
+    print(f"\nbackends, one sweep of {bodies} bodies × {steps} steps (wall time of run_sweep):")
+    print(f"  {'backend':34s} {'wall s':>8s} {'compute s':>10s} {'body-steps/s':>13s}")
+    base = None
+    for workers in (None, 1, 2):
+        out = folder / f"run-{workers}"
+        start = time.perf_counter()
+        summary = run_sweep(source, out, workers=workers, force=True)
+        wall = time.perf_counter() - start
+        if base is None:
+            base = summary.seconds
+        print(
+            f"  {summary.backend:34s} {wall:8.2f} {summary.seconds:10.2f} "
+            f"{summary.body_steps_per_second:13.3g}"
+            + ("" if workers is None else f"   (+{summary.seconds - base:.2f} s vs in-process)")
+        )
+        shutil.rmtree(out)
+
+    import distributed
+
+    for workers in (1, 2):
+        start = time.perf_counter()
+        cluster = distributed.LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            host="127.0.0.1",
+            dashboard_address=None,
+            local_directory=str(folder / "scratch"),
+            silence_logs=50,
+        )
+        client = distributed.Client(cluster, set_as_default=False)
+        started = time.perf_counter() - start
+        client.gather(client.map(int, range(50), pure=False))
+        start = time.perf_counter()
+        client.gather(client.map(int, range(400), pure=False))
+        per_task = (time.perf_counter() - start) / 400
+        start = time.perf_counter()
+        client.close()
+        cluster.close()
+        stopped = time.perf_counter() - start
+        print(
+            f"  LocalCluster({workers}): start {started:.2f} s, stop {stopped:.2f} s, "
+            f"{1e3 * per_task:.2f} ms per empty task (400 tasks)"
+        )
+
+
+def big(folder: Path, bodies: int, steps: int) -> dict[str, float]:
+    """A flip map of ``bodies`` bodies in a child process; its peak RSS."""
+    source = sweep_file(folder, bodies, steps, state=False, grid=1000, dt=0.01)
+    out = folder / f"big-{bodies}"
+    code = (
+        "import json, resource, sys, time\n"
+        "from tumble.sweep import run_sweep\n"
+        "start = time.perf_counter()\n"
+        f"s = run_sweep({str(source)!r}, {str(out)!r}, force=True)\n"
+        "wall = time.perf_counter() - start\n"
+        "status = open('/proc/self/status').read()\n"
+        "peak = int(status.split('VmHWM:')[1].split()[0]) / 1024\n"
+        "print(json.dumps({'wall': wall, 'compute': s.seconds, 'rate': s.body_steps_per_second,"
+        " 'peak_mib': peak, 'bodies': s.bodies, 'chunks': s.chunks,"
+        " 'flipped': s.metrics['flips']['fraction_flipped']}))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    result: dict[str, float] = json.loads(done.stdout.strip().splitlines()[-1])
+    size = sum(f.stat().st_size for f in (out / "results.zarr").rglob("*") if f.is_file())
+    result["store_mib"] = size / 2**20
+    shutil.rmtree(out)
+    return result
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
+    parser.add_argument("--bodies", type=int, default=1 << 20)
+    parser.add_argument("--steps", type=int, default=200)
+    parser.add_argument("--big", type=int, default=10_000_000)
+    parser.add_argument("--big-steps", type=int, default=200)
+    parser.add_argument("--skip", nargs="*", default=[], choices=["kernels", "backends", "big"])
+    args = parser.parse_args()
+    cores = len(os.sched_getaffinity(0))
+    print(f"{cores} cores; tumble sweep benchmark")
+    folder = Path(tempfile.mkdtemp(prefix="tumble-bench-sweep-"))
+    try:
+        if "kernels" not in args.skip:
+            kernels(args.steps)
+        if "backends" not in args.skip:
+            backends(folder, args.bodies, args.steps)
+        if "big" not in args.skip:
+            print(f"\nflip map, metrics only, {args.big_steps} steps, each in a fresh process:")
+            print(
+                f"  {'bodies':>10s} {'chunks':>6s} {'wall s':>8s} {'body-steps/s':>13s} "
+                f"{'peak RSS MiB':>13s} {'store MiB':>10s} {'flipped':>8s}"
+            )
+            for bodies in sorted({args.big // 10, args.big}):
+                r = big(folder, bodies, args.big_steps)
+                print(
+                    f"  {int(r['bodies']):10d} {int(r['chunks']):6d} {r['wall']:8.1f} "
+                    f"{r['rate']:13.3g} {r['peak_mib']:13.0f} {r['store_mib']:10.0f} "
+                    f"{100 * r['flipped']:7.1f}%"
+                )
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        print(f"\n(this process: peak RSS {peak:.0f} MiB)")
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()

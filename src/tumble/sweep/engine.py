@@ -1,0 +1,286 @@
+"""Running a sweep: load, claim the output folder, compute the missing chunks, report."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.errors import InputError
+from tumble.sweep.plan import Plan
+from tumble.sweep.schema import SweepError, check_address, parse_sweep
+from tumble.sweep.store import SweepStore, atomic_write, fingerprint
+
+__all__ = ["SweepSummary", "builtin_sweeps", "load_sweep", "run_sweep", "show_sweep"]
+
+Progress = Callable[[int, int], object] | None
+
+
+@dataclass(frozen=True)
+class SweepSummary:
+    """What a sweep run did and found (also written to ``summary.json``).
+
+    Attributes
+    ----------
+    name, description : from the sweep file.
+    folder : the output folder; ``store``, ``report``, ``summary_file`` its files.
+    bodies, chunk_size, chunks : sizes of the sweep.
+    chunks_run, chunks_reused : chunks computed by this run, and found done.
+    steps, dt, duration, method : the integration (dt in s).
+    backend : where the chunks ran.
+    seconds : wall time of this run's computation (writing included).
+    body_steps_per_second : bodies × steps computed by this run per second
+        (None when it computed nothing).
+    metrics : per metric: unit, bodies with a finite value, NaN count, mean,
+        min, max (and for flips the fraction of bodies that flipped).
+    fingerprint : SHA-256 of what decides the results.
+    """
+
+    name: str
+    description: str
+    folder: Path
+    bodies: int
+    chunk_size: int
+    chunks: int
+    chunks_run: int
+    chunks_reused: int
+    steps: int
+    dt: float
+    duration: float
+    method: str
+    backend: str
+    seconds: float
+    body_steps_per_second: float | None
+    metrics: dict[str, Any] = field(default_factory=dict)
+    fingerprint: str = ""
+
+    @property
+    def store(self) -> Path:
+        return self.folder / "results.zarr"
+
+    @property
+    def report(self) -> Path:
+        return self.folder / "report.html"
+
+    @property
+    def summary_file(self) -> Path:
+        return self.folder / "summary.json"
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready (paths as strings)."""
+        data = asdict(self)
+        data["folder"] = str(self.folder)
+        data["files"] = {
+            "store": str(self.store),
+            "report": str(self.report),
+            "summary": str(self.summary_file),
+        }
+        return data
+
+
+# ------------------------------------------------------------- built-ins
+def _examples() -> Path:
+    return Path(str(resources.files("tumble.sweep") / "examples"))
+
+
+def builtin_sweeps() -> dict[str, str]:
+    """The built-in sweeps: name → one-line description."""
+    import tomllib
+
+    found = {}
+    for path in sorted(_examples().glob("*.toml")):
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        found[path.stem] = str(data.get("sweep", {}).get("description", "")).split("\n")[0]
+    return found
+
+
+def show_sweep(name: str) -> str:
+    """The TOML text of a built-in sweep, to copy and edit.
+
+    Raises
+    ------
+    SweepError
+        If there is no built-in sweep of that name (the message lists them).
+    """
+    names = list(builtin_sweeps())
+    if name not in names:
+        import difflib
+
+        close = difflib.get_close_matches(name, names, n=1)
+        hint = f" Did you mean {close[0]}?" if close else ""
+        raise SweepError(
+            f"Expected a built-in sweep ({', '.join(names)}) or a .toml file, got {name!r}.{hint}"
+        )
+    return (_examples() / f"{name}.toml").read_text(encoding="utf-8")
+
+
+def load_sweep(sweep: str | os.PathLike[str]) -> Plan:
+    """A sweep file, or a built-in sweep by name, validated into a :class:`Plan`.
+
+    Raises
+    ------
+    SweepError
+        Unknown name, unreadable file, invalid TOML or an invalid sweep.
+    """
+    text_name = str(sweep)
+    path = Path(text_name)
+    if path.suffix.lower() == ".toml" or path.exists():
+        if not path.is_file():
+            raise SweepError(f"Expected a sweep file, got {text_name!r} (no such file).")
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise SweepError(f"Expected a readable UTF-8 file, got {text_name!r}: {exc}.") from None
+        return parse_sweep(text, source=path.name)
+    return parse_sweep(show_sweep(text_name), source=f"builtin:{text_name}")
+
+
+# ------------------------------------------------------------------ run
+def run_sweep(
+    sweep: str | os.PathLike[str] | Plan,
+    output_dir: str | os.PathLike[str] | None = None,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    force: bool = False,
+    progress: Progress = None,
+) -> SweepSummary:
+    """Run a sweep into a folder, resuming it if the folder holds part of it.
+
+    Parameters
+    ----------
+    sweep : a sweep file, a built-in sweep's name (``"flip-map"``) or a
+        :class:`Plan` from :func:`load_sweep`.
+    output_dir : the output folder; default ``sweep-NAME`` in the current
+        directory. A folder holding the same sweep is resumed: finished chunks
+        are kept, the others computed (the results are the same bits as an
+        uninterrupted run's).
+    workers : run on a Dask LocalCluster of this many worker processes
+        (127.0.0.1 only, scratch files in the output folder).
+    scheduler : run on the Dask cluster whose scheduler is at this address,
+        ``tcp://HOST:PORT``. Without ``workers`` and ``scheduler``, those of
+        the file's [dask] table; without any, the chunks run in this process
+        on all cores.
+    force : discard the results of a different sweep in ``output_dir``
+        (only the files a sweep writes are removed).
+    progress : None or ``progress(done, total)``, in chunks, called once at
+        the start and after each chunk is written.
+
+    Returns
+    -------
+    SweepSummary, also written to ``output_dir/summary.json``; the maps are in
+    ``output_dir/report.html`` and the per-body results in
+    ``output_dir/results.zarr``.
+
+    Raises
+    ------
+    SweepError, InputError
+        An invalid sweep, a folder holding a different sweep (or other
+        files), an unreachable scheduler, bad ``workers``.
+    tumble.simulation.IntegrationError
+        A body's state became NaN or infinite (reduce dt).
+    """
+    plan = sweep if isinstance(sweep, Plan) else load_sweep(sweep)
+    if workers is not None and (
+        isinstance(workers, bool) or not isinstance(workers, int | np.integer) or workers < 1
+    ):
+        raise InputError(f"Expected `workers` to be an integer >= 1, got {workers!r}.")
+    if workers is not None and scheduler is not None:
+        raise InputError(
+            f"Expected at most one of `workers` and `scheduler`, got workers={workers} and "
+            f"scheduler={scheduler!r}."
+        )
+    if workers is None and scheduler is None:
+        workers, scheduler = plan.workers, plan.scheduler
+    if scheduler is not None:
+        scheduler = check_address(scheduler)
+    folder = Path(output_dir) if output_dir is not None else Path(f"sweep-{plan.name}")
+    store = SweepStore.open(folder, plan, force=force)
+    done = store.done()
+    pending = [k for k in range(plan.n_chunks) if k not in done]
+    finished = len(done)
+    if progress is not None:
+        progress(finished, plan.n_chunks)
+
+    def write(index: int, arrays: dict[str, NDArray[np.generic]]) -> None:
+        nonlocal finished
+        store.write_chunk(index, arrays)
+        finished += 1
+        if progress is not None:
+            progress(finished, plan.n_chunks)
+
+    started = time.perf_counter()
+    if workers is None and scheduler is None:
+        import numba
+
+        from tumble.sweep.metrics import compute_chunk
+
+        backend = f"in-process ({numba.get_num_threads()} threads)"
+        for index in pending:
+            write(index, compute_chunk(plan, index))
+    else:
+        from tumble.sweep.dask_backend import run_on_dask
+
+        backend = run_on_dask(
+            plan,
+            pending,
+            write,
+            workers=workers,
+            scheduler=scheduler,
+            scratch=folder / "dask-scratch",
+        )
+    seconds = time.perf_counter() - started
+    return _finish(store, pending, backend, seconds)
+
+
+def _finish(store: SweepStore, pending: list[int], backend: str, seconds: float) -> SweepSummary:
+    """Summary, summary.json and report.html of a finished sweep."""
+    from tumble.sweep.report import report_html, summarize
+
+    plan = store.plan
+    computed = sum(plan.chunk_range(k)[1] - plan.chunk_range(k)[0] for k in pending)
+    rate = computed * plan.n_steps / seconds if computed and seconds > 0 else None
+    metrics, maps = summarize(store)
+    summary = SweepSummary(
+        name=plan.name,
+        description=plan.description,
+        folder=store.folder,
+        bodies=plan.n_bodies,
+        chunk_size=plan.chunk_size,
+        chunks=plan.n_chunks,
+        chunks_run=len(pending),
+        chunks_reused=plan.n_chunks - len(pending),
+        steps=plan.n_steps,
+        dt=plan.dt,
+        duration=plan.duration,
+        method=plan.method,
+        backend=backend,
+        seconds=seconds,
+        body_steps_per_second=rate,
+        metrics=metrics,
+        fingerprint=fingerprint(plan.identity()),
+    )
+    data = summary.to_dict()
+    atomic_write(store.folder / "summary.json", json.dumps(_clean(data), indent=2))
+    atomic_write(store.folder / "report.html", report_html(data, maps, plan.text))
+    return summary
+
+
+def _clean(value: Any) -> Any:
+    """JSON-ready: non-finite floats become None."""
+    if isinstance(value, dict):
+        return {k: _clean(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_clean(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

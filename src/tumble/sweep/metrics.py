@@ -1,0 +1,135 @@
+"""One chunk of a sweep: its bodies stepped and measured by the compiled kernels.
+
+:func:`compute_chunk` is all a worker runs: it needs the plan and a chunk
+index, imports only numpy and the kernels, and returns plain arrays keyed by
+their name in the Zarr store. No history is kept: the measures are
+accumulated step by step inside the kernels
+(:mod:`tumble.core.sweep_metrics`).
+"""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.sweep.plan import Plan
+
+__all__ = ["compute_chunk", "output_arrays"]
+
+#: numba's default threading layer runs one parallel kernel at a time per
+#: process; a Dask worker with several threads must not start two at once.
+_KERNEL_LOCK = threading.Lock()
+
+
+def output_arrays(plan: Plan) -> dict[str, tuple[tuple[int, ...], str, str, str]]:
+    """The arrays a sweep writes: name → (shape per body, dtype, unit, description)."""
+    from tumble.sweep.plan import METRICS, PARAMETERS
+
+    arrays: dict[str, tuple[tuple[int, ...], str, str, str]] = {}
+    for name in plan.varied:
+        kind, meaning = PARAMETERS[name]
+        dtype = "int8" if kind == "axis" else "float64"
+        arrays[f"parameters/{name}"] = ((), dtype, _unit(kind), meaning)
+    if plan.initial_state:
+        arrays["initial/moments"] = ((3,), "float64", "kg*m^2", "principal moments I1, I2, I3")
+        arrays["initial/omega"] = ((3,), "float64", "rad/s", "angular velocity, principal axes")
+    if plan.final_state:
+        arrays["final/omega"] = ((3,), "float64", "rad/s", "angular velocity, principal axes")
+        arrays["final/quaternion"] = (
+            (4,),
+            "float64",
+            "",
+            "attitude [w, x, y, z], principal axes -> space (identity at t = 0)",
+        )
+    for name in plan.metrics:
+        unit, meaning = METRICS[name]
+        arrays[f"metrics/{name}"] = ((), "int32" if name == "flips" else "float64", unit, meaning)
+    return arrays
+
+
+def _unit(kind: str) -> str:
+    from tumble.units import SI_UNITS
+
+    return "" if kind == "axis" else SI_UNITS[kind]
+
+
+def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
+    """Simulate and measure the bodies of chunk ``index``.
+
+    Returns
+    -------
+    dict: the arrays of :func:`output_arrays` for these bodies.
+
+    Raises
+    ------
+    tumble.simulation.IntegrationError
+        If a body's state became NaN or infinite (the message names the body).
+    """
+    from tumble.core.rigid import FINITE
+    from tumble.core.sweep_metrics import (
+        ENERGY_DEVIATION,
+        FIRST_FLIP,
+        FLIPS,
+        MIN_COS,
+        MOMENTUM_DEVIATION,
+        N_METRICS,
+        rk4_metrics_batch,
+        splitting_metrics_batch,
+    )
+
+    start, stop = plan.chunk_range(index)
+    n = stop - start
+    values = plan.chunk_parameters(index)
+    bodies = plan.bodies(values)
+    w = np.ascontiguousarray(bodies.omega.T)
+    q = np.zeros((4, n))
+    q[0] = 1.0
+    inertia = np.ascontiguousarray(bodies.moments.T)
+    out = np.empty((N_METRICS, n))
+    status = np.full(n, FINITE, dtype=np.int64)
+    with _KERNEL_LOCK:
+        if plan.method == "rk4":
+            rk4_metrics_batch(w, q, inertia, bodies.params, bodies.axis, plan.dt, plan.n_steps, out)
+        else:
+            order = 4 if plan.method == "splitting" else 2
+            splitting_metrics_batch(
+                w, q, inertia, bodies.params, bodies.axis, plan.dt, plan.n_steps, order, out, status
+            )
+    bad = ~(np.isfinite(w).all(axis=0) & np.isfinite(q).all(axis=0)) | (status != FINITE)
+    if np.any(bad):
+        from tumble.simulation import IntegrationError
+
+        k = int(np.flatnonzero(bad)[0])
+        raise IntegrationError(
+            f"Expected the integration to stay finite, got NaN or inf for {int(bad.sum())} "
+            f"bodies of chunk {index} (first: body {start + k}) with dt = {plan.dt:.3g} s: "
+            "reduce dt."
+        )
+
+    result: dict[str, NDArray[np.generic]] = {}
+    for name in plan.varied:
+        result[f"parameters/{name}"] = (
+            values[name].astype(np.int8) if name == "spin_axis" else values[name]
+        )
+    if plan.initial_state:
+        result["initial/moments"] = bodies.moments
+        result["initial/omega"] = bodies.omega
+    if plan.final_state:
+        result["final/omega"] = np.ascontiguousarray(w.T)
+        result["final/quaternion"] = np.ascontiguousarray(q.T)
+    moments = bodies.moments
+    twice_energy = np.sum(moments * bodies.omega**2, axis=1)
+    momentum = np.linalg.norm(moments * bodies.omega, axis=1)
+    tiny = np.finfo(float).tiny
+    measured = {
+        "flips": lambda: out[FLIPS].astype(np.int32),
+        "first_flip_time": lambda: np.where(np.isinf(out[FIRST_FLIP]), np.nan, out[FIRST_FLIP]),
+        "max_nutation": lambda: np.arccos(np.clip(out[MIN_COS], -1.0, 1.0)),
+        "energy_drift": lambda: out[ENERGY_DEVIATION] / np.maximum(twice_energy, tiny),
+        "momentum_drift": lambda: out[MOMENTUM_DEVIATION] / np.maximum(momentum, tiny),
+    }
+    for name in plan.metrics:
+        result[f"metrics/{name}"] = measured[name]()
+    return result

@@ -1,0 +1,621 @@
+"""The sweep file's schema: pydantic models for its structure, then a :class:`Plan` in SI.
+
+A sweep file is TOML with the tables
+
+* ``[sweep]``: ``name``, ``description``, ``seed``, ``samples`` (random draws
+  per grid point), ``chunk_size`` (bodies per chunk of work and of storage);
+* ``[base]``: the scenario every body shares: ``duration``, ``dt``,
+  ``method`` and any per-body parameter (:data:`~tumble.sweep.plan.PARAMETERS`)
+  held fixed;
+* ``[vary.NAME]``: a parameter that varies, either a grid (``values = [...]``,
+  or ``start``, ``stop``, ``num`` with ``scale = "linear"`` or ``"log"``) or a
+  random draw (``distribution`` = ``"uniform"``, ``"loguniform"`` or
+  ``"spherical"`` with ``min`` and ``max``); ``unit`` applies to its bare numbers;
+* ``[outputs]``: ``metrics`` (a list of :data:`~tumble.sweep.plan.METRICS`),
+  ``final_state``, ``initial_state``;
+* ``[report]``: ``maps = [{x, y, metric, statistic, bins}]``;
+* ``[dask]``: ``scheduler = "tcp://HOST:PORT"`` or ``workers = N``.
+
+Pydantic checks the structure (types, required and unknown keys); the values
+are then converted to SI with :mod:`tumble.units` and checked together
+(ranges, the triangle inequality of the moments at every corner of the swept
+box). Every error is one :class:`SweepError` naming the file, the line, the
+key path, what was expected and what was given.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
+from itertools import product
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    StrictBool,
+    StrictInt,
+    StrictStr,
+    ValidationError,
+    model_validator,
+)
+from pydantic_core import PydanticCustomError
+
+from tumble.errors import InputError
+from tumble.sweep.plan import (
+    DEFAULTS,
+    DISTRIBUTIONS,
+    PARAMETERS,
+    GridAxis,
+    MapSpec,
+    Plan,
+    RandomAxis,
+)
+
+__all__ = ["SweepError", "SweepFile", "check_address", "parse_sweep"]
+
+#: Chunk size when the file gives none: 65536 bodies (a few MB of state, 512
+#: blocks of the batch kernel, a fraction of a second to a few seconds of work).
+DEFAULT_CHUNK_SIZE = 1 << 16
+
+
+class SweepError(InputError):
+    """A sweep file is invalid; the message names the file, line and key."""
+
+
+def _value(value: Any) -> Any:
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        raise PydanticCustomError(
+            "sweep_value",
+            "Expected a number or a quantity such as '2 rad/s', got {got}.",
+            {"got": _shown(value)},
+        )
+    return value
+
+
+def _shown(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, dict):
+        return "a table"
+    if isinstance(value, list):
+        return "an array"
+    return repr(value)
+
+
+MetricName = Literal["flips", "first_flip_time", "max_nutation", "energy_drift", "momentum_drift"]
+
+#: A number (SI) or a string with units ("2 rad/s", "5 deg").
+Value = Annotated[int | float | str, BeforeValidator(_value)]
+
+
+class _Strict(BaseModel):
+    """Frozen, and an unknown key is an error that suggests the nearest known one."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, str_strip_whitespace=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any) -> Any:
+        if isinstance(data, dict):
+            known = list(cls.model_fields)
+            for key in data:
+                if key not in known:
+                    raise _unknown(str(key), known)
+        return data
+
+
+def _unknown(key: str, known: list[str]) -> PydanticCustomError:
+    close = difflib.get_close_matches(key, known, n=1)
+    hint = f" Did you mean `{close[0]}`?" if close else ""
+    return PydanticCustomError(
+        "unknown_key",
+        "Expected one of {known}, got the unknown key `{key}`.{hint}",
+        {"key": key, "known": ", ".join(f"`{k}`" for k in known), "hint": hint},
+    )
+
+
+class SweepTable(_Strict):
+    """``[sweep]``: what the sweep is called and how it is cut into chunks."""
+
+    name: Annotated[StrictStr, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$", max_length=80)]
+    description: StrictStr = ""
+    seed: Annotated[StrictInt, Field(ge=0)] = 0
+    samples: Annotated[StrictInt, Field(ge=1)] = 1
+    chunk_size: Annotated[StrictInt, Field(ge=1)] = DEFAULT_CHUNK_SIZE
+
+
+class Base(_Strict):
+    """``[base]``: the run and the fixed per-body parameters."""
+
+    duration: Value
+    dt: Value
+    method: Literal["rk4", "splitting", "strang"] = "rk4"
+    moment_1: Value | None = None
+    moment_2: Value | None = None
+    moment_3: Value | None = None
+    ratio_2: Value | None = None
+    ratio_3: Value | None = None
+    spin_axis: Literal[1, 2, 3] | None = None
+    spin_rate: Value | None = None
+    perturbation: Value | None = None
+    perturbation_azimuth: Value | None = None
+    body_torque_1: Value | None = None
+    body_torque_2: Value | None = None
+    body_torque_3: Value | None = None
+    space_torque_x: Value | None = None
+    space_torque_y: Value | None = None
+    space_torque_z: Value | None = None
+    damping: Value | None = None
+
+
+class Vary(_Strict):
+    """``[vary.NAME]``: a grid or a random draw of one parameter."""
+
+    values: list[Value] | None = None
+    start: Value | None = None
+    stop: Value | None = None
+    num: Annotated[StrictInt, Field(ge=1, le=10_000_000)] | None = None
+    scale: Literal["linear", "log"] | None = None
+    distribution: Literal["uniform", "loguniform", "spherical"] | None = None
+    min: Value | None = None
+    max: Value | None = None
+    unit: StrictStr | None = None
+
+
+class Outputs(_Strict):
+    """``[outputs]``: what is stored per body."""
+
+    metrics: list[MetricName] = [
+        "flips",
+        "first_flip_time",
+        "max_nutation",
+        "energy_drift",
+        "momentum_drift",
+    ]
+    final_state: StrictBool = True
+    initial_state: StrictBool = True
+
+
+class MapTable(_Strict):
+    """One map of the report."""
+
+    x: StrictStr
+    y: StrictStr | None = None
+    metric: MetricName
+    statistic: Literal["mean", "min", "max"] = "mean"
+    bins: Annotated[StrictInt, Field(ge=1, le=1000)] = 40
+
+
+class Report(_Strict):
+    """``[report]``: the maps of report.html (default: each metric over the first
+    two varied parameters)."""
+
+    maps: list[MapTable] | None = None
+
+
+class DaskTable(_Strict):
+    """``[dask]``: where to run, unless the command line says otherwise."""
+
+    scheduler: StrictStr | None = None
+    workers: Annotated[StrictInt, Field(ge=1)] | None = None
+
+
+class SweepFile(_Strict):
+    """A whole sweep file."""
+
+    sweep: SweepTable
+    base: Base
+    vary: dict[str, Vary] = {}
+    outputs: Outputs = Outputs()
+    report: Report = Report()
+    dask: DaskTable = DaskTable()
+
+    @model_validator(mode="before")
+    @classmethod
+    def _parameter_names(cls, data: Any) -> Any:
+        if isinstance(data, dict) and isinstance(data.get("vary"), dict):
+            known = list(PARAMETERS)
+            for key in data["vary"]:
+                if key not in known:
+                    close = difflib.get_close_matches(str(key), known, n=1)
+                    hint = f" Did you mean `{close[0]}`?" if close else ""
+                    raise PydanticCustomError(
+                        "sweep_key",
+                        "Expected a parameter ({known}), got `{name}`.{hint}",
+                        {
+                            "key": f"vary.{key}",
+                            "name": str(key),
+                            "known": ", ".join(known),
+                            "hint": hint,
+                        },
+                    )
+        return data
+
+
+# ------------------------------------------------------------------- parsing
+def parse_sweep(text: str, source: str = "<sweep>") -> Plan:
+    """Validate sweep text and convert it to a :class:`Plan` in SI.
+
+    Raises
+    ------
+    SweepError
+        Invalid TOML, or the first problem in the sweep.
+
+    Warns
+    -----
+    tumble.simulation.CoarseStepWarning
+        When ``dt`` gives fewer than 20 steps per turn at the fastest spin rate.
+    """
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SweepError(f"{source}: Expected valid TOML, got an error: {exc}.") from None
+    try:
+        spec = SweepFile.model_validate(data)
+    except ValidationError as exc:
+        raise SweepError(_first_error(exc, text, source)) from None
+    return _Builder(spec, text, source).plan()
+
+
+def _first_error(exc: ValidationError, text: str, source: str) -> str:
+    errors = exc.errors(include_url=False)
+    errors.sort(key=lambda e: 0 if e["type"] in ("unknown_key", "sweep_key") else 1)
+    error = errors[0]
+    path: list[Any] = [part for part in error["loc"] if part not in ("int", "float", "str")]
+    if error["type"] == "unknown_key":
+        path.append(error["ctx"]["key"])
+    elif error["type"] == "sweep_key":
+        path = error["ctx"]["key"].split(".")
+    message = str(error["msg"])
+    if error["type"] == "missing":
+        message = (
+            f"Expected the table [{path[-1]}], which is missing."
+            if len(path) == 1
+            else f"Expected the key `{path[-1]}`, which is missing."
+        )
+    elif message.startswith("Input should be "):
+        rest = message.removeprefix("Input should be ")
+        if rest.startswith(("greater", "less")):
+            rest = f"a value {rest}"
+        message = f"Expected {rest}, got {_shown(error['input'])}."
+    elif message.startswith("String should "):
+        rest = message.removeprefix("String should ")
+        message = f"Expected a string that should {rest}, got {_shown(error['input'])}."
+    elif not message.startswith("Expected"):
+        message = f"Expected a valid value ({message}), got {_shown(error['input'])}."
+    return f"{_where(text, source, tuple(path))}: {message}"
+
+
+def _where(text: str, source: str, path: tuple[Any, ...]) -> str:
+    """``source, line N, `dotted.path``` for a key path of the file."""
+    from tumble.scenario._locate import key_lines, line_of
+
+    line = line_of(key_lines(text), path) if path else None
+    place = f"{source}, line {line}" if line is not None else source
+    dotted = ""
+    for part in path:
+        dotted += f"[{part}]" if isinstance(part, int) else (f".{part}" if dotted else str(part))
+    return f"{place}, `{dotted}`" if dotted else place
+
+
+class _Builder:
+    """Turns a structurally valid :class:`SweepFile` into a :class:`Plan`."""
+
+    def __init__(self, spec: SweepFile, text: str, source: str) -> None:
+        self.spec = spec
+        self.text = text
+        self.source = source
+
+    @contextmanager
+    def at(self, *path: Any) -> Iterator[None]:
+        """Prefix an InputError raised inside with the file, line and key path."""
+        try:
+            yield
+        except SweepError:
+            raise
+        except InputError as exc:
+            raise SweepError(f"{_where(self.text, self.source, path)}: {exc}") from None
+
+    def fail(self, path: tuple[Any, ...], message: str) -> SweepError:
+        return SweepError(f"{_where(self.text, self.source, path)}: {message}")
+
+    def si(self, value: Any, kind: str, path: tuple[Any, ...], unit: str | None = None) -> float:
+        from tumble.units import to_si
+
+        # The key's own name; a list entry is named by its parameter.
+        name = next(str(p) for p in reversed(path) if isinstance(p, str) and p != "values")
+        with self.at(*path):
+            if kind == "axis":
+                if isinstance(value, bool) or value not in (1, 2, 3):
+                    raise InputError(f"Expected `{name}` to be 1, 2 or 3, got {value!r}.")
+                return float(value)
+            if unit is not None and not isinstance(value, str):
+                return float(value) * to_si(f"1 {unit}", kind, "unit")
+            return to_si(value, kind, name)
+
+    # --------------------------------------------------------------- plan
+    def plan(self) -> Plan:
+        spec = self.spec
+        base = spec.base
+        fixed: dict[str, float] = {}
+        for name, (kind, _) in PARAMETERS.items():
+            value = getattr(base, name)
+            if value is None:
+                continue
+            if name in spec.vary:
+                raise self.fail(
+                    ("vary", name),
+                    f"Expected `{name}` in [base] or in [vary], not both, got both.",
+                )
+            fixed[name] = self.si(value, kind, ("base", name))
+        grid: list[GridAxis] = []
+        random: list[RandomAxis] = []
+        for name, vary in spec.vary.items():
+            axis = self.axis(name, vary)
+            if isinstance(axis, GridAxis):
+                grid.append(axis)
+            else:
+                random.append(axis)
+        for name, value in DEFAULTS.items():
+            if name not in fixed and name not in spec.vary:
+                fixed[name] = value
+        varied = set(spec.vary)
+        given = set(fixed) | varied
+        for first, second in (("moment_2", "ratio_2"), ("moment_3", "ratio_3")):
+            if first in given and second in given:
+                where = ("vary", second) if second in varied else ("base", second)
+                raise self.fail(
+                    where, f"Expected one of `{first}` and `{second}`, not both, got both."
+                )
+        for needed in (
+            ("moment_1",),
+            ("moment_2", "ratio_2"),
+            ("moment_3", "ratio_3"),
+            ("spin_rate",),
+        ):
+            if not any(n in given for n in needed):
+                names = " or ".join(f"`{n}`" for n in needed)
+                raise self.fail(("base",), f"Expected {names} in [base] or [vary], got neither.")
+        ranges = {name: (value, value) for name, value in fixed.items()}
+        for axis in grid:
+            ranges[axis.name] = (float(axis.values.min()), float(axis.values.max()))
+        for draw in random:
+            ranges[draw.name] = (draw.low, draw.high)
+        self.check_ranges(ranges, varied)
+        self.check_triangle(ranges)
+
+        duration = self.si(base.duration, "time", ("base", "duration"))
+        dt = self.si(base.dt, "time", ("base", "dt"))
+        if not duration > 0:
+            raise self.fail(("base", "duration"), f"Expected `duration` > 0 s, got {duration!r}.")
+        if not dt > 0:
+            raise self.fail(("base", "dt"), f"Expected `dt` > 0 s, got {dt!r}.")
+        n_steps = max(1, math.ceil(duration / dt * (1 - 1e-12)))
+        self.warn_coarse(ranges, duration / n_steps)
+
+        maps = self.maps(tuple(spec.vary), tuple(spec.outputs.metrics))
+        scheduler = spec.dask.scheduler
+        if scheduler is not None and spec.dask.workers is not None:
+            raise self.fail(
+                ("dask",),
+                "Expected at most one of `scheduler` and `workers` in [dask], got both.",
+            )
+        if scheduler is not None:
+            with self.at("dask", "scheduler"):
+                check_address(scheduler)
+        plan = Plan(
+            name=spec.sweep.name,
+            description=spec.sweep.description,
+            fixed=fixed,
+            grid=tuple(grid),
+            random=tuple(random),
+            samples=spec.sweep.samples,
+            seed=spec.sweep.seed,
+            chunk_size=spec.sweep.chunk_size,
+            duration=duration,
+            dt=duration / n_steps,
+            n_steps=n_steps,
+            method=base.method,
+            metrics=tuple(dict.fromkeys(spec.outputs.metrics)),
+            final_state=spec.outputs.final_state,
+            initial_state=spec.outputs.initial_state,
+            maps=maps,
+            scheduler=scheduler,
+            workers=spec.dask.workers,
+            text=self.text,
+        )
+        return plan
+
+    def axis(self, name: str, vary: Vary) -> GridAxis | RandomAxis:
+        kind = PARAMETERS[name][0]
+        path = ("vary", name)
+        given = [k for k in type(vary).model_fields if getattr(vary, k) is not None and k != "unit"]
+        forms = {
+            "values": {"values"},
+            "range": {"start", "stop", "num", "scale"},
+            "random": {"distribution", "min", "max"},
+        }
+        used = [form for form, keys in forms.items() if keys & set(given)]
+        if len(used) != 1:
+            raise self.fail(
+                path,
+                "Expected a grid (`values`, or `start`, `stop`, `num`) or a random draw "
+                "(`distribution`, `min`, `max`), got "
+                + (", ".join(f"`{k}`" for k in given) if given else "no keys")
+                + ".",
+            )
+        if vary.unit is not None and kind == "axis":
+            raise self.fail((*path, "unit"), f"Expected no `unit` for `{name}`, got {vary.unit!r}.")
+        form = used[0]
+        if form == "values":
+            assert vary.values is not None
+            if not vary.values:
+                raise self.fail((*path, "values"), "Expected at least one value, got none.")
+            values = np.array(
+                [
+                    self.si(v, kind, (*path, "values", k), vary.unit)
+                    for k, v in enumerate(vary.values)
+                ]
+            )
+            return GridAxis(name, values)
+        if kind == "axis":
+            raise self.fail(
+                path, f"Expected `values` for `{name}` (a list of axes 1, 2, 3), got {given[0]!r}."
+            )
+        if form == "range":
+            for key in ("start", "stop", "num"):
+                if getattr(vary, key) is None:
+                    raise self.fail(
+                        (*path, key),
+                        f"Expected `{key}` with `start`, `stop`, `num`, which is missing.",
+                    )
+            assert vary.num is not None
+            start = self.si(vary.start, kind, (*path, "start"), vary.unit)
+            stop = self.si(vary.stop, kind, (*path, "stop"), vary.unit)
+            if vary.scale == "log":
+                if not (start > 0 and stop > 0):
+                    raise self.fail(
+                        (*path, "start"),
+                        f"Expected `start` and `stop` > 0 for a log scale, got {start!r} and "
+                        f"{stop!r}.",
+                    )
+                values = np.geomspace(start, stop, vary.num)
+            else:
+                values = np.linspace(start, stop, vary.num)
+            return GridAxis(name, values)
+        for key in ("distribution", "min", "max"):
+            if getattr(vary, key) is None:
+                raise self.fail(
+                    (*path, key),
+                    f"Expected `{key}` with `distribution`, `min`, `max`, which is missing.",
+                )
+        assert vary.distribution in DISTRIBUTIONS
+        low = self.si(vary.min, kind, (*path, "min"), vary.unit)
+        high = self.si(vary.max, kind, (*path, "max"), vary.unit)
+        if not low <= high:
+            raise self.fail((*path, "max"), f"Expected `max` >= `min` ({low!r}), got {high!r}.")
+        if vary.distribution == "loguniform" and not low > 0:
+            raise self.fail(
+                (*path, "min"), f"Expected `min` > 0 for a loguniform draw, got {low!r}."
+            )
+        if vary.distribution == "spherical":
+            if kind != "angle":
+                raise self.fail(
+                    (*path, "distribution"),
+                    f"Expected a 'spherical' draw only for an angle, got it for `{name}` "
+                    f"({kind.replace('_', ' ')}).",
+                )
+            if not (low >= 0 and high <= math.pi):
+                raise self.fail(
+                    (*path, "min"),
+                    f"Expected polar angles in [0, π] for a 'spherical' draw, got [{low!r}, "
+                    f"{high!r}] rad.",
+                )
+        return RandomAxis(name, vary.distribution, low, high)
+
+    def check_ranges(self, ranges: dict[str, tuple[float, float]], varied: set[str]) -> None:
+        limits = {
+            "moment_1": ("> 0", lambda v: v > 0),
+            "moment_2": ("> 0", lambda v: v > 0),
+            "moment_3": ("> 0", lambda v: v > 0),
+            "ratio_2": ("> 0", lambda v: v > 0),
+            "ratio_3": ("> 0", lambda v: v > 0),
+            "spin_rate": (">= 0", lambda v: v >= 0),
+            "damping": (">= 0", lambda v: v >= 0),
+        }
+        for name, (text, ok) in limits.items():
+            if name not in ranges:
+                continue
+            low = ranges[name][0]
+            if not ok(low):
+                path = ("vary", name) if name in varied else ("base", name)
+                kind = PARAMETERS[name][0]
+                from tumble.units import SI_UNITS
+
+                unit = f" {SI_UNITS[kind]}" if SI_UNITS[kind] else ""
+                raise self.fail(
+                    path, f"Expected `{name}` {text}{unit} for every body, got {low!r}."
+                )
+
+    def check_triangle(self, ranges: dict[str, tuple[float, float]]) -> None:
+        """Principal moments must satisfy I1 + I2 >= I3 (and cyclic) for every body.
+        Each condition is multilinear in the parameters, so it holds on the whole
+        box of parameter ranges when it holds at the box's corners."""
+        names = [
+            n for n in ("moment_1", "moment_2", "ratio_2", "moment_3", "ratio_3") if n in ranges
+        ]
+        for corner in product(*(ranges[n] for n in names)):
+            v = dict(zip(names, corner, strict=True))
+            i1 = v["moment_1"]
+            i2 = v["moment_2"] if "moment_2" in v else v["ratio_2"] * i1
+            i3 = v["moment_3"] if "moment_3" in v else v["ratio_3"] * i1
+            a, b, c = sorted((i1, i2, i3))
+            if a + b < c * (1 - 1e-9):
+                shown = ", ".join(f"{n} = {v[n]:.6g}" for n in names)
+                where = next(
+                    (("vary", n) for n in names if n in self.spec.vary), ("base", names[-1])
+                )
+                raise self.fail(
+                    where,
+                    "Expected principal moments satisfying the triangle inequality "
+                    "(I1 + I2 >= I3 and cyclic) for every body, got "
+                    f"I1, I2, I3 = {i1:.6g}, {i2:.6g}, {i3:.6g} kg·m² at {shown}.",
+                )
+
+    def warn_coarse(self, ranges: dict[str, tuple[float, float]], dt: float) -> None:
+        from tumble.simulation import MIN_STEPS_PER_TURN, CoarseStepWarning
+
+        fastest = ranges["spin_rate"][1]
+        if fastest > 0 and 2 * math.pi / (fastest * dt) < MIN_STEPS_PER_TURN:
+            warnings.warn(
+                f"dt = {dt:.3g} s gives {2 * math.pi / (fastest * dt):.1f} steps per turn at the "
+                f"fastest spin rate ({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the "
+                "results are inaccurate.",
+                CoarseStepWarning,
+                stacklevel=4,
+            )
+
+    def maps(self, varied: tuple[str, ...], metrics: tuple[str, ...]) -> tuple[MapSpec, ...]:
+        tables = self.spec.report.maps
+        if tables is None:
+            if not varied:
+                return ()
+            y = varied[1] if len(varied) > 1 else None
+            return tuple(MapSpec(varied[0], y, m) for m in dict.fromkeys(metrics))
+        out = []
+        for k, table in enumerate(tables):
+            for key in ("x", "y"):
+                name = getattr(table, key)
+                if name is not None and name not in varied:
+                    raise self.fail(
+                        ("report", "maps", k, key),
+                        f"Expected a varied parameter ({', '.join(varied) or 'none'}), "
+                        f"got {name!r}.",
+                    )
+            if table.metric not in metrics:
+                raise self.fail(
+                    ("report", "maps", k, "metric"),
+                    f"Expected a metric listed in [outputs] ({', '.join(metrics)}), got "
+                    f"{table.metric!r}.",
+                )
+            out.append(MapSpec(table.x, table.y, table.metric, table.statistic, table.bins))
+        return tuple(out)
+
+
+def check_address(address: str) -> str:
+    """A Dask scheduler address ``tcp://HOST:PORT`` (or ``tls://``), checked."""
+    import re
+
+    if not re.fullmatch(r"(tcp|tls)://[^\s:/]+:\d{1,5}", address.strip()):
+        raise InputError(
+            f"Expected a Dask scheduler address such as 'tcp://127.0.0.1:8786', got {address!r}."
+        )
+    return address.strip()

@@ -1,0 +1,698 @@
+"""Sweeps: per-body metrics against closed forms and single-body simulations,
+deterministic chunks, resumable output (also after SIGKILL), and the sweep file's errors."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import textwrap
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from scipy.spatial.transform import Rotation
+
+import tumble as tb
+from tumble.simulation import CoarseStepWarning, IntegrationError
+from tumble.sweep import load_sweep, open_results, run_sweep, show_sweep
+from tumble.sweep.metrics import compute_chunk
+from tumble.sweep.plan import Plan
+from tumble.sweep.schema import SweepError, parse_sweep
+
+#: A small sweep with grid, random and per-body torque parameters: 3 × 10
+#: grid points × 4 draws = 120 bodies in 7 chunks (the last one partial).
+SMALL = """
+[sweep]
+name = "small"
+seed = 3
+samples = 4
+chunk_size = 18
+
+[base]
+duration = 1.5
+dt = 0.01
+moment_1 = 1.0
+ratio_3 = 2.0
+spin_axis = 2
+spin_rate = "1 turn/s"
+
+[vary.ratio_2]
+values = [1.2, 1.5, 1.8]
+
+[vary.damping]
+start = 0
+stop = 0.02
+num = 10
+
+[vary.perturbation]
+distribution = "spherical"
+min = 0
+max = 10
+unit = "deg"
+
+[vary.perturbation_azimuth]
+distribution = "uniform"
+min = 0
+max = "360 deg"
+
+[vary.body_torque_1]
+distribution = "uniform"
+min = -0.05
+max = 0.05
+"""
+
+ARRAYS = (
+    "parameters/ratio_2",
+    "parameters/damping",
+    "parameters/perturbation",
+    "parameters/perturbation_azimuth",
+    "parameters/body_torque_1",
+    "initial/moments",
+    "initial/omega",
+    "final/omega",
+    "final/quaternion",
+    "metrics/flips",
+    "metrics/first_flip_time",
+    "metrics/max_nutation",
+    "metrics/energy_drift",
+    "metrics/momentum_drift",
+)
+
+
+def sweep_text(base: str = SMALL, **replace: str) -> str:
+    text = base
+    for old, new in replace.items():
+        assert old in text
+        text = text.replace(old, new)
+    return text
+
+
+def write(tmp_path: Path, text: str, name: str = "sweep.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text), encoding="utf-8")
+    return path
+
+
+def stored(folder: Path) -> dict[str, np.ndarray]:
+    group = open_results(folder)
+    return {name: np.asarray(group[name][:]) for name in ARRAYS}
+
+
+def assert_same_bits(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> None:
+    for name in a:
+        assert a[name].dtype == b[name].dtype, name
+        assert a[name].tobytes() == b[name].tobytes(), f"{name} differs"
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str, np.ndarray]]:
+    """The small sweep run once, uninterrupted, in this process."""
+    folder = tmp_path_factory.mktemp("reference")
+    source = write(folder, SMALL, "small.toml")
+    summary = run_sweep(source, folder / "out")
+    assert summary.chunks == 7 and summary.chunks_run == 7 and summary.bodies == 120
+    return source, stored(folder / "out")
+
+
+# ------------------------------------------------------------------ oracles
+def flip_sweep(method: str = "rk4") -> Plan:
+    # ω tilted from axis 2 towards axis 3 only (azimuth 0), so ω1 = 0 at t = 0: in
+    # the Jacobi solution (L² > 2 E I2 there) cn = 0, ω2 is at its extreme, and
+    # ω2 first crosses zero after exactly a quarter period.
+    return parse_sweep(
+        f"""
+        [sweep]
+        name = "flip"
+        [base]
+        duration = 12.0
+        dt = 1e-3
+        method = "{method}"
+        moment_1 = 1.0
+        moment_3 = 2.0
+        spin_axis = 2
+        spin_rate = "1 turn/s"
+        perturbation_azimuth = 0
+        [vary.moment_2]
+        values = [1.2, 1.5, 1.8]
+        [vary.perturbation]
+        values = ["1 deg", "5 deg", "20 deg"]
+        """
+    )
+
+
+@pytest.mark.parametrize("method", ["rk4", "splitting"])
+def test_first_flip_is_a_quarter_of_the_flip_period(method: str) -> None:
+    # Oracle: Landau & Lifshitz §37 via tb.theory.flip_period; flips then follow every
+    # half period (12 s spans 2 to 7 of them here). RK4 and the splitting at dt = 1e-3 s (1000 steps a turn) keep the
+    # phase to ~1e-10, and the linear interpolation at a zero of sn errs by O(dt³).
+    plan = flip_sweep(method)
+    result = compute_chunk(plan, 0)
+    bodies = plan.bodies(plan.chunk_parameters(0))
+    for k in range(plan.n_bodies):
+        period = tb.theory.flip_period(bodies.moments[k], bodies.omega[k])
+        first = result["metrics/first_flip_time"][k]
+        assert first == pytest.approx(period / 4, rel=1e-8)
+        expected = math.floor((plan.duration - period / 4) / (period / 2)) + 1
+        assert result["metrics/flips"][k] == expected
+        # Half a period after the start ω2 = −ω2(0) with the same |ω3| (sn = −1, cn = 0,
+        # dn = k'): the axis is then as far from L as it began close to it.
+        momentum = bodies.moments[k] * bodies.omega[k]
+        start = math.acos(momentum[1] / np.linalg.norm(momentum))
+        assert result["metrics/max_nutation"][k] == pytest.approx(math.pi - start, abs=1e-6)
+
+
+def test_largest_nutation_of_a_stable_spin_matches_the_closed_form() -> None:
+    # Spun near the largest axis 3: L and E conserved, the angle between axis 3 and L
+    # is largest where ω3 is smallest, which is where ω1 = 0 (cn = 0 in the Jacobi
+    # solution): there I2 ω2² + I3 ω3² = 2E and I2² ω2² + I3² ω3² = L², so
+    # cos θ_max = I3 ω3 / |L| = sqrt(I3 (L² − 2 E I2) / (I3 − I2)) / |L|.
+    # Sampled every step (dt = 1e-3 s), the maximum of a smooth angle is missed by
+    # at most ½ θ'' (dt/2)², below 1e-6 rad here.
+    plan = parse_sweep(
+        """
+        [sweep]
+        name = "nutation"
+        [base]
+        duration = 8.0
+        dt = 1e-3
+        moment_1 = 1.0
+        moment_2 = 1.5
+        moment_3 = 2.0
+        spin_axis = 3
+        spin_rate = "1 turn/s"
+        perturbation = "15 deg"
+        [vary.perturbation_azimuth]
+        values = ["0 deg", "30 deg", "90 deg", "200 deg"]
+        """
+    )
+    result = compute_chunk(plan, 0)
+    bodies = plan.bodies(plan.chunk_parameters(0))
+    for k in range(plan.n_bodies):
+        inertia, omega = bodies.moments[k], bodies.omega[k]
+        momentum2 = float(np.sum((inertia * omega) ** 2))
+        energy2 = float(np.sum(inertia * omega**2))
+        assert plan.duration > tb.theory.flip_period(inertia, omega)  # a whole period seen
+        cosine = math.sqrt(
+            inertia[2] * (momentum2 - energy2 * inertia[1]) / (inertia[2] - inertia[1])
+        )
+        expected = math.acos(cosine / math.sqrt(momentum2))
+        assert result["metrics/max_nutation"][k] == pytest.approx(expected, abs=1e-6)
+        assert result["metrics/flips"][k] == 0
+        assert math.isnan(result["metrics/first_flip_time"][k])
+
+
+def test_symmetric_top_nutation_is_constant_and_exact_with_splitting() -> None:
+    # A symmetric top (I1 = I2) keeps the angle between its axis and L:
+    # tan θ = I1 sin p / (I3 cos p) for ω tilted by p from the axis. The splitting
+    # moves a symmetric body exactly, so θ, E and |L| hold to round-off.
+    plan = parse_sweep(
+        """
+        [sweep]
+        name = "top"
+        [base]
+        duration = 5.0
+        dt = 0.02
+        method = "splitting"
+        moment_1 = 1.0
+        moment_2 = 1.0
+        moment_3 = 1.7
+        spin_axis = 3
+        spin_rate = 9.0
+        [vary.perturbation]
+        start = 0.01
+        stop = 1.2
+        num = 5
+        """
+    )
+    result = compute_chunk(plan, 0)
+    p = plan.chunk_parameters(0)["perturbation"]
+    expected = np.arctan2(1.0 * np.sin(p), 1.7 * np.cos(p))
+    assert_allclose(result["metrics/max_nutation"], expected, atol=1e-12)
+    assert np.all(result["metrics/energy_drift"] < 1e-13)
+    assert np.all(result["metrics/momentum_drift"] < 1e-13)
+
+
+@pytest.mark.parametrize("method", ["rk4", "splitting", "strang"])
+def test_chunk_equals_single_body_simulations(method: str) -> None:
+    # Per-body random perturbations, damping and body torques: each sampled body
+    # must end where tb.simulate takes it alone with the same method and dt (same
+    # arithmetic; FMA contraction in the vectorised kernel: round-off, 1e-12), and
+    # its metrics must equal those measured on simulate's full history.
+    plan = parse_sweep(
+        sweep_text(SMALL, **{"moment_1 = 1.0": f'moment_1 = 1.0\nmethod = "{method}"'})
+    )
+    index = 3
+    result = compute_chunk(plan, index)
+    values = plan.chunk_parameters(index)
+    bodies = plan.bodies(values)
+    for k in (0, 7, 17):
+        torque = tb.torques.ConstantBodyTorque(
+            [values["body_torque_1"][k], 0.0, 0.0]
+        ) + tb.torques.LinearDamping(values["damping"][k])
+        traj = tb.simulate(
+            tb.MassProperties(1.0, [0, 0, 0], np.diag(bodies.moments[k])),
+            bodies.omega[k],
+            duration=plan.duration,
+            dt=plan.dt,
+            method=method,
+            torque=torque,
+        )
+        assert_allclose(result["final/omega"][k], traj.omega[-1], rtol=0, atol=1e-12)
+        angle = (
+            Rotation.from_quat(result["final/quaternion"][k], scalar_first=True)
+            * Rotation.from_quat(traj.quaternion[-1], scalar_first=True).inv()
+        ).magnitude()
+        assert angle < 1e-12
+        along = traj.omega[:, 1]  # spin axis 2
+        crossings = np.flatnonzero(along[:-1] * along[1:] < 0)
+        assert result["metrics/flips"][k] == len(crossings)
+        if len(crossings):
+            j = crossings[0]
+            first = traj.t[j] + (traj.t[j + 1] - traj.t[j]) * along[j] / (along[j] - along[j + 1])
+            assert result["metrics/first_flip_time"][k] == pytest.approx(first, abs=1e-12)
+        momentum = traj.omega * bodies.moments[k]
+        size = np.linalg.norm(momentum, axis=1)
+        nutation = np.max(np.arccos(np.clip(momentum[:, 1] / size, -1, 1)))
+        assert result["metrics/max_nutation"][k] == pytest.approx(nutation, abs=1e-9)
+        energy = np.sum(momentum * traj.omega, axis=1)
+        drift = np.max(np.abs(energy - energy[0])) / energy[0]
+        assert result["metrics/energy_drift"][k] == pytest.approx(drift, rel=1e-6, abs=1e-15)
+        assert result["parameters/damping"][k] == values["damping"][k]
+
+
+# -------------------------------------------------------------- determinism
+def test_chunks_depend_only_on_the_sweep_and_their_index() -> None:
+    plan = parse_sweep(SMALL)
+    later = plan.chunk_parameters(5)
+    for index in (0, 6, 2):
+        plan.chunk_parameters(index)
+    again = parse_sweep(SMALL).chunk_parameters(5)
+    for name in later:
+        assert later[name].tobytes() == again[name].tobytes()
+    # Body b is grid point b // samples, draw b % samples.
+    start, stop = plan.chunk_range(5)
+    assert (start, stop) == (90, 108)
+    ratio, damping = plan.grid_indices(start, stop)
+    assert_allclose(later["ratio_2"], np.array([1.2, 1.5, 1.8])[ratio])
+    assert np.array_equal(ratio * 10 + damping, np.arange(start, stop) // 4)
+
+
+def test_random_draws_follow_their_distributions() -> None:
+    plan = parse_sweep(
+        """
+        [sweep]
+        name = "draws"
+        samples = 200000
+        chunk_size = 200000
+        [base]
+        duration = 1
+        dt = 0.01
+        moment_1 = 1
+        ratio_2 = 2
+        ratio_3 = 2.5
+        spin_rate = 1
+        [vary.perturbation]
+        distribution = "spherical"
+        min = 0
+        max = "180 deg"
+        [vary.perturbation_azimuth]
+        distribution = "uniform"
+        min = 0
+        max = "360 deg"
+        [vary.spin_rate]
+        distribution = "loguniform"
+        min = 0.1
+        max = 10
+        """.replace("spin_rate = 1\n", "")
+    )
+    values = plan.chunk_parameters(0)
+    directions = plan.bodies(values).omega / values["spin_rate"][:, None]
+    # Isotropic directions: the mean direction vanishes (σ = 1/√(3n) per component)
+    # and each component squared averages 1/3.
+    assert np.all(np.abs(directions.mean(axis=0)) < 5 / math.sqrt(3 * plan.n_bodies))
+    assert_allclose(np.mean(directions**2, axis=0), 1 / 3, atol=5e-3)
+    log_rate = np.log10(values["spin_rate"])
+    assert log_rate.min() >= -1 and log_rate.max() <= 1
+    assert abs(log_rate.mean()) < 0.01
+
+
+# ------------------------------------------------------- output and resuming
+def test_sweep_writes_store_summary_and_report(
+    reference: tuple[Path, dict[str, np.ndarray]],
+) -> None:
+    source, arrays = reference
+    folder = source.parent / "out"
+    summary = json.loads((folder / "summary.json").read_text())
+    assert summary["bodies"] == 120 and summary["chunks"] == 7
+    flips = arrays["metrics/flips"]
+    assert summary["metrics"]["flips"]["fraction_flipped"] == pytest.approx(np.mean(flips > 0))
+    assert summary["metrics"]["max_nutation"]["max"] == pytest.approx(
+        arrays["metrics/max_nutation"].max()
+    )
+    page = (folder / "report.html").read_text()
+    # Default maps: each of the 5 metrics over the first two varied parameters.
+    assert page.count("data:image/png;base64,") == 5
+    group = open_results(folder)
+    assert group["metrics/first_flip_time"].attrs["units"] == "s"
+    assert group["final/omega"].chunks == (18, 3)
+    assert all(np.isfinite(arrays[name]).all() for name in ARRAYS if "first_flip" not in name)
+
+
+def test_rerun_skips_finished_chunks(reference: tuple[Path, dict[str, np.ndarray]]) -> None:
+    source, arrays = reference
+    calls: list[tuple[int, int]] = []
+    summary = run_sweep(source, source.parent / "out", progress=lambda d, t: calls.append((d, t)))
+    assert summary.chunks_run == 0 and summary.chunks_reused == 7
+    assert calls == [(7, 7)]
+    assert_same_bits(stored(source.parent / "out"), arrays)
+
+
+def test_sigkill_mid_run_then_resume_gives_identical_bits(
+    tmp_path: Path, reference: tuple[Path, dict[str, np.ndarray]]
+) -> None:
+    # A process killed with SIGKILL right after its third chunk's marker; the
+    # re-run computes the four missing chunks and the store holds the same bits
+    # as an uninterrupted run's.
+    source, arrays = reference
+    folder = tmp_path / "out"
+    script = textwrap.dedent(
+        f"""
+        import os, signal
+        from tumble.sweep import run_sweep
+
+        def progress(done, total):
+            if done == 3:
+                os.kill(os.getpid(), signal.SIGKILL)
+
+        run_sweep({str(source)!r}, {str(folder)!r}, progress=progress)
+        """
+    )
+    killed = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=600)
+    assert killed.returncode == -9, killed.stderr.decode()
+    assert len(list((folder / "chunks").glob("*.done"))) == 3
+    assert not (folder / "summary.json").exists()
+    summary = run_sweep(source, folder)
+    assert (summary.chunks_run, summary.chunks_reused) == (4, 3)
+    assert_same_bits(stored(folder), arrays)
+
+
+def test_torn_chunk_without_marker_is_redone(
+    tmp_path: Path, reference: tuple[Path, dict[str, np.ndarray]]
+) -> None:
+    # What a kill during a chunk's writes can leave: some of its arrays written (or
+    # garbage), no marker. The chunk is not trusted; the next run rewrites it.
+    source, arrays = reference
+    folder = tmp_path / "out"
+    run_sweep(source, folder)
+    (folder / "chunks" / "00000004.done").unlink()
+    (folder / "results.zarr" / "metrics" / "flips" / "c" / "4").write_bytes(b"torn")
+    group = open_results(folder)
+    assert group.read_only
+    summary = run_sweep(source, folder)
+    assert (summary.chunks_run, summary.chunks_reused) == (1, 6)
+    assert_same_bits(stored(folder), arrays)
+
+
+def test_changed_sweep_is_refused_then_forced(
+    tmp_path: Path, reference: tuple[Path, dict[str, np.ndarray]]
+) -> None:
+    source, _ = reference
+    folder = tmp_path / "out"
+    run_sweep(source, folder)
+    changed = write(tmp_path, sweep_text(SMALL, **{"dt = 0.01": "dt = 0.005"}), "changed.toml")
+    with pytest.raises(
+        tb.InputError,
+        match=r"Expected the sweep that '.*out' holds, got a changed sweep \(dt, n_steps differ\): "
+        r"run it into another folder, or use --force",
+    ):
+        run_sweep(changed, folder)
+    summary = run_sweep(changed, folder, force=True)
+    assert summary.chunks_run == 7 and summary.steps == 300
+    # Comments, names and maps do not change the results: not a different sweep.
+    renamed = write(
+        tmp_path,
+        "# a comment\n" + sweep_text(changed.read_text(), **{'"small"': '"other"'}),
+        "r.toml",
+    )
+    assert run_sweep(renamed, folder).chunks_reused == 7
+
+
+def test_folder_with_other_files_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "notes.txt").write_text("mine")
+    source = write(tmp_path, SMALL, "small.toml")
+    with pytest.raises(
+        tb.InputError,
+        match=r"Expected a new or empty output folder, or one holding a sweep's results, got "
+        r"'.*' with notes.txt, small.toml \(no sweep.json\)",
+    ):
+        run_sweep(source, tmp_path)
+    assert (tmp_path / "notes.txt").read_text() == "mine"
+
+
+def test_diverging_bodies_are_reported(tmp_path: Path) -> None:
+    text = sweep_text(SMALL, **{"dt = 0.01": "dt = 0.75", "duration = 1.5": "duration = 300"})
+    text = text.replace('spin_rate = "1 turn/s"', 'spin_rate = "40 turn/s"')
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoarseStepWarning)
+        plan = parse_sweep(text)
+    with pytest.raises(
+        IntegrationError,
+        match=r"Expected the integration to stay finite, got NaN or inf for \d+ bodies of chunk 0 "
+        r"\(first: body \d+\) with dt = 0.75 s: reduce dt",
+    ):
+        run_sweep(plan, tmp_path / "out")
+
+
+def test_coarse_step_warns() -> None:
+    with pytest.warns(CoarseStepWarning, match=r"dt = 0.1 s gives 10.0 steps per turn"):
+        parse_sweep(sweep_text(SMALL, **{"dt = 0.01": "dt = 0.1"}))
+
+
+# ------------------------------------------------------------------ built-in
+def test_metric_names_agree() -> None:
+    from typing import get_args
+
+    from tumble.sweep.schema import MetricName
+
+    assert get_args(MetricName) == tuple(tb.sweep.METRICS)
+
+
+def test_flip_map_is_shipped_and_valid() -> None:
+    assert "flip-map" in tb.sweep.builtin_sweeps()
+    text = show_sweep("flip-map")
+    plan = parse_sweep(text)
+    assert plan.n_bodies == 181 * 181
+    assert plan.varied == ("ratio_2", "perturbation")
+    assert plan.maps[0].metric == "first_flip_time"
+    assert load_sweep("flip-map").identity() == plan.identity()
+
+
+def test_unknown_builtin_is_refused() -> None:
+    with pytest.raises(
+        SweepError,
+        match=r"Expected a built-in sweep \(flip-map\) or a .toml file, got 'flip-mop'. "
+        r"Did you mean flip-map\?",
+    ):
+        load_sweep("flip-mop")
+    with pytest.raises(
+        SweepError, match=r"Expected a sweep file, got 'missing.toml' \(no such file\)"
+    ):
+        load_sweep("missing.toml")
+
+
+# -------------------------------------------------------------------- errors
+@pytest.mark.parametrize(
+    ("replace", "message"),
+    [
+        (
+            {"seed = 3": "seed = 3\nseeed = 4"},
+            r"<sweep>, line 5, `sweep.seeed`: Expected one of `name`, `description`, `seed`, "
+            r"`samples`, `chunk_size`, got the unknown key `seeed`. Did you mean `seed`\?",
+        ),
+        (
+            {"[vary.damping]": "[vary.dampng]"},
+            r"line 19, `vary.dampng`: Expected a parameter \(moment_1, .*\), got `dampng`. "
+            r"Did you mean `damping`\?",
+        ),
+        (
+            {"samples = 4": "samples = 0"},
+            r"line 5, `sweep.samples`: Expected a value greater than or equal to 1, got 0.",
+        ),
+        (
+            {"samples = 4": 'samples = "4"'},
+            r"line 5, `sweep.samples`: Expected a valid integer, got '4'.",
+        ),
+        (
+            {"dt = 0.01\n": ""},
+            r"<sweep>, line 8, `base.dt`: Expected the key `dt`, which is missing.",
+        ),
+        (
+            {"[base]": "[basis]"},
+            r"`basis`: Expected one of `sweep`, `base`, `vary`, `outputs`, `report`, `dask`, "
+            r"got the unknown key `basis`",
+        ),
+        (
+            {"dt = 0.01": "dt = true"},
+            r"line 10, `base.dt`: Expected a number or a quantity such as '2 rad/s', got true.",
+        ),
+        (
+            {"dt = 0.01": 'dt = "10 m"'},
+            r"line 10, `base.dt`: Expected `dt` to be a time in s, got 10 m",
+        ),
+        (
+            {"dt = 0.01": "dt = -0.01"},
+            r"line 10, `base.dt`: Expected `dt` > 0 s, got -0.01.",
+        ),
+        (
+            {"dt = 0.01": 'dt = 0.01\nmethod = "euler"'},
+            r"`base.method`: Expected 'rk4', 'splitting' or 'strang', got 'euler'.",
+        ),
+        (
+            {"spin_axis = 2": "spin_axis = 4"},
+            r"line 13, `base.spin_axis`: Expected 1, 2 or 3, got 4.",
+        ),
+        (
+            {
+                "spin_axis = 2\n": "",
+                "[vary.ratio_2]": '[vary.spin_axis]\nvalues = [1, "x"]\n[vary.ratio_2]',
+            },
+            r"line 16, `vary.spin_axis.values\[1\]`: Expected `spin_axis` to be 1, 2 or 3, got 'x'.",
+        ),
+        (
+            {"ratio_3 = 2.0": "ratio_3 = 2.0\nmoment_3 = 2.0"},
+            r"`base.ratio_3`: Expected one of `moment_3` and `ratio_3`, not both, got both.",
+        ),
+        (
+            {"moment_1 = 1.0": "damping = 0.1"},
+            r"`vary.damping`: Expected `damping` in \[base\] or in \[vary\], not both, got both.",
+        ),
+        (
+            {"ratio_3 = 2.0\n": ""},
+            r"`base`: Expected `moment_3` or `ratio_3` in \[base\] or \[vary\], got neither.",
+        ),
+        (
+            {"values = [1.2, 1.5, 1.8]": "values = [1.2, 1.5, 3.5]"},
+            r"line 16, `vary.ratio_2`: Expected principal moments satisfying the triangle "
+            r"inequality \(I1 \+ I2 >= I3 and cyclic\) for every body, got I1, I2, I3 = 1, 3.5, 2 "
+            r"kg·m² at moment_1 = 1, ratio_2 = 3.5, ratio_3 = 2.",
+        ),
+        (
+            {"values = [1.2, 1.5, 1.8]": "values = [1.2, -1.5]"},
+            r"`vary.ratio_2`: Expected `ratio_2` > 0 for every body, got -1.5.",
+        ),
+        (
+            {"values = [1.2, 1.5, 1.8]": "values = []"},
+            r"line 17, `vary.ratio_2.values`: Expected at least one value, got none.",
+        ),
+        (
+            {"values = [1.2, 1.5, 1.8]": "values = [1.2]\nstart = 1"},
+            r"line 16, `vary.ratio_2`: Expected a grid \(`values`, or `start`, `stop`, `num`\) or "
+            r"a random draw \(`distribution`, `min`, `max`\), got `values`, `start`.",
+        ),
+        (
+            {"num = 10": 'num = 10\nscale = "log"'},
+            r"`vary.damping.start`: Expected `start` and `stop` > 0 for a log scale, got 0.0 and 0.02.",
+        ),
+        (
+            {"num = 10\n": ""},
+            r"`vary.damping.num`: Expected `num` with `start`, `stop`, `num`, which is missing.",
+        ),
+        (
+            {"values = [1.2, 1.5, 1.8]": 'values = [1.2, "1.5 kg"]'},
+            r"line 17, `vary.ratio_2.values\[1\]`: Expected `ratio_2` to be a dimensionless, got 1.5 kg",
+        ),
+        (
+            {'max = "360 deg"': 'max = "360 m"'},
+            r"`vary.perturbation_azimuth.max`: Expected `max` to be an angle in rad, got 360 m",
+        ),
+        (
+            {"min = -0.05": "min = 0.06"},
+            r"`vary.body_torque_1.max`: Expected `max` >= `min` \(0.06\), got 0.05.",
+        ),
+        (
+            {'distribution = "uniform"\nmin = -0.05': 'distribution = "spherical"\nmin = -0.05'},
+            r"`vary.body_torque_1.distribution`: Expected a 'spherical' draw only for an angle, got "
+            r"it for `body_torque_1` \(torque\).",
+        ),
+        (
+            {"max = 10\nunit": "max = 200\nunit"},
+            r"`vary.perturbation.min`: Expected polar angles in \[0, π\] for a 'spherical' draw, got "
+            r"\[0.0, 3.49\d+\] rad.",
+        ),
+        (
+            {'distribution = "spherical"': 'distribution = "gaussian"'},
+            r"`vary.perturbation.distribution`: Expected 'uniform', 'loguniform' or 'spherical', got "
+            r"'gaussian'.",
+        ),
+        (
+            {"[vary.ratio_2]": '[outputs]\nmetrics = ["flips", "flops"]\n[vary.ratio_2]'},
+            r"`outputs.metrics\[1\]`: Expected 'flips', 'first_flip_time', 'max_nutation', "
+            r"'energy_drift' or 'momentum_drift', got 'flops'.",
+        ),
+        (
+            {
+                "[vary.ratio_2]": '[report]\nmaps = [{x = "ratio_2", y = "spin_rate", metric = "flips"}]\n[vary.ratio_2]'
+            },
+            r"`report.maps\[0\].y`: Expected a varied parameter \(ratio_2, damping, perturbation, "
+            r"perturbation_azimuth, body_torque_1\), got 'spin_rate'.",
+        ),
+        (
+            {"[vary.ratio_2]": '[dask]\nscheduler = "localhost:8786"\n[vary.ratio_2]'},
+            r"`dask.scheduler`: Expected a Dask scheduler address such as 'tcp://127.0.0.1:8786', "
+            r"got 'localhost:8786'.",
+        ),
+        (
+            {
+                "[vary.ratio_2]": '[dask]\nscheduler = "tcp://127.0.0.1:8786"\nworkers = 2\n[vary.ratio_2]'
+            },
+            r"line 16, `dask`: Expected at most one of `scheduler` and `workers` in \[dask\], got both.",
+        ),
+        (
+            {"num = 10": "num = 100_000_000"},
+            r"`vary.damping.num`: Expected a value less than or equal to 10000000, got 100000000.",
+        ),
+        (
+            {"[sweep]": "[sweep\n"},
+            r"<sweep>: Expected valid TOML, got an error: ",
+        ),
+        (
+            {'name = "small"': 'name = "a/b"'},
+            r"`sweep.name`: Expected a string that should match pattern",
+        ),
+    ],
+)
+def test_sweep_file_errors(replace: dict[str, str], message: str) -> None:
+    with pytest.raises(SweepError, match=message):
+        parse_sweep(sweep_text(SMALL, **replace))
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"workers": 0}, r"Expected `workers` to be an integer >= 1, got 0."),
+        ({"workers": True}, r"Expected `workers` to be an integer >= 1, got True."),
+        (
+            {"workers": 2, "scheduler": "tcp://127.0.0.1:8786"},
+            r"Expected at most one of `workers` and `scheduler`, got workers=2 and "
+            r"scheduler='tcp://127.0.0.1:8786'.",
+        ),
+        (
+            {"scheduler": "8786"},
+            r"Expected a Dask scheduler address such as 'tcp://127.0.0.1:8786', got '8786'.",
+        ),
+    ],
+)
+def test_run_sweep_argument_errors(tmp_path: Path, kwargs: dict, message: str) -> None:
+    with pytest.raises(tb.InputError, match=message):
+        run_sweep(parse_sweep(SMALL), tmp_path / "out", **kwargs)
+    assert not (tmp_path / "out").exists()
+
+
+def test_output_path_that_is_a_file_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "file").write_text("")
+    with pytest.raises(tb.InputError, match=r"Expected an output folder, got the file '.*file'."):
+        run_sweep(parse_sweep(SMALL), tmp_path / "file")
