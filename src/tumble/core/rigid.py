@@ -424,39 +424,53 @@ def _steps_block(  # type: ignore[no-untyped-def]
     """RK4 steps for one block of bodies (arrays of its states), in place; called
     with a literal ``attitude_torque`` so the torque-free loop has no branch."""
     m = w1.shape[0]
-    h = 0.5 * dt
-    sixth = dt / 6.0
     for _ in range(n_steps):
         for j in range(m):
-            p = _column(params, j)
-            a = _rates_fast(
-                w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j],
-                c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], p, attitude_torque,
+            rk4_body_step(
+                j, w1, w2, w3, q0, q1, q2, q3, c1, c2, c3, r1, r2, r3, params, dt,
+                attitude_torque,
             )  # fmt: skip
-            b = _rates_fast(
-                w1[j] + h * a[0], w2[j] + h * a[1], w3[j] + h * a[2],
-                q0[j] + h * a[3], q1[j] + h * a[4], q2[j] + h * a[5], q3[j] + h * a[6],
-                c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], p, attitude_torque,
-            )  # fmt: skip
-            c = _rates_fast(
-                w1[j] + h * b[0], w2[j] + h * b[1], w3[j] + h * b[2],
-                q0[j] + h * b[3], q1[j] + h * b[4], q2[j] + h * b[5], q3[j] + h * b[6],
-                c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], p, attitude_torque,
-            )  # fmt: skip
-            d = _rates_fast(
-                w1[j] + dt * c[0], w2[j] + dt * c[1], w3[j] + dt * c[2],
-                q0[j] + dt * c[3], q1[j] + dt * c[4], q2[j] + dt * c[5], q3[j] + dt * c[6],
-                c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], p, attitude_torque,
-            )  # fmt: skip
-            w1[j] += sixth * (a[0] + 2.0 * (b[0] + c[0]) + d[0])
-            w2[j] += sixth * (a[1] + 2.0 * (b[1] + c[1]) + d[1])
-            w3[j] += sixth * (a[2] + 2.0 * (b[2] + c[2]) + d[2])
-            p0 = q0[j] + sixth * (a[3] + 2.0 * (b[3] + c[3]) + d[3])
-            p1 = q1[j] + sixth * (a[4] + 2.0 * (b[4] + c[4]) + d[4])
-            p2 = q2[j] + sixth * (a[5] + 2.0 * (b[5] + c[5]) + d[5])
-            p3 = q3[j] + sixth * (a[6] + 2.0 * (b[6] + c[6]) + d[6])
-            scale = 1.0 / math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
-            q0[j] = p0 * scale
-            q1[j] = p1 * scale
-            q2[j] = p2 * scale
-            q3[j] = p3 * scale
+
+
+@njit(inline="always")
+def rk4_body_step(  # type: ignore[no-untyped-def]
+    j, w1, w2, w3, q0, q1, q2, q3, c1, c2, c3, r1, r2, r3, params, dt, attitude_torque
+):
+    """One RK4 step of body j of a block (arrays of the block's states and
+    coefficients, ``params`` (N_TORQUE_PARAMS, m)), in place; the quaternion
+    renormalised. Inlined into the loops over a block's bodies, which the
+    compiler vectorises."""
+    h = 0.5 * dt
+    sixth = dt / 6.0
+    p = _column(params, j)
+    a = _rates_fast(
+        w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j],
+        c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], p, attitude_torque,
+    )  # fmt: skip
+    b = _rates_fast(
+        w1[j] + h * a[0], w2[j] + h * a[1], w3[j] + h * a[2],
+        q0[j] + h * a[3], q1[j] + h * a[4], q2[j] + h * a[5], q3[j] + h * a[6],
+        c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], p, attitude_torque,
+    )  # fmt: skip
+    c = _rates_fast(
+        w1[j] + h * b[0], w2[j] + h * b[1], w3[j] + h * b[2],
+        q0[j] + h * b[3], q1[j] + h * b[4], q2[j] + h * b[5], q3[j] + h * b[6],
+        c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], p, attitude_torque,
+    )  # fmt: skip
+    d = _rates_fast(
+        w1[j] + dt * c[0], w2[j] + dt * c[1], w3[j] + dt * c[2],
+        q0[j] + dt * c[3], q1[j] + dt * c[4], q2[j] + dt * c[5], q3[j] + dt * c[6],
+        c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], p, attitude_torque,
+    )  # fmt: skip
+    w1[j] += sixth * (a[0] + 2.0 * (b[0] + c[0]) + d[0])
+    w2[j] += sixth * (a[1] + 2.0 * (b[1] + c[1]) + d[1])
+    w3[j] += sixth * (a[2] + 2.0 * (b[2] + c[2]) + d[2])
+    p0 = q0[j] + sixth * (a[3] + 2.0 * (b[3] + c[3]) + d[3])
+    p1 = q1[j] + sixth * (a[4] + 2.0 * (b[4] + c[4]) + d[4])
+    p2 = q2[j] + sixth * (a[5] + 2.0 * (b[5] + c[5]) + d[5])
+    p3 = q3[j] + sixth * (a[6] + 2.0 * (b[6] + c[6]) + d[6])
+    scale = 1.0 / math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
+    q0[j] = p0 * scale
+    q1[j] = p1 * scale
+    q2[j] = p2 * scale
+    q3[j] = p3 * scale

@@ -160,6 +160,29 @@ def _strang(t, h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torqu
     return l1, l2, l3, q0, q1, q2, q3
 
 
+@njit(inline="always")
+def splitting_step(  # type: ignore[no-untyped-def]
+    t, dt, order, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque, extra,
+    context,
+):  # fmt: skip
+    """One step of ``dt`` from time t: Strang (``order`` 2) or Yoshida's triple
+    jump of it (4), as sub-steps at one call site so the compiler inlines the
+    Strang step once. Returns the new (L, q), q not renormalised."""
+    if order == 2:
+        fractions = (1.0, 0.0, 0.0)
+        n_sub = 1
+    else:
+        fractions = (YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER)
+        n_sub = 3
+    for j in range(n_sub):
+        h = fractions[j] * dt
+        l1, l2, l3, q0, q1, q2, q3 = _strang(
+            t, h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque, extra, context
+        )
+        t += h
+    return l1, l2, l3, q0, q1, q2, q3
+
+
 @njit
 def splitting_run(  # type: ignore[no-untyped-def]
     w, q, inertia, params, dt, n_steps, first_step, record_every, out_w, out_q, order
@@ -200,24 +223,12 @@ def _splitting_loop(  # type: ignore[no-untyped-def]
     attitude_torque = has_attitude_torque(params)
     l1, l2, l3 = i1 * w[0], i2 * w[1], i3 * w[2]
     q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
-    # Sub-steps of one step: (1) for Strang, (w1, w0, w1) for Yoshida; one
-    # call site, so the compiler inlines the step once.
-    if order == 2:
-        fractions = (1.0, 0.0, 0.0)
-        n_sub = 1
-    else:
-        fractions = (YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER)
-        n_sub = 3
     for k in range(n_steps):
         t = (first_step + k) * dt
-        m1, m2, m3, p0, p1, p2, p3 = l1, l2, l3, q0, q1, q2, q3
-        for j in range(n_sub):
-            h = fractions[j] * dt
-            m1, m2, m3, p0, p1, p2, p3 = _strang(
-                t, h, m1, m2, m3, p0, p1, p2, p3, i1, i2, i3, params, attitude_torque,
-                extra, context,
-            )  # fmt: skip
-            t += h
+        m1, m2, m3, p0, p1, p2, p3 = splitting_step(
+            t, dt, order, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque,
+            extra, context,
+        )  # fmt: skip
         norm = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
         if not (math.isfinite(norm) and math.isfinite(m1 + m2 + m3) and norm > 0.0):
             w[0], w[1], w[2] = l1 / i1, l2 / i2, l3 / i3

@@ -38,12 +38,11 @@ from tumble.core.rigid import (
     BLOCK,
     FINITE,
     _block_params,
-    _column,
-    _rates_fast,
     has_attitude_torque,
     no_extra_torque,
+    rk4_body_step,
 )
-from tumble.core.splitting import YOSHIDA_INNER, YOSHIDA_OUTER, _strang
+from tumble.core.splitting import splitting_step
 
 #: Rows of the ``out`` array the kernels fill.
 N_METRICS = 5
@@ -181,43 +180,12 @@ def _metrics_block(  # type: ignore[no-untyped-def]
         squared0[j] = squared
         smallest[j] = squared
         largest[j] = squared
-    h = 0.5 * dt
-    sixth = dt / 6.0
     for step in range(n_steps):
         t = (step + 1) * dt
         for j in range(m):
-            pj = _column(p, j)
-            a = _rates_fast(
-                w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j],
-                c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], pj, attitude_torque,
-            )  # fmt: skip
-            b = _rates_fast(
-                w1[j] + h * a[0], w2[j] + h * a[1], w3[j] + h * a[2],
-                q0[j] + h * a[3], q1[j] + h * a[4], q2[j] + h * a[5], q3[j] + h * a[6],
-                c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], pj, attitude_torque,
-            )  # fmt: skip
-            c = _rates_fast(
-                w1[j] + h * b[0], w2[j] + h * b[1], w3[j] + h * b[2],
-                q0[j] + h * b[3], q1[j] + h * b[4], q2[j] + h * b[5], q3[j] + h * b[6],
-                c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], pj, attitude_torque,
-            )  # fmt: skip
-            d = _rates_fast(
-                w1[j] + dt * c[0], w2[j] + dt * c[1], w3[j] + dt * c[2],
-                q0[j] + dt * c[3], q1[j] + dt * c[4], q2[j] + dt * c[5], q3[j] + dt * c[6],
-                c1[j], c2[j], c3[j], r1[j], r2[j], r3[j], pj, attitude_torque,
-            )  # fmt: skip
-            w1[j] += sixth * (a[0] + 2.0 * (b[0] + c[0]) + d[0])
-            w2[j] += sixth * (a[1] + 2.0 * (b[1] + c[1]) + d[1])
-            w3[j] += sixth * (a[2] + 2.0 * (b[2] + c[2]) + d[2])
-            p0 = q0[j] + sixth * (a[3] + 2.0 * (b[3] + c[3]) + d[3])
-            p1 = q1[j] + sixth * (a[4] + 2.0 * (b[4] + c[4]) + d[4])
-            p2 = q2[j] + sixth * (a[5] + 2.0 * (b[5] + c[5]) + d[5])
-            p3 = q3[j] + sixth * (a[6] + 2.0 * (b[6] + c[6]) + d[6])
-            scale = 1.0 / math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
-            q0[j] = p0 * scale
-            q1[j] = p1 * scale
-            q2[j] = p2 * scale
-            q3[j] = p3 * scale
+            rk4_body_step(
+                j, w1, w2, w3, q0, q1, q2, q3, c1, c2, c3, r1, r2, r3, p, dt, attitude_torque
+            )
         # A loop of its own: with the measures in the stepping loop, that loop
         # stores to too many arrays for the compiler to vectorise it (5× slower).
         for j in range(m):
@@ -277,12 +245,6 @@ def _splitting_body(w, q, inertia, params, axis, dt, n_steps, order, out):  # ty
     attitude_torque = has_attitude_torque(params)
     l1, l2, l3 = i1 * w[0], i2 * w[1], i3 * w[2]
     q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
-    if order == 2:
-        fractions = (1.0, 0.0, 0.0)
-        n_sub = 1
-    else:
-        fractions = (YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER)
-        n_sub = 3
     reference, energy0, squared0, lowest = _initial(w[0], w[1], w[2], i1, i2, i3, a1, a2, a3)
     flips = 0.0
     crossed_at = before = after = 0.0
@@ -291,14 +253,10 @@ def _splitting_body(w, q, inertia, params, axis, dt, n_steps, order, out):  # ty
     status = FINITE
     for k in range(n_steps):
         t = k * dt
-        m1, m2, m3, p0, p1, p2, p3 = l1, l2, l3, q0, q1, q2, q3
-        for j in range(n_sub):
-            h = fractions[j] * dt
-            m1, m2, m3, p0, p1, p2, p3 = _strang(
-                t, h, m1, m2, m3, p0, p1, p2, p3, i1, i2, i3, params, attitude_torque,
-                no_extra_torque, 0.0,
-            )  # fmt: skip
-            t += h
+        m1, m2, m3, p0, p1, p2, p3 = splitting_step(
+            t, dt, order, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque,
+            no_extra_torque, 0.0,
+        )  # fmt: skip
         norm = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
         if not (math.isfinite(norm) and math.isfinite(m1 + m2 + m3) and norm > 0.0):
             status = k + 1
