@@ -45,6 +45,7 @@ pytest: setup
 # The compiled core once more as plain Python, so coverage and tracebacks see the kernels.
 pytest-nojit: setup
 	NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q tests/core
+	NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q tests/test_sweep.py -k "quarter or symmetric or single_body or nutation"
 
 test: lint typecheck contracts pytest pytest-nojit
 
