@@ -45,6 +45,7 @@ __all__ = [
     "Polhode",
     "Precession",
     "compare",
+    "comparison_row",
     "comparison_table",
     "drift",
     "flips",
@@ -535,7 +536,10 @@ def drift(trajectory: Trajectory) -> dict[str, float]:
 
 
 # ----------------------------------------------------------------- theory vs measurement
-def _row(quantity: str, theory: float, measured: float, unit: str) -> dict[str, Any]:
+def comparison_row(quantity: str, theory: float, measured: float, unit: str) -> dict[str, Any]:
+    """One row of a theory-vs-measurement table: ``{quantity, theory, measured,
+    relative_error, unit}``, the error ``|measured − theory| / |theory|`` (inf
+    when theory is 0 or not finite and they differ)."""
     if theory != 0 and math.isfinite(theory):
         error = abs(measured - theory) / abs(theory)
     else:
@@ -611,11 +615,15 @@ def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[st
         rows = []
         if result.precession_rates is not None:
             rows.append(
-                _row("precession rate (steady, exact)", result.precession_rates[0], rate, "rad/s")
+                comparison_row(
+                    "precession rate (steady, exact)", result.precession_rates[0], rate, "rad/s"
+                )
             )
-        rows.append(_row("precession rate (fast top)", result.precession_rate, rate, "rad/s"))
         rows.append(
-            _row(
+            comparison_row("precession rate (fast top)", result.precession_rate, rate, "rad/s")
+        )
+        rows.append(
+            comparison_row(
                 "nutation frequency (released, exact)",
                 2 * math.pi / result.nutation_period,
                 nut.frequency,
@@ -624,7 +632,7 @@ def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[st
         )
         if result.small_nutation_frequencies is not None:
             rows.append(
-                _row(
+                comparison_row(
                     "nutation frequency (small, exact)",
                     result.small_nutation_frequencies[0],
                     nut.frequency,
@@ -632,12 +640,18 @@ def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[st
                 )
             )
         rows.append(
-            _row("nutation frequency (fast top)", result.nutation_frequency, nut.frequency, "rad/s")
+            comparison_row(
+                "nutation frequency (fast top)", result.nutation_frequency, nut.frequency, "rad/s"
+            )
         )
         low, high = result.nutation_limits
-        rows.append(_row("nutation amplitude (exact)", 0.5 * (high - low), nut.amplitude, "rad"))
         rows.append(
-            _row("nutation amplitude (fast top)", result.nutation_amplitude, nut.amplitude, "rad")
+            comparison_row("nutation amplitude (exact)", 0.5 * (high - low), nut.amplitude, "rad")
+        )
+        rows.append(
+            comparison_row(
+                "nutation amplitude (fast top)", result.nutation_amplitude, nut.amplitude, "rad"
+            )
         )
         return rows
     if isinstance(result, FreeSymmetricTop):
@@ -646,8 +660,10 @@ def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[st
         body_rate = _body_precession_rate(traj, axis)
         space_rate = precession(traj, axis=axis, vertical=vertical).rate
         return [
-            _row("body precession rate", result.body_precession_rate, body_rate, "rad/s"),
-            _row("space precession rate", result.space_precession_rate, space_rate, "rad/s"),
+            comparison_row("body precession rate", result.body_precession_rate, body_rate, "rad/s"),
+            comparison_row(
+                "space precession rate", result.space_precession_rate, space_rate, "rad/s"
+            ),
         ]
     if isinstance(result, Gyrocompass):
         axis = options.get("axis", (0.0, 0.0, 1.0))
@@ -661,14 +677,16 @@ def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[st
         frequency = 0.5 * nut.frequency
         amplitude = float(nut.maxima.mean()) if nut.maxima.size else float(nut.tilt.max())
         return [
-            _row("oscillation frequency β", result.oscillation_frequency, frequency, "rad/s"),
-            _row(
+            comparison_row(
+                "oscillation frequency β", result.oscillation_frequency, frequency, "rad/s"
+            ),
+            comparison_row(
                 "oscillation frequency (small, exact)",
                 result.small_oscillation_frequency,
                 frequency,
                 "rad/s",
             ),
-            _row(
+            comparison_row(
                 "oscillation frequency (amplitude, exact)",
                 2 * math.pi / result.period(amplitude),
                 frequency,
@@ -676,7 +694,7 @@ def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[st
             ),
         ]
     if isinstance(result, float | int) and not isinstance(result, bool):
-        return [_row("flip period", float(result), flips(traj).period, "s")]
+        return [comparison_row("flip period", float(result), flips(traj).period, "s")]
     raise InputError(
         "Expected `result` to be a Gyroscope, FreeSymmetricTop, Gyrocompass or a flip period "
         f"(float) from tumble.theory, got {type(result).__name__}."

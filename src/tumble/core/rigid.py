@@ -359,22 +359,7 @@ def rk4_batch(w, q, inertia, params, dt, n_steps):  # type: ignore[no-untyped-de
         start = block * BLOCK
         stop = min(start + BLOCK, n)
         m = stop - start
-        w1 = w[0, start:stop].copy()
-        w2 = w[1, start:stop].copy()
-        w3 = w[2, start:stop].copy()
-        q0 = q[0, start:stop].copy()
-        q1 = q[1, start:stop].copy()
-        q2 = q[2, start:stop].copy()
-        q3 = q[3, start:stop].copy()
-        i1 = inertia[0, start:stop]
-        i2 = inertia[1, start:stop]
-        i3 = inertia[2, start:stop]
-        c1 = (i2 - i3) / i1
-        c2 = (i3 - i1) / i2
-        c3 = (i1 - i2) / i3
-        r1 = 1.0 / i1
-        r2 = 1.0 / i2
-        r3 = 1.0 / i3
+        w1, w2, w3, q0, q1, q2, q3, c1, c2, c3, r1, r2, r3 = load_block(w, q, inertia, start, stop)
         block_params = _block_params(params, start, m)
         if attitude_torque:
             _steps_block(
@@ -394,6 +379,22 @@ def rk4_batch(w, q, inertia, params, dt, n_steps):  # type: ignore[no-untyped-de
             q[1, start + j] = q1[j]
             q[2, start + j] = q2[j]
             q[3, start + j] = q3[j]
+
+
+@njit(inline="always")
+def load_block(w, q, inertia, start, stop):  # type: ignore[no-untyped-def]
+    """Copies of the states of bodies ``start:stop`` (ω1, ω2, ω3, q0 … q3) and
+    their coefficients ``c1 = (I2 − I3)/I1`` (cyclic) and ``r = 1/I``, as the
+    block's own arrays (they stay in L1 cache through its steps)."""
+    i1 = inertia[0, start:stop]
+    i2 = inertia[1, start:stop]
+    i3 = inertia[2, start:stop]
+    return (
+        w[0, start:stop].copy(), w[1, start:stop].copy(), w[2, start:stop].copy(),
+        q[0, start:stop].copy(), q[1, start:stop].copy(), q[2, start:stop].copy(),
+        q[3, start:stop].copy(),
+        (i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3, 1.0 / i1, 1.0 / i2, 1.0 / i3,
+    )  # fmt: skip
 
 
 @njit(inline="always")

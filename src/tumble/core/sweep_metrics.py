@@ -39,6 +39,7 @@ from tumble.core.rigid import (
     FINITE,
     _block_params,
     has_attitude_torque,
+    load_block,
     no_extra_torque,
     rk4_body_step,
 )
@@ -139,25 +140,13 @@ def _metrics_block(  # type: ignore[no-untyped-def]
     """One block of :func:`rk4_metrics_batch`; ``attitude_torque`` is a
     literal, so the torque-free loop has no branch."""
     m = stop - start
-    w1 = w[0, start:stop].copy()
-    w2 = w[1, start:stop].copy()
-    w3 = w[2, start:stop].copy()
-    q0 = q[0, start:stop].copy()
-    q1 = q[1, start:stop].copy()
-    q2 = q[2, start:stop].copy()
-    q3 = q[3, start:stop].copy()
+    w1, w2, w3, q0, q1, q2, q3, c1, c2, c3, r1, r2, r3 = load_block(w, q, inertia, start, stop)
     i1 = inertia[0, start:stop]
     i2 = inertia[1, start:stop]
     i3 = inertia[2, start:stop]
     a1 = axis[0, start:stop]
     a2 = axis[1, start:stop]
     a3 = axis[2, start:stop]
-    c1 = (i2 - i3) / i1
-    c2 = (i3 - i1) / i2
-    c3 = (i1 - i2) / i3
-    r1 = 1.0 / i1
-    r2 = 1.0 / i2
-    r3 = 1.0 / i3
     p = _block_params(params, start, m)
     reference = np.empty(m)
     flips = np.zeros(m)

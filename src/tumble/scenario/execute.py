@@ -265,17 +265,9 @@ def _rigid_body(
 
 def _row(quantity: str, theory: float, measured: float, unit: str) -> dict[str, Any]:
     """A row of the comparison table, as :func:`tumble.analysis.compare` makes them."""
-    if theory != 0 and math.isfinite(theory):
-        error = abs(measured - theory) / abs(theory)
-    else:
-        error = math.inf if measured != theory else 0.0
-    return {
-        "quantity": quantity,
-        "theory": float(theory),
-        "measured": float(measured),
-        "relative_error": error,
-        "unit": unit,
-    }
+    from tumble.analysis import comparison_row
+
+    return comparison_row(quantity, theory, measured, unit)
 
 
 def _up(gravity: Any) -> Array:
