@@ -350,3 +350,29 @@ def test_the_coarse_step_warning_knows_the_splitting_spins_a_symmetric_top_exact
     with warnings.catch_warnings():
         warnings.simplefilter("error", CoarseStepWarning)
         tb.simulate(disk, [0, 0, 200.0], method="splitting", **kwargs)
+
+
+def test_per_body_torque_values_belong_to_batches() -> None:
+    many = tb.torques.ConstantBodyTorque([[0.1, 0, 0], [0, 0.1, 0]])
+    with pytest.raises(
+        tb.InputError,
+        match=r"Expected one torque for one body, got per-body values \(ConstantBodyTorque\(per body, 2 vectors\)\): those are for simulate_batch",
+    ):
+        tb.simulate(TUMBLER, OMEGA0, duration=1.0, torque=many)
+    with pytest.raises(
+        tb.InputError,
+        match=r"Expected per-body torque terms for the same number of bodies, got .*2 vectors.* and .*3 vectors",
+    ):
+        _ = many + tb.torques.ConstantBodyTorque(np.zeros((3, 3)) + 0.1)
+    with pytest.raises(
+        tb.InputError, match=r"Expected `coefficient` >= 0 N·m·s, got coefficient\[1\] = -0\.2\."
+    ):
+        tb.torques.LinearDamping([0.1, -0.2])
+
+
+def test_the_exact_solution_needs_a_body_with_thickness() -> None:
+    rod = tb.theory.free_motion(tb.shapes.thin_rod(1.0, 1.0), [1.0, 0.0, 0.0])
+    with pytest.raises(
+        tb.InputError, match=r"Expected a body with no zero principal moment, got moments \[0\.0, "
+    ):
+        rod.at(1.0)

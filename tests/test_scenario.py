@@ -500,3 +500,37 @@ def test_example_top_loses_energy_to_drag() -> None:
     assert energy[-1] < energy[0]
     assert result.theory is None and result.comparisons == []
     assert result.drift["conserved"] == []
+
+
+def test_more_value_errors_name_their_keys(tmp_path: Path) -> None:
+    points = "[scenario]\nname = 'x'\n[body]\nmasses = [1, 2]\npositions = [[0, 0, 1]]\n[simulation]\nduration = 1\n"
+    with pytest.raises(
+        ScenarioError, match=r"Expected as many `positions` as `masses` \(2\), got 1\."
+    ):
+        parse(points)
+    compass = builtin_text("gyrocompass")
+    with pytest.raises(
+        ScenarioError,
+        match=r"Expected `spin_rate` and `platform_rate` ≠ 0 rad/s, got 0\.0 and 2\.0\.",
+    ):
+        parse(edited('spin_rate = "200 rad/s"', 'spin_rate = "0 rad/s"', compass))
+    with pytest.raises(
+        ScenarioError, match=r"Expected each of `amplitudes` in \(0, 180\) deg, got 3\.49"
+    ):
+        parse(
+            edited(
+                'amplitudes = ["10 deg", "100 deg"]', 'amplitudes = ["10 deg", "200 deg"]', compass
+            )
+        )
+    bad = tmp_path / "bad.toml"
+    bad.write_bytes(b"[scenario]\nname = '\xff'\n")
+    with pytest.raises(ScenarioError, match=r"Expected a readable UTF-8 file, got '.*bad.toml'"):
+        load(bad)
+
+
+def test_a_rotor_at_rest_has_no_loads_to_compare() -> None:
+    rod = edited('omega = "0, 0, 20 rad/s"', 'omega = "0, 0, 0 rad/s"', builtin_text("skew-rod"))
+    with pytest.raises(
+        tb.InputError, match=r"Expected a non-zero initial ω to hold steady, got 0\."
+    ):
+        run(parse(rod))

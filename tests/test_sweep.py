@@ -696,3 +696,73 @@ def test_output_path_that_is_a_file_is_refused(tmp_path: Path) -> None:
     (tmp_path / "file").write_text("")
     with pytest.raises(tb.InputError, match=r"Expected an output folder, got the file '.*file'."):
         run_sweep(parse_sweep(SMALL), tmp_path / "file")
+
+
+@pytest.mark.parametrize(
+    ("replace", "message"),
+    [
+        (
+            {"spin_axis = 2\n": "", "[vary.ratio_2]": '[vary.spin_axis]\nvalues = [1, 2]\nunit = "deg"\n\n[vary.ratio_2]'},
+            r"`vary.spin_axis.unit`: Expected no `unit` for `spin_axis`, got 'deg'.",
+        ),
+        (
+            {
+                "spin_axis = 2\n": "",
+                "[vary.ratio_2]": "[vary.spin_axis]\nstart = 1\nstop = 3\nnum = 3\n\n[vary.ratio_2]",
+            },
+            r"`vary.spin_axis`: Expected `values` for `spin_axis` \(a list of axes 1, 2, 3\), got 'start'.",
+        ),
+        (
+            {'distribution = "uniform"\nmin = -0.05': 'distribution = "loguniform"\nmin = -0.05'},
+            r"`vary.body_torque_1.min`: Expected `min` > 0 for a loguniform draw, got -0.05.",
+        ),
+    ],
+)
+def test_more_sweep_file_errors(replace: dict, message: str) -> None:
+    with pytest.raises(SweepError, match=message):
+        parse_sweep(sweep_text(SMALL, **replace))
+
+
+def test_a_map_of_a_metric_not_computed_is_refused() -> None:
+    text = (
+        SMALL
+        + '\n[outputs]\nmetrics = ["flips"]\n\n[report]\nmaps = [{ x = "ratio_2", y = "damping", metric = "max_nutation" }]\n'
+    )
+    with pytest.raises(
+        SweepError, match=r"Expected a metric listed in \[outputs\] \(flips\), got "
+    ):
+        parse_sweep(text)
+
+
+def test_an_unreadable_sweep_file_is_named(tmp_path: Path) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_bytes(b"[sweep]\nname = '\xff\xfe'\n")
+    with pytest.raises(SweepError, match=r"Expected a readable UTF-8 file, got '.*bad.toml'"):
+        load_sweep(path)
+
+
+def test_folders_that_cannot_hold_or_are_not_sweeps(tmp_path: Path) -> None:
+    (tmp_path / "file").write_text("")
+    with pytest.raises(
+        tb.InputError, match=r"Expected a folder that can be created, got '.*file/out'"
+    ):
+        run_sweep(parse_sweep(SMALL), tmp_path / "file" / "out")
+    with pytest.raises(
+        tb.InputError, match=r"Expected a sweep's output folder, got '.*' \(no results.zarr\)."
+    ):
+        open_results(tmp_path)
+
+
+def test_a_sweep_half_done_by_another_version_is_not_resumed(tmp_path: Path) -> None:
+    folder = tmp_path / "out"
+    run_sweep(parse_sweep(SMALL), folder)
+    identity = folder / "sweep.json"
+    record = json.loads(identity.read_text())
+    record["tumble_version"] = "0.0.1"
+    identity.write_text(json.dumps(record))
+    next(iter(sorted((folder / "chunks").glob("*.done")))).unlink()
+    with pytest.raises(
+        tb.InputError,
+        match=r"Expected results from this version of tumble \(.*\) to resume, got '0.0.1'",
+    ):
+        run_sweep(parse_sweep(SMALL), folder)

@@ -190,3 +190,18 @@ def test_tasks_are_few_and_balanced() -> None:
     # Enough work per chunk: one chunk per task.
     heavy = parse_sweep(SMALL.replace("duration = 1.5", "duration = 100000"))
     assert dask_backend.group_chunks(heavy, [1, 4, 6], slots=2) == [[1], [4], [6]]
+
+
+def test_a_scheduler_without_workers_is_one_clear_error(tmp_path: Path, monkeypatch) -> None:
+    import distributed
+
+    from tumble.sweep import dask_backend
+
+    monkeypatch.setattr(dask_backend, "WORKER_TIMEOUT", 1.0)
+    with distributed.LocalCluster(n_workers=0, host="127.0.0.1", dashboard_address=None) as cluster:
+        address = cluster.scheduler_address
+        with pytest.raises(
+            tb.InputError,
+            match=rf"Expected a Dask scheduler with workers at {address}, got none within 1 s\.",
+        ):
+            tb.sweep.run_sweep(write(tmp_path, SMALL), tmp_path / "out", scheduler=address)

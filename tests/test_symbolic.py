@@ -355,3 +355,10 @@ def test_gyrocompass_stability_condition_is_where_theory_refuses() -> None:
 def test_bad_input_is_refused(call, message: str) -> None:
     with pytest.raises(tb.InputError, match=message):
         call()
+
+
+def test_positions_must_be_points() -> None:
+    with pytest.raises(
+        tb.InputError, match=r"Expected `positions` to be a sequence of points, got 3"
+    ):
+        symbolic.inertia_of_point_masses([1], 3)

@@ -163,7 +163,9 @@ def LinearDamping(coefficient: Any) -> TorqueModel:
         c: Any = vector_to_si(coefficient, "damping", "coefficient", (-1,))
         if np.any(c < 0):
             k = int(np.argmin(c))
-            raise InputError(f"Expected `coefficient` >= 0 N·m·s, got coefficient[{k}] = {c[k]!r}.")
+            raise InputError(
+                f"Expected `coefficient` >= 0 N·m·s, got coefficient[{k}] = {float(c[k])!r}."
+            )
         return TorqueModel(_ZERO, _ZERO, _ZERO, c)
     c = to_si(coefficient, "damping", "coefficient")
     if c < 0:
