@@ -234,6 +234,17 @@ def has_attitude_torque(params):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
+def any_attitude_torque(params):  # type: ignore[no-untyped-def]
+    """True when some column of (N_TORQUE_PARAMS, M) packed torques depends on
+    the attitude."""
+    found = False
+    for column in range(params.shape[1]):
+        if has_attitude_torque(params[:, column]):
+            found = True
+    return found
+
+
+@njit(inline="always")
 def _record(step, record_every, out_w, out_q, w1, w2, w3, q0, q1, q2, q3):  # type: ignore[no-untyped-def]
     """Write the state to row ``step // record_every`` when ``step`` is a multiple."""
     if step % record_every == 0:
@@ -351,10 +362,7 @@ def rk4_batch(w, q, inertia, params, dt, n_steps):  # type: ignore[no-untyped-de
     """
     n = w.shape[1]
     n_blocks = (n + BLOCK - 1) // BLOCK
-    attitude_torque = False
-    for column in range(params.shape[1]):
-        if has_attitude_torque(params[:, column]):
-            attitude_torque = True
+    attitude_torque = any_attitude_torque(params)
     for block in prange(n_blocks):
         start = block * BLOCK
         stop = min(start + BLOCK, n)

@@ -38,6 +38,7 @@ from tumble.core.rigid import (
     BLOCK,
     FINITE,
     _block_params,
+    any_attitude_torque,
     has_attitude_torque,
     load_block,
     no_extra_torque,
@@ -120,10 +121,7 @@ def rk4_metrics_batch(w, q, inertia, params, axis, dt, n_steps, out):  # type: i
     """
     n = w.shape[1]
     n_blocks = (n + BLOCK - 1) // BLOCK
-    attitude_torque = False
-    for column in range(params.shape[1]):
-        if has_attitude_torque(params[:, column]):
-            attitude_torque = True
+    attitude_torque = any_attitude_torque(params)
     for block in prange(n_blocks):
         start = block * BLOCK
         stop = min(start + BLOCK, n)
