@@ -28,7 +28,9 @@ from pathlib import Path
 import numpy as np
 
 import tumble as tb
-from tumble.core.rigid import rk4_batch
+from tumble.body import BodyBatch
+from tumble.integrators import INTEGRATORS
+from tumble.torques import bind
 
 FLOP_PER_BODY_STEP = 200
 
@@ -85,13 +87,18 @@ def main() -> None:
     )
     rng = np.random.default_rng(0)
     small = np.ones((3, 8))
+    free = bind(None, BodyBatch(small.T + 1), bodies=8)
+    rk4_batch = INTEGRATORS["rk4"].kernel("batch", free)  # compiled (or loaded) before timing
     rk4_batch(
         small.copy(),
         np.vstack([np.ones(8), np.zeros((3, 8))]),
         small + 1,
-        np.zeros((13, 1)),
+        free.params,
+        free.context,
+        0.0,
         1e-3,
         2,
+        np.zeros(8, dtype=np.int64),
     )
     tb.simulate_batch(np.ones((2, 3)), np.ones((2, 3)), duration=1e-3, dt=1e-3, method="splitting")
     print(

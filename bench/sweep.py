@@ -95,8 +95,10 @@ def sweep_file(
 
 
 def kernels(steps: int) -> None:
-    from tumble.core.rigid import rk4_batch
-    from tumble.core.sweep_metrics import N_METRICS, rk4_metrics_batch
+    from tumble.body import BodyBatch
+    from tumble.core.metrics import N_METRICS
+    from tumble.integrators import INTEGRATORS
+    from tumble.torques import bind
 
     n = 1 << 18
     rng = np.random.default_rng(0)
@@ -105,8 +107,19 @@ def kernels(steps: int) -> None:
     q = np.vstack([np.ones(n), np.zeros((3, n))])
     axis = np.zeros((3, n))
     axis[1] = 1.0
-    params = np.zeros((13, 1))
+    free = bind(None, BodyBatch(inertia.T), bodies=n)
+    params, context = free.params, free.context
+    status = np.zeros(n, dtype=np.int64)
     out = np.empty((N_METRICS, n))
+
+    def rk4_batch(w, q, inertia, params, dt, steps):  # type: ignore[no-untyped-def]
+        kernel = INTEGRATORS["rk4"].kernel("batch", free)
+        kernel(w, q, inertia, params, context, 0.0, dt, steps, status)
+
+    def rk4_metrics_batch(w, q, inertia, params, axis, dt, steps, out):  # type: ignore[no-untyped-def]
+        kernel = INTEGRATORS["rk4"].kernel("metrics", free)
+        kernel(w, q, inertia, params, context, axis, 0.0, dt, steps, out, status)
+
     rk4_batch(w[:, :256].copy(), q[:, :256].copy(), inertia[:, :256].copy(), params, 1e-3, 2)
     rk4_metrics_batch(
         w[:, :256].copy(), q[:, :256].copy(), inertia[:, :256].copy(), params, axis[:, :256].copy(),

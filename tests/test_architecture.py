@@ -13,8 +13,12 @@ import tumble.core
 
 CORE = Path(tumble.core.__file__).parent
 # numpy, numba and a few standard modules (ctypes: the user-torque callback read
-# back as arrays when numba's JIT is disabled).
-ALLOWED = {"numpy", "numba", "tumble", "__future__", "functools", "math", "os", "typing", "ctypes"}
+# back as arrays when numba's JIT is disabled; hashlib and pathlib: the cache keys
+# of the kernels specialised for one torque).
+ALLOWED = {
+    "numpy", "numba", "tumble", "__future__", "functools", "math", "os", "typing", "ctypes",
+    "hashlib", "pathlib", "collections", "contextlib",
+}  # fmt: skip
 
 
 def test_core_imports_only_numpy_and_numba() -> None:

@@ -34,6 +34,7 @@ from scipy.spatial.transform import Rotation
 
 import tumble as tb
 from tumble import models, theory
+from tumble.integrators import drivers
 from tumble.models import EARTH_ROTATION_RATE, gyrocompass
 from tumble.simulation import CoarseStepWarning, IntegrationError
 
@@ -487,7 +488,7 @@ def test_trajectory_describes_the_disk_and_records_every_kth_step(
 ) -> None:
     moved = DISK.transformed(translation=[0.1, -0.2, 0.3])
     full = gyrocompass(moved, 40.0, 2.0, 0.5, duration=0.5, dt=1e-3)
-    monkeypatch.setattr(tb.simulation, "PROGRESS_CHUNK", 7)
+    monkeypatch.setattr(drivers, "PROGRESS_CHUNK", 7)
     calls: list[tuple[int, int]] = []
     every = gyrocompass(
         moved, 40.0, 2.0, 0.5, duration=0.5, dt=1e-3, record_every=3,

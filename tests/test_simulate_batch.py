@@ -118,9 +118,12 @@ def _user_torque(t, omega, quaternion, params, out):
         ({"dt": 0.0}, r"Expected `dt` > 0 s, got 0.0"),
         (
             {"method": "exact"},
-            r"Expected `method` to be one of rk4, splitting, strang, got 'exact'",
+            r"Expected `method` to be one of splitting, strang, rk4, got 'exact'",
         ),
-        ({"torque": tb.torques.Gravity()}, r"Expected `torque` without gravity"),
+        (
+            {"torque": tb.torques.Gravity()},
+            r"Expected `torque` of models that batches accept \(constant-body, constant-space, damping\), got Gravity\(\[0.0, 0.0, -9.81\] m/s\^2\) \(use simulate for it\)",
+        ),
         ({"torque": 3.0}, r"Expected `torque` to be a model from tumble.torques, got float"),
         ({"record_every": 0}, r"Expected `record_every` to be None or an integer >= 1, got 0"),
         (
@@ -133,7 +136,7 @@ def _user_torque(t, omega, quaternion, params, out):
         ),
         (
             {"torque": tb.torques.UserTorque(_user_torque)},
-            r"Expected `torque` without a UserTorque in a batch, got UserTorque\(_user_torque",
+            r"Expected `torque` of models that batches accept .*, got UserTorque\(_user_torque",
         ),
     ],
 )

@@ -21,10 +21,12 @@ from tumble.errors import InputError, MeshError
 
 if TYPE_CHECKING:
     from tumble import analysis, models, shapes, theory, torques, units
+    from tumble.batch import simulate_batch
     from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
     from tumble.massprops import MassProperties, point_masses
     from tumble.mesh import MeshOrientationWarning, from_mesh
-    from tumble.simulation import Trajectory, simulate, simulate_batch
+    from tumble.simulation import simulate
+    from tumble.trajectory import Trajectory
 
 try:
     __version__ = version("tumble")
@@ -42,8 +44,8 @@ _WHERE = {
     "kinetic_energy": "tumble.kinematics",
     "required_torque": "tumble.kinematics",
     "simulate": "tumble.simulation",
-    "Trajectory": "tumble.simulation",
-    "simulate_batch": "tumble.simulation",
+    "Trajectory": "tumble.trajectory",
+    "simulate_batch": "tumble.batch",
 }
 _SUBMODULES = {
     "analysis",

@@ -369,17 +369,13 @@ def _print_run(result: Any, folder: Path) -> None:
                 row.get("unit", ""),
             )
         console.print(table)
-    drift = result.drift
-    conserved = set(drift.get("conserved", []))
-    parts = []
-    for key, label in (
-        ("energy", "energy"),
-        ("angular_momentum_norm", "|L|"),
-        ("angular_momentum_vector", "L vector"),
-    ):
-        mark = "" if key in conserved else " (not conserved)"
-        parts.append(f"{label} {drift[key]:.2e}{mark}")
-    console.print("Relative drift: " + ", ".join(parts), highlight=False)
+    from tumble.body import label
+
+    parts = [f"{label(key)} {value:.2e}" for key, value in result.drift.items()]
+    console.print(
+        "Relative drift of the conserved quantities: " + (", ".join(parts) or "none conserved"),
+        highlight=False,
+    )
     console.print(f"Run folder: {folder}", highlight=False, soft_wrap=True)
     console.print(f"Report: {folder / 'report.html'}", highlight=False, soft_wrap=True)
 

@@ -6,7 +6,7 @@ show what was received, e.g. ``Expected `mass` > 0 kg, got -1.0.``
 
 from __future__ import annotations
 
-__all__ = ["InputError", "MeshError"]
+__all__ = ["CoarseStepWarning", "InputError", "IntegrationError", "MeshError"]
 
 
 class InputError(ValueError):
@@ -15,3 +15,11 @@ class InputError(ValueError):
 
 class MeshError(InputError):
     """A triangle mesh cannot bound a solid: open, non-manifold, badly wound or empty."""
+
+
+class IntegrationError(InputError):
+    """The integration produced NaN or infinity (usually: ``dt`` far too large)."""
+
+
+class CoarseStepWarning(UserWarning):
+    """The time step is too coarse for the fastest rotation of the body."""

@@ -17,7 +17,7 @@ from tumble.errors import InputError
 from tumble.massprops import MassProperties
 from tumble.units import vector_to_si
 
-__all__ = ["angular_momentum", "kinetic_energy", "required_torque"]
+__all__ = ["angular_momentum", "as_attitude", "kinetic_energy", "required_torque"]
 
 Array = NDArray[np.float64]
 
@@ -90,3 +90,23 @@ def required_torque(mp: MassProperties, omega: Any, omega_dot: Any, about: Any =
         )
     w, w_dot = np.broadcast_arrays(w, w_dot)
     return np.asarray(w_dot @ inertia.T + np.cross(w, w @ inertia.T))
+
+
+def as_attitude(value: Any, name: str = "attitude0") -> Array:
+    """A unit quaternion ``[w, x, y, z]`` (body → space) from None (the identity),
+    a quaternion (4,) (normalised here) or a single scipy ``Rotation``."""
+    from scipy.spatial.transform import Rotation
+
+    if value is None:
+        return np.array([1.0, 0.0, 0.0, 0.0])
+    if isinstance(value, Rotation):
+        if not value.single:
+            raise InputError(f"Expected `{name}` to be a single rotation, got {len(value)}.")
+        return np.asarray(value.as_quat(scalar_first=True), dtype=float)
+    q = vector_to_si(value, "dimensionless", name, (4,))
+    norm = float(np.linalg.norm(q))
+    if norm < 1e-12:
+        raise InputError(
+            f"Expected `{name}` to be a non-zero quaternion [w, x, y, z], got {q.tolist()}."
+        )
+    return q / norm

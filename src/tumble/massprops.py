@@ -247,7 +247,32 @@ def rotation_matrix(rotation: Any, name: str) -> Array:
 
 def principal_decomposition(inertia: Array) -> tuple[Array, Array]:
     """Ascending principal moments and a proper rotation of principal axes (see
-    :meth:`MassProperties.principal` for the rule that fixes the axes)."""
+    :meth:`MassProperties.principal` for the rule that fixes the axes), of one
+    (3, 3) tensor or of a stack (..., 3, 3) at once (then (..., 3) and (..., 3, 3))."""
+    tensors = np.asarray(inertia, dtype=float)
+    if tensors.ndim == 2:
+        return _principal_one(tensors)
+    moments, vectors = np.linalg.eigh(tensors)
+    scale = np.maximum(np.trace(tensors, axis1=-2, axis2=-1), np.finfo(float).tiny)
+    repeated = np.any(np.diff(moments, axis=-1) <= REPEATED_MOMENT_TOLERANCE * scale[..., None], -1)
+    # Distinct moments (nearly every body of a batch): the rule of _principal_one
+    # for every tensor at once; the rare repeated ones go through it one by one.
+    moments = np.maximum(moments, 0.0)
+    axes = np.empty_like(vectors)
+    for k in (0, 1):
+        column = vectors[..., :, k]
+        magnitudes = np.abs(column)
+        first = np.argmax(magnitudes >= magnitudes.max(axis=-1, keepdims=True) - 1e-9, axis=-1)
+        sign = np.sign(np.take_along_axis(column, first[..., None], axis=-1))
+        axes[..., :, k] = column * np.where(sign == 0, 1.0, sign)
+    third = np.cross(axes[..., :, 0], axes[..., :, 1])
+    axes[..., :, 2] = third / np.linalg.norm(third, axis=-1, keepdims=True)
+    for index in zip(*np.nonzero(repeated), strict=True):
+        moments[index], axes[index] = _principal_one(tensors[index])
+    return moments, axes
+
+
+def _principal_one(inertia: Array) -> tuple[Array, Array]:
     moments, vectors = np.linalg.eigh(inertia)
     scale = max(float(np.trace(inertia)), np.finfo(float).tiny)
     tol = REPEATED_MOMENT_TOLERANCE * scale

@@ -19,7 +19,6 @@ velocity in body coordinates unless a name says ``_space``.
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -30,15 +29,15 @@ from scipy.spatial.transform import Rotation
 
 from tumble.core import gimbal
 from tumble.errors import InputError
-from tumble.massprops import MassProperties
-from tumble.simulation import (
+from tumble.integrators.drivers import (
     DEFAULT_STEPS_PER_TURN,
-    MIN_STEPS_PER_TURN,
-    CoarseStepWarning,
-    Trajectory,
+    Schedule,
     step_in_chunks,
+    warn_if_coarse,
 )
+from tumble.massprops import MassProperties
 from tumble.theory import _axial_and_transverse, _mass_properties
+from tumble.trajectory import Trajectory
 from tumble.units import to_si
 
 __all__ = ["EARTH_ROTATION_RATE", "GyrocompassRun", "gyrocompass"]
@@ -300,25 +299,11 @@ def gyrocompass(
         step = to_si(dt, "time", "dt")
         if step <= 0:
             raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
-        per_turn = 2 * math.pi / (fastest * step) if fastest > 0 else math.inf
-        if per_turn < MIN_STEPS_PER_TURN:
-            warnings.warn(
-                f"dt = {step:.3g} s gives {per_turn:.1f} steps per turn of the fastest rate of "
-                f"the gimbal angle ({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the result "
-                "is inaccurate.",
-                CoarseStepWarning,
-                stacklevel=2,
-            )
-    n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
-    step = total_time / n_steps
-
-    n_rows = n_steps // record_every + 1
-    tail = n_steps % record_every != 0
-    times = np.asarray(np.arange(n_rows) * (record_every * step), dtype=np.float64)
-    if tail:
-        times = np.append(times, total_time)
+        warn_if_coarse(step, fastest, "the fastest rate of the gimbal angle")
+    schedule = Schedule.build(total_time, step, record_every)
+    times, n_steps, step = schedule.times, schedule.n_steps, schedule.step
     y = np.array([theta0, theta_rate0, 0.0])
-    out = np.empty((n_rows + tail, 3))
+    out = np.empty((len(times), 3))
     out[0] = y
     step_in_chunks(
         lambda done, count: gimbal.rk4_run(y, params, step, count, done, record_every, out),
@@ -326,7 +311,7 @@ def gyrocompass(
         step,
         progress,
     )
-    if tail:
+    if n_steps % record_every != 0:
         out[-1] = y
 
     theta, theta_rate, chi = out[:, 0], out[:, 1], out[:, 2]
@@ -371,6 +356,10 @@ def gyrocompass(
         reason="gyrocompass model",
         dt=step,
         steps=n_steps,
+        # The platform does work on the disk: of what a free disk conserves, only
+        # the Jacobi integral survives, and only without damping.
+        conserved=(),
+        invariant_values={} if c else {"jacobi_integral": _readonly(jacobi)},
     )
     return GyrocompassRun(
         trajectory=trajectory,

@@ -1,4 +1,4 @@
-"""The splitting and adaptive kernels and the user-torque hook on small cases
+"""The splitting and adaptive kernels and the user-torque callback on small cases
 (also run with NUMBA_DISABLE_JIT=1, so the kernels run as Python)."""
 
 from __future__ import annotations
@@ -9,9 +9,34 @@ import numba
 import numpy as np
 from numpy.testing import assert_allclose
 
-from tumble.core.adaptive import ACCEPTED, STEP_UNDERFLOW, adaptive_run, adaptive_run_hooked
-from tumble.core.rigid import FINITE, N_TORQUE_PARAMS, compile_user_torque, rk4_run_hooked
-from tumble.core.splitting import YOSHIDA_INNER, YOSHIDA_OUTER, splitting_run
+from tumble.core import adaptive, rk4, splitting
+from tumble.core._jit import FINITE
+from tumble.core.adaptive import ACCEPTED, STEP_UNDERFLOW
+from tumble.core.splitting import YOSHIDA_INNER, YOSHIDA_OUTER
+from tumble.core.torques import (
+    combine,
+    compile_user_torque,
+    constant_body_torque,
+    linear_damping,
+    user_torque,
+)
+
+FREE = combine(())
+#: A body torque in rows 0-2 and linear damping in row 3.
+FORCED = combine([(constant_body_torque, 0), (linear_damping, 3)])
+USER = combine([(user_torque, 0)])
+
+
+def splitting_run(
+    w, q, inertia, params, dt, n_steps, first, every, out_w, out_q, order, torque=FORCED
+):
+    run = splitting.single_kernel(torque, f"test.{id(torque)}", order)
+    return run(w, q, inertia, params, 0.0, dt, n_steps, first, every, out_w, out_q)
+
+
+def forcing(body=(0.0, 0.0, 0.0), damping=0.0):
+    """The packed params of FORCED: (4, 1)."""
+    return np.array([[*body, damping]]).T.copy()
 
 
 def test_yoshida_weights_sum_to_one_and_cancel_the_third_order_error() -> None:
@@ -29,8 +54,7 @@ def test_splitting_is_exact_for_a_symmetric_body_in_one_step() -> None:
         w = np.array([0.3, 0.0, omega_3])
         q = np.array([1.0, 0.0, 0.0, 0.0])
         status = splitting_run(
-            w, q, inertia, np.zeros(N_TORQUE_PARAMS), t, 1, 0, 1, np.zeros((2, 3)),
-            np.zeros((2, 4)), order,
+            w, q, inertia, forcing(), t, 1, 0, 1, np.zeros((2, 3)), np.zeros((2, 4)), order,
         )  # fmt: skip
         assert status == FINITE
         rate = (1.6 - 1.0) / 1.0 * omega_3
@@ -43,9 +67,7 @@ def test_splitting_spin_up_under_a_body_torque_and_damping() -> None:
     # Sphere, τ = τ0 − c ω about z: ω(t) = τ0/c + (ω0 − τ0/c) exp(−c t / I), which the
     # kick integrates exactly (its flow is this ODE with the attitude held).
     inertia = np.full(3, 0.5)
-    params = np.zeros(N_TORQUE_PARAMS)
-    params[2] = 0.3
-    params[12] = 0.1
+    params = forcing((0.0, 0.0, 0.3), 0.1)
     w = np.array([0.0, 0.0, 1.0])
     q = np.array([1.0, 0.0, 0.0, 0.0])
     splitting_run(w, q, inertia, params, 0.5, 4, 0, 10, np.zeros((1, 3)), np.zeros((1, 4)), 2)
@@ -54,8 +76,7 @@ def test_splitting_spin_up_under_a_body_torque_and_damping() -> None:
 
 
 def test_a_non_finite_state_is_reported_with_its_step() -> None:
-    params = np.zeros(N_TORQUE_PARAMS)
-    params[0] = math.inf
+    params = forcing((math.inf, 0.0, 0.0))
     w = np.array([0.0, 0.0, 1.0])
     q = np.array([1.0, 0.0, 0.0, 0.0])
     status = splitting_run(
@@ -69,15 +90,17 @@ def test_adaptive_kernel_on_a_uniform_spin_up() -> None:
     # ω linear in t, q a rotation by ω0 t + α t²/2 about z: the 5th-order method
     # integrates ω exactly and q to its tolerance; samples come from dense output.
     inertia = np.full(3, 0.4)
-    params = np.zeros(N_TORQUE_PARAMS)
-    params[2] = 0.2
+    params = forcing((0.0, 0.0, 0.2))
     w = np.array([0.0, 0.0, 1.0])
     q = np.array([1.0, 0.0, 0.0, 0.0])
     control = np.array([0.0, 1e-12, 1e-14, 0.0, 0.0, 0.0])
+    adaptive_run = adaptive.single_kernel(FORCED, "test.forced")
     times = np.array([0.25, 0.5, 1.0])
     out_w = np.zeros((3, 3))
     out_q = np.zeros((3, 4))
-    assert adaptive_run(w, q, inertia, params, 0.0, 1.0, control, times, out_w, out_q) == FINITE
+    assert (
+        adaptive_run(w, q, inertia, params, 0.0, 0.0, 1.0, control, times, out_w, out_q) == FINITE
+    )
     assert control[ACCEPTED] > 3
     alpha = 0.2 / 0.4
     assert_allclose(out_w[:, 2], 1.0 + alpha * times, atol=1e-13)
@@ -88,11 +111,11 @@ def test_adaptive_kernel_on_a_uniform_spin_up() -> None:
 
 
 def test_adaptive_kernel_reports_an_underflow() -> None:
-    params = np.zeros(N_TORQUE_PARAMS)
-    params[0] = math.nan
+    params = forcing((math.nan, 0.0, 0.0))
     control = np.array([0.0, 1e-8, 1e-10, 0.0, 0.0, 0.0])
+    adaptive_run = adaptive.single_kernel(FORCED, "test.forced")
     status = adaptive_run(
-        np.ones(3), np.array([1.0, 0, 0, 0]), np.ones(3), params, 0.0, 1.0, control,
+        np.ones(3), np.array([1.0, 0, 0, 0]), np.ones(3), params, 0.0, 0.0, 1.0, control,
         np.array([1.0]), np.zeros((1, 3)), np.zeros((1, 4)),
     )  # fmt: skip
     assert status == STEP_UNDERFLOW
@@ -105,7 +128,7 @@ def constant_body_torque(t, omega, quaternion, params, out):
     out[2] = params[2]
 
 
-def test_the_hook_turns_a_body_torque_into_the_principal_frame() -> None:
+def test_the_user_torque_turns_a_body_torque_into_the_principal_frame() -> None:
     # Principal axes = the body axes turned 90° about z: body x is principal y.
     axes = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
     axes_q = np.array([math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4)])
@@ -122,9 +145,10 @@ def test_the_hook_turns_a_body_torque_into_the_principal_frame() -> None:
     inertia = np.full(3, 0.5)
     w = np.zeros(3)
     q = np.array([1.0, 0.0, 0.0, 0.0])
-    status = rk4_run_hooked(
-        w, q, inertia, np.zeros(N_TORQUE_PARAMS), 0.1, 10, 0, 100, np.zeros((1, 3)),
-        np.zeros((1, 4)), context,
+    rk4_run = rk4.single_kernel(USER, "test.user")
+    status = rk4_run(
+        w, q, inertia, np.zeros((1, 1)), context, 0.1, 10, 0, 100, np.zeros((1, 3)),
+        np.zeros((1, 4)),
     )  # fmt: skip
     assert status == FINITE
     # A torque along body x is along −(principal y)... axes[:, 1] = (−1, 0, 0): so
@@ -132,9 +156,10 @@ def test_the_hook_turns_a_body_torque_into_the_principal_frame() -> None:
     assert_allclose(w, [0.0, -0.3 * 1.0 / 0.5, 0.0], atol=1e-14)
     w2 = np.zeros(3)
     control = np.array([0.0, 1e-10, 1e-12, 0.0, 0.0, 0.0])
-    status = adaptive_run_hooked(
-        w2, np.array([1.0, 0.0, 0.0, 0.0]), inertia, np.zeros(N_TORQUE_PARAMS), 0.0, 1.0,
-        control, np.array([1.0]), np.zeros((1, 3)), np.zeros((1, 4)), context,
+    adaptive_run = adaptive.single_kernel(USER, "test.user")
+    status = adaptive_run(
+        w2, np.array([1.0, 0.0, 0.0, 0.0]), inertia, np.zeros((1, 1)), context, 0.0, 1.0,
+        control, np.array([1.0]), np.zeros((1, 3)), np.zeros((1, 4)),
     )  # fmt: skip
     assert status == FINITE
     assert_allclose(w2, w, atol=1e-13)

@@ -1,22 +1,34 @@
 """The one place where numba is configured for the compiled core.
 
-Every kernel is decorated with :data:`njit` (or :data:`njit_parallel`) from this
-module, so compilation options are set once:
+Every kernel is decorated with :data:`njit` (or :data:`njit_parallel`,
+:data:`njit_vector`) from this module, so compilation options are set once:
 
 * ``cache=True`` writes compiled machine code next to the sources, so only the
   first process pays the compile time (about a second per kernel).
 * ``TUMBLE_NUMBA_CACHE=0`` disables that cache (read-only installs, debugging).
 * ``NUMBA_DISABLE_JIT=1`` (numba's own switch) runs every kernel as plain
   Python, which the test suite uses once so coverage sees the kernels.
+
+Kernels specialised for one combination of torque models are closures built by
+a factory (:func:`specialise`): the torque functions are compile-time constants
+of the closure, so the compiler inlines them and vectorises across bodies. numba
+keys its on-disk cache of a closure by pickling the closure's cells, which for
+compiled functions changes in every process; :func:`specialise` keys it by a
+stable description of what was compiled instead.
 """
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
 import os
-from functools import partial
+from collections.abc import Callable
+from functools import cache, partial
+from pathlib import Path
 from typing import Any
 
 import numba
+from numba.core.caching import FunctionCache
 
 CACHE = os.environ.get("TUMBLE_NUMBA_CACHE", "1").strip().lower() not in {"0", "false", "no", "off"}
 
@@ -41,3 +53,70 @@ njit_vector: Any = partial(
     parallel=True,
     fastmath={"contract", "arcp", "nsz", "reassoc", "afn"},
 )
+
+#: The statuses kernels return: every step stayed finite (else the number of
+#: the first step that did not).
+FINITE = -1
+
+
+@cache
+def core_stamp() -> str:
+    """A digest of the size and modification time of every source file of the
+    compiled core: part of every specialised kernel's cache key, so editing any
+    kernel the closures inline invalidates them (numba itself checks only the
+    file that defines the closure)."""
+    digest = hashlib.sha256()
+    for path in sorted(Path(__file__).parent.glob("*.py")):
+        status = path.stat()
+        digest.update(f"{path.name}:{status.st_mtime_ns}:{status.st_size};".encode())
+    return digest.hexdigest()
+
+
+def file_stamp(function: Any) -> str:
+    """``module.qualname@mtime:size`` of a (compiled) function's source file, or its
+    name alone when it has no file (then its kernels are not cached on disk)."""
+    python = getattr(function, "py_func", function)
+    name = f"{python.__module__}.{python.__qualname__}"
+    try:
+        status = os.stat(python.__code__.co_filename)
+    except OSError:
+        return name
+    return f"{name}@{status.st_mtime_ns}:{status.st_size}"
+
+
+def specialise(decorator: Any, identity: str) -> Callable[[Any], Any]:
+    """Compile a closure with ``decorator`` (:data:`njit`, :data:`njit_parallel` or
+    :data:`njit_vector`), cached on disk under ``identity``.
+
+    ``identity`` must name everything the closure's code depends on besides its
+    own bytecode and argument types: the factory, the compiled functions it
+    closes over and their source stamps (:func:`file_stamp`), and any constant.
+    """
+
+    def compile_closure(function: Any) -> Any:
+        dispatcher = decorator(cache=False)(function)
+        if CACHE and not numba.config.DISABLE_JIT:  # type: ignore[attr-defined]
+            # numba raises RuntimeError when it finds no writable cache location:
+            # then the closure compiles in each process.
+            with contextlib.suppress(RuntimeError):
+                dispatcher._cache = _IdentityCache(function, f"{identity}|{core_stamp()}")
+        return dispatcher
+
+    return compile_closure
+
+
+class _IdentityCache(FunctionCache):
+    """numba's function cache keyed by an identity string instead of the pickled
+    closure cells (which hold compiled functions, pickled differently per process)."""
+
+    def __init__(self, function: Any, identity: str) -> None:
+        self._identity = identity
+        super().__init__(function)
+
+    def _index_key(self, sig: Any, codegen: Any) -> tuple[Any, ...]:
+        code = self._py_func.__code__.co_code
+        return (
+            sig,
+            codegen.magic_tuple(),
+            (hashlib.sha256(code).hexdigest(), hashlib.sha256(self._identity.encode()).hexdigest()),
+        )

@@ -16,14 +16,8 @@ import math
 
 import numpy as np
 
-from tumble.core._jit import njit
-from tumble.core.rigid import (
-    FINITE,
-    _rates,
-    has_attitude_torque,
-    no_extra_torque,
-    user_torque_hook,
-)
+from tumble.core._jit import FINITE, njit, specialise
+from tumble.core.dynamics import euler_coefficients, rates
 
 # Butcher tableau (c, a) of Dormand–Prince 5(4).
 C2, C3, C4, C5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
@@ -67,7 +61,7 @@ SAFETY = 0.9
 GROWTH_MAX = 10.0
 SHRINK_MAX = 0.2
 
-#: Status codes of :func:`adaptive_run` besides ``FINITE``.
+#: Status codes of the adaptive kernel besides ``FINITE``.
 STEP_UNDERFLOW = -2
 
 # Slots of the ``control`` array shared with the caller.
@@ -75,23 +69,24 @@ STEP, RTOL, ATOL, ACCEPTED, REJECTED, FAILED_AT = 0, 1, 2, 3, 4, 5
 
 
 @njit(inline="always")
-def _f(t, y, out, inertia, params, attitude_torque, extra, context):  # type: ignore[no-untyped-def]
-    r = _rates(
-        t, y[0], y[1], y[2], y[3], y[4], y[5], y[6], inertia[0], inertia[1], inertia[2],
-        params, attitude_torque, extra, context,
-    )  # fmt: skip
+def _f(torque, t, y, out, coefficients, params, context):  # type: ignore[no-untyped-def]
+    r = rates(
+        torque, t, (y[0], y[1], y[2], y[3], y[4], y[5], y[6]), coefficients, params, 0, context
+    )
     for i in range(7):
         out[i] = r[i]
 
 
-@njit
-def adaptive_run(w, q, inertia, params, t_start, t_stop, control, sample_times, out_w, out_q):  # type: ignore[no-untyped-def]
-    """Integrate (w, q) in place from ``t_start`` to ``t_stop`` (s) with adaptive steps.
+def single_kernel(torque, identity):  # type: ignore[no-untyped-def]
+    """``run(w, q, inertia, params, context, t_start, t_stop, control, sample_times,
+    out_w, out_q) -> status``: integrate (w, q) in place from ``t_start`` to
+    ``t_stop`` (s) with adaptive steps.
 
     Parameters
     ----------
     w, q : (3,), (4,) state at ``t_start``; overwritten with the state at ``t_stop``.
-    inertia : (3,) principal moments, kg·m²; ``params``: the packed torque.
+    inertia : (3,) principal moments, kg·m²; ``params``, ``context``: the torque's
+        (:mod:`tumble.core.torques`).
     control : float64 array ``[h, rtol, atol, accepted, rejected, failed_at]``:
         ``h`` the first trial step (≤ 0: chosen here), updated to the next
         trial step; the step counts are incremented; ``failed_at`` receives the
@@ -105,22 +100,15 @@ def adaptive_run(w, q, inertia, params, t_start, t_stop, control, sample_times, 
     below round-off of t (the state became NaN or infinite, or the solution is
     singular); the state is then left at the last accepted step.
     """
-    return _adaptive_loop(
-        w, q, inertia, params, t_start, t_stop, control, sample_times, out_w, out_q,
-        no_extra_torque, 0.0,
-    )  # fmt: skip
 
+    @specialise(njit, f"adaptive.single|{identity}")
+    def run(w, q, inertia, params, context, t_start, t_stop, control, sample_times, out_w, out_q):  # type: ignore[no-untyped-def]
+        return _adaptive_loop(
+            torque, w, q, inertia, params, context, t_start, t_stop, control, sample_times,
+            out_w, out_q,
+        )  # fmt: skip
 
-@njit
-def adaptive_run_hooked(  # type: ignore[no-untyped-def]
-    w, q, inertia, params, t_start, t_stop, control, sample_times, out_w, out_q, context
-):
-    """:func:`adaptive_run` with a user's torque added (``context`` as in
-    :func:`tumble.core.rigid.user_torque_hook`)."""
-    return _adaptive_loop(
-        w, q, inertia, params, t_start, t_stop, control, sample_times, out_w, out_q,
-        user_torque_hook, context,
-    )  # fmt: skip
+    return run
 
 
 @njit
@@ -134,9 +122,9 @@ def _error_norm(y, y_new, err, rtol, atol):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def _adaptive_loop(  # type: ignore[no-untyped-def]
-    w, q, inertia, params, t_start, t_stop, control, sample_times, out_w, out_q, extra, context
+    torque, w, q, inertia, params, context, t_start, t_stop, control, sample_times, out_w, out_q
 ):
-    attitude_torque = has_attitude_torque(params)
+    coefficients = euler_coefficients(inertia[0], inertia[1], inertia[2])
     rtol = control[RTOL]
     atol = control[ATOL]
     y = np.empty(7)
@@ -168,7 +156,7 @@ def _adaptive_loop(  # type: ignore[no-untyped-def]
                 for j in range(s):
                     total += TABLEAU[s, j] * k[j, i]
                 stage[i] = y[i] + step * total
-            _f(t + NODES[s] * step, stage, k[s], inertia, params, attitude_torque, extra, context)
+            _f(torque, t + NODES[s] * step, stage, k[s], coefficients, params, context)
             if s == 0 and h <= 0.0:
                 # No step proposed: the first from the sizes of y and ẏ (HNW §II.4).
                 h = min(_initial_step(y, k[0], rtol, atol), t_stop - t)

@@ -21,12 +21,11 @@ from __future__ import annotations
 
 import math
 
-from tumble.core._jit import njit
+from tumble.core._jit import FINITE, njit
+
+__all__ = ["FINITE", "N_PARAMS", "derivatives", "rk4_run"]
 
 N_PARAMS = 3
-
-#: Status returned by the stepping kernel when every step stayed finite.
-FINITE = -1
 
 
 @njit(inline="always")

@@ -19,12 +19,12 @@ a left multiplication; the others are right multiplications), so a symmetric
 body (I1 = I2 or I2 = I3) moves exactly, whatever the step. Each part keeps
 |L| and the space-frame L exactly.
 
-The torque ``τ(t, q, ω)`` is applied in kicks that hold the attitude: the
-exact flow of ``L̇ = τ_a − c ω`` with the attitude-dependent part τ_a held at
-its value at the kick (exact for gravity, constant torques and the linear
-damping ``c``; a user torque that depends on ω is integrated to first order
-within the kick, so the method stays second order only for torques that
-depend on the attitude and time alone).
+The torque ``τ − c ω`` (:mod:`tumble.core.torques`) is applied in kicks that
+hold the attitude: the exact flow of ``L̇ = τ − c ω`` with τ held at its value
+at the kick (exact for gravity, constant torques and the linear damping ``c``;
+a torque whose τ depends on ω is integrated to first order within the kick,
+so the method stays second order only for torques whose τ depends on the
+attitude and time alone).
 
 One Strang step of length h at time t:
 
@@ -43,14 +43,17 @@ import math
 
 import numpy as np
 
-from tumble.core._jit import njit, njit_parallel, prange
-from tumble.core.rigid import (
-    FINITE,
-    _record,
-    applied_torque,
-    has_attitude_torque,
-    no_extra_torque,
-    user_torque_hook,
+from tumble.core._jit import FINITE, njit, njit_parallel, prange, specialise
+from tumble.core.dynamics import is_finite, normalised, record
+from tumble.core.metrics import (
+    ENERGY_DEVIATION,
+    FIRST_FLIP,
+    FLIPS,
+    MIN_COS,
+    MOMENTUM_DEVIATION,
+    finish,
+    initial,
+    observe,
 )
 
 YOSHIDA_OUTER = 1.0 / (2.0 - 2.0 ** (1.0 / 3.0))
@@ -135,140 +138,192 @@ def _decay(c, moment, h):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _kick(t, h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque, extra, context):  # type: ignore[no-untyped-def]
-    """The exact flow of ``L̇ = τ_a − c L / I`` over h with the attitude held."""
-    t1, t2, t3 = applied_torque(q0, q1, q2, q3, params, attitude_torque)
-    e1, e2, e3 = extra(t, l1 / i1, l2 / i2, l3 / i3, q0, q1, q2, q3, context)
-    c = params[12]
-    l1 += (t1 + e1 - c * l1 / i1) * _decay(c, i1, h)
-    l2 += (t2 + e2 - c * l2 / i2) * _decay(c, i2, h)
-    l3 += (t3 + e3 - c * l3 / i3) * _decay(c, i3, h)
+def _kick(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # type: ignore[no-untyped-def]
+    """The exact flow of ``L̇ = τ − c L / I`` over h with the attitude and τ held."""
+    t1, t2, t3, c = torque(t, (l1 / i1, l2 / i2, l3 / i3), q, params, column, context)
+    l1 += (t1 - c * l1 / i1) * _decay(c, i1, h)
+    l2 += (t2 - c * l2 / i2) * _decay(c, i2, h)
+    l3 += (t3 - c * l3 / i3) * _decay(c, i3, h)
     return l1, l2, l3
 
 
 @njit(inline="always")
-def _strang(t, h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque, extra, context):  # type: ignore[no-untyped-def]
+def _strang(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # type: ignore[no-untyped-def]
     """One Strang step of length h (may be negative) from time t."""
-    l1, l2, l3 = _kick(
-        t, 0.5 * h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque, extra, context
-    )
-    l1, l2, l3, q0, q1, q2, q3 = _free(h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3)
-    l1, l2, l3 = _kick(
-        t + h, 0.5 * h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque,
-        extra, context,
-    )  # fmt: skip
-    return l1, l2, l3, q0, q1, q2, q3
+    l1, l2, l3 = _kick(torque, t, 0.5 * h, l1, l2, l3, q, i1, i2, i3, params, column, context)
+    l1, l2, l3, q0, q1, q2, q3 = _free(h, l1, l2, l3, q[0], q[1], q[2], q[3], i1, i2, i3)
+    q = (q0, q1, q2, q3)
+    l1, l2, l3 = _kick(torque, t + h, 0.5 * h, l1, l2, l3, q, i1, i2, i3, params, column, context)
+    return l1, l2, l3, q
 
 
 @njit(inline="always")
-def splitting_step(  # type: ignore[no-untyped-def]
-    t, dt, order, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque, extra,
-    context,
-):  # fmt: skip
-    """One step of ``dt`` from time t: Strang (``order`` 2) or Yoshida's triple
-    jump of it (4), as sub-steps at one call site so the compiler inlines the
-    Strang step once. Returns the new (L, q), q not renormalised."""
+def splitting_step(torque, t, dt, order, state, inertia, params, column, context):  # type: ignore[no-untyped-def]
+    """One step of ``dt`` s from time t of ``state`` = (L1, L2, L3, q0, … q3) (L in
+    kg·m²/s, principal axes; ``inertia`` the principal moments): Strang
+    (``order`` 2) or Yoshida's triple jump of it (4), as sub-steps at one call
+    site so the compiler inlines the Strang step once. Returns the new state,
+    the quaternion renormalised."""
     if order == 2:
         fractions = (1.0, 0.0, 0.0)
         n_sub = 1
     else:
         fractions = (YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER)
         n_sub = 3
+    l1, l2, l3, q0, q1, q2, q3 = state
+    i1, i2, i3 = inertia
+    q = (q0, q1, q2, q3)
     for j in range(n_sub):
         h = fractions[j] * dt
-        l1, l2, l3, q0, q1, q2, q3 = _strang(
-            t, h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque, extra, context
-        )
+        l1, l2, l3, q = _strang(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context)
         t += h
-    return l1, l2, l3, q0, q1, q2, q3
+    return normalised((l1, l2, l3, q[0], q[1], q[2], q[3]))
 
 
-@njit
-def splitting_run(  # type: ignore[no-untyped-def]
-    w, q, inertia, params, dt, n_steps, first_step, record_every, out_w, out_q, order
-):
-    """Advance (w, q) in place by ``n_steps`` splitting steps of ``dt`` s.
-
-    ``order`` 2 (Strang) or 4 (Yoshida). Arguments, recording and the returned
-    status as :func:`tumble.core.rigid.rk4_run`. The quaternion is renormalised
-    after every step (the rotations keep it unit to round-off; this stops the
-    round-off from accumulating).
-    """
-    return _splitting_loop(
-        w, q, inertia, params, dt, n_steps, first_step, record_every, out_w, out_q, order,
-        no_extra_torque, 0.0,
-    )  # fmt: skip
+@njit(inline="always")
+def _momentum(w, q, i1, i2, i3):  # type: ignore[no-untyped-def]
+    """The state (L, q) of (ω, q) arrays: L = I ω."""
+    return (i1 * w[0], i2 * w[1], i3 * w[2], q[0], q[1], q[2], q[3])
 
 
-@njit
-def splitting_run_hooked(  # type: ignore[no-untyped-def]
-    w, q, inertia, params, dt, n_steps, first_step, record_every, out_w, out_q, order, context
-):
-    """:func:`splitting_run` with a user's torque added (``context`` as in
-    :func:`tumble.core.rigid.user_torque_hook`)."""
-    return _splitting_loop(
-        w, q, inertia, params, dt, n_steps, first_step, record_every, out_w, out_q, order,
-        user_torque_hook, context,
+@njit(inline="always")
+def _velocity(state, i1, i2, i3):  # type: ignore[no-untyped-def]
+    """The state (ω, q) of (L, q)."""
+    return (
+        state[0] / i1, state[1] / i2, state[2] / i3, state[3], state[4], state[5], state[6]
     )  # fmt: skip
 
 
 @njit(inline="always")
-def _splitting_loop(  # type: ignore[no-untyped-def]
-    w, q, inertia, params, dt, n_steps, first_step, record_every, out_w, out_q, order, extra,
-    context,
+def _steps(  # type: ignore[no-untyped-def]
+    torque, w, q, inertia, params, column, context, t0, dt, n_steps, order, record_every, out_w,
+    out_q, first_step,
 ):  # fmt: skip
-    i1 = inertia[0]
-    i2 = inertia[1]
-    i3 = inertia[2]
-    attitude_torque = has_attitude_torque(params)
-    l1, l2, l3 = i1 * w[0], i2 * w[1], i3 * w[2]
-    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    """``n_steps`` splitting steps of one body, in place; its status. The time of
+    step k is ``t0 + k dt`` (global step ``first_step + k``)."""
+    i1, i2, i3 = inertia[0], inertia[1], inertia[2]
+    state = _momentum(w, q, i1, i2, i3)
+    status = FINITE
     for k in range(n_steps):
-        t = (first_step + k) * dt
-        m1, m2, m3, p0, p1, p2, p3 = splitting_step(
-            t, dt, order, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3, params, attitude_torque,
-            extra, context,
+        step = splitting_step(
+            torque, t0 + k * dt, dt, order, state, (i1, i2, i3), params, column, context
+        )
+        if not is_finite(step):
+            status = first_step + k + 1
+            break
+        state = step
+        record(first_step + k + 1, record_every, out_w, out_q, _velocity(state, i1, i2, i3))
+    final = _velocity(state, i1, i2, i3)
+    for i in range(3):
+        w[i] = final[i]
+    for i in range(4):
+        q[i] = final[3 + i]
+    return status
+
+
+def single_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
+    """``run(w, q, inertia, params, context, dt, n_steps, first_step, record_every,
+    out_w, out_q) -> status``: ``n_steps`` steps of ``order`` 2 (Strang) or 4
+    (Yoshida), arguments, recording and status as
+    :func:`tumble.core.rk4.single_kernel`."""
+
+    @specialise(njit, f"splitting.single.{order}|{identity}")
+    def run(w, q, inertia, params, context, dt, n_steps, first_step, record_every, out_w, out_q):  # type: ignore[no-untyped-def]
+        return _steps(
+            torque, w, q, inertia, params, 0, context, first_step * dt, dt, n_steps, order,
+            record_every, out_w, out_q, first_step,
         )  # fmt: skip
-        norm = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
-        if not (math.isfinite(norm) and math.isfinite(m1 + m2 + m3) and norm > 0.0):
-            w[0], w[1], w[2] = l1 / i1, l2 / i2, l3 / i3
-            q[0], q[1], q[2], q[3] = q0, q1, q2, q3
-            return first_step + k + 1
-        l1, l2, l3 = m1, m2, m3
-        q0, q1, q2, q3 = p0 / norm, p1 / norm, p2 / norm, p3 / norm
-        _record(
-            first_step + k + 1, record_every, out_w, out_q,
-            l1 / i1, l2 / i2, l3 / i3, q0, q1, q2, q3,
+
+    return run
+
+
+def batch_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
+    """``batch(w, q, inertia, params, context, t0, dt, n_steps, status)``: N bodies
+    (arrays as :func:`tumble.core.rk4.batch_kernel`) advanced in place, one body
+    per thread at a time (the rotations' sines and cosines do not vectorise
+    across bodies as RK4's products do); ``status`` (N,) int64 receives each
+    body's status (the body then keeps its last finite state)."""
+
+    # One body per call of a compiled function of its own: inlined into the
+    # parallel loop, the stepping's tuples defeat numba's parfor analysis.
+    @specialise(njit, f"splitting.body.{order}|{identity}")
+    def one_body(w, q, inertia, params, column, context, t0, dt, n_steps):  # type: ignore[no-untyped-def]
+        never = np.iinfo(np.int64).max  # a record_every that no step number reaches
+        return _steps(
+            torque, w, q, inertia, params, column, context, t0, dt, n_steps, order, never,
+            np.zeros((1, 3)), np.zeros((1, 4)), 0,
         )  # fmt: skip
-    w[0], w[1], w[2] = l1 / i1, l2 / i2, l3 / i3
-    q[0], q[1], q[2], q[3] = q0, q1, q2, q3
-    return FINITE
+
+    @specialise(njit_parallel, f"splitting.batch.{order}|{identity}")
+    def batch(w, q, inertia, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
+        stride = 0 if params.shape[1] == 1 else 1  # shared or per-body params
+        for body in prange(w.shape[1]):
+            status[body] = one_body(
+                w[:, body], q[:, body], inertia[:, body], params, body * stride, context, t0,
+                dt, n_steps,
+            )  # fmt: skip
+
+    return batch
 
 
-@njit_parallel
-def splitting_batch(w, q, inertia, params, dt, n_steps, order, status):  # type: ignore[no-untyped-def]
-    """Advance N bodies in place by ``n_steps`` splitting steps, in parallel.
+def metrics_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
+    """``batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status)``:
+    as :func:`batch_kernel`, measuring each body after every step into ``out``
+    (``N_METRICS``, N) (see :mod:`tumble.core.metrics`); a body's measures stop
+    at its last finite state."""
 
-    Arrays as :func:`tumble.core.rigid.rk4_batch` (``params`` shared or per
-    body); ``status`` (N,) int64 receives each body's status as in
-    :func:`splitting_run` (the body then keeps its last finite state). Bodies
-    are independent, one per thread at a time: the rotations' sines and cosines
-    do not vectorise across bodies as RK4's products do.
-    """
-    n = w.shape[1]
-    stride = 0 if params.shape[1] == 1 else 1  # shared or per-body params
-    for body in prange(n):
-        column = body * stride
-        status[body] = _one_body(
-            w[:, body], q[:, body], inertia[:, body], params[:, column], dt, n_steps, order
+    @specialise(njit, f"splitting.measured.{order}|{identity}")
+    def one_body(w, q, inertia, params, column, context, axis, t0, dt, n_steps, out):  # type: ignore[no-untyped-def]
+        return _measured(
+            torque, w, q, inertia, params, column, context, axis, t0, dt, n_steps, order, out
         )
 
+    @specialise(njit_parallel, f"splitting.metrics.{order}|{identity}")
+    def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
+        stride = 0 if params.shape[1] == 1 else 1
+        for body in prange(w.shape[1]):
+            status[body] = one_body(
+                w[:, body], q[:, body], inertia[:, body], params, body * stride, context,
+                axis[:, body], t0, dt, n_steps, out[:, body],
+            )  # fmt: skip
 
-@njit
-def _one_body(w, q, inertia, params, dt, n_steps, order):  # type: ignore[no-untyped-def]
-    """:func:`splitting_run` for one body of a batch, recording nothing."""
-    never = np.iinfo(np.int64).max  # a record_every that no step number reaches
-    return _splitting_loop(
-        w, q, inertia, params, dt, n_steps, 0, never, np.zeros((1, 3)), np.zeros((1, 4)), order,
-        no_extra_torque, 0.0,
+    return batch
+
+
+@njit(inline="always")
+def _measured(torque, w, q, inertia, params, column, context, axis, t0, dt, n_steps, order, out):  # type: ignore[no-untyped-def]
+    i1, i2, i3 = inertia[0], inertia[1], inertia[2]
+    a1, a2, a3 = axis[0], axis[1], axis[2]
+    state = _momentum(w, q, i1, i2, i3)
+    reference, energy0, squared0, lowest = initial(w[0], w[1], w[2], i1, i2, i3, a1, a2, a3)
+    flips = 0.0
+    crossed_at = before = after = 0.0
+    energy_dev = 0.0
+    smallest = largest = squared0
+    status = FINITE
+    for k in range(n_steps):
+        step = splitting_step(
+            torque, t0 + k * dt, dt, order, state, (i1, i2, i3), params, column, context
+        )
+        if not is_finite(step):
+            status = k + 1
+            break
+        state = step
+        reference, flips, crossed_at, before, after, lowest, energy_dev, smallest, largest = (
+            observe(
+                t0 + (k + 1) * dt, state[0] / i1, state[1] / i2, state[2] / i3, i1, i2, i3,
+                a1, a2, a3, reference, flips, crossed_at, before, after, lowest, energy0,
+                energy_dev, smallest, largest,
+            )
+        )  # fmt: skip
+    final = _velocity(state, i1, i2, i3)
+    for i in range(3):
+        w[i] = final[i]
+    for i in range(4):
+        q[i] = final[3 + i]
+    (
+        out[FLIPS], out[FIRST_FLIP], out[MIN_COS], out[ENERGY_DEVIATION], out[MOMENTUM_DEVIATION],
+    ) = finish(
+        dt, flips, crossed_at, before, after, lowest, energy_dev, squared0, smallest, largest
     )  # fmt: skip
+    return status

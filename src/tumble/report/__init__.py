@@ -132,9 +132,7 @@ def write_run(
             step("figures")
             from tumble.report.plots import png_bytes, trajectory_figures
 
-            for figure_name, figure in trajectory_figures(
-                result.trajectory, result.panels, result.drift.get("conserved")
-            ).items():
+            for figure_name, figure in trajectory_figures(result.trajectory, result.panels).items():
                 pngs[figure_name] = png_bytes(figure)
                 write_bytes(staging / f"{figure_name}.png", pngs[figure_name])
         viewer = None

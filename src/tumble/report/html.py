@@ -101,24 +101,23 @@ def comparisons_html(rows: Sequence[Mapping[str, Any]]) -> str:
 
 
 def drift_html(drift: Mapping[str, Any]) -> str:
-    """The drift of the conserved quantities as an HTML table."""
-    conserved = set(drift.get("conserved", []))
-    names = {
-        "energy": "energy E",
-        "angular_momentum_norm": "|L|",
-        "angular_momentum_vector": "vector L",
-    }
+    """The drift of the quantities the motion conserves as an HTML table."""
+    from tumble.body import INVARIANTS, label
+
+    if not drift:
+        return "<p>Nothing is conserved in this motion (it is driven or damped).</p>"
     rows = []
-    for key, label in names.items():
-        value = drift.get(key)
+    for key, value in drift.items():
+        meaning = INVARIANTS[key].description if key in INVARIANTS else ""
         rows.append(
             [
-                _e(label),
+                _e(label(key)),
                 "—" if value is None else f"{float(value):.3e}",
-                "conserved" if key in conserved else "not conserved here",
+                _e(meaning),
             ]
         )
-    return _table(("quantity", "largest relative drift", "physics"), rows, (False, True, False))
+    return _table(("conserved quantity", "largest relative drift", "what it is"), rows,
+                  (False, True, False))  # fmt: skip
 
 
 def png_data_uri(png: bytes) -> str:
@@ -128,7 +127,7 @@ def png_data_uri(png: bytes) -> str:
 _CAPTIONS = {
     "omega": "Angular velocity ω(t) in body axes.",
     "angular_momentum": "Angular momentum L(t) in space axes.",
-    "drift": "Energy and |L| drift: the numerical error where they are conserved.",
+    "drift": "Drift of the quantities the motion conserves: the numerical error.",
     "polhode": "The polhode: L in principal axes on the energy ellipsoid.",
 }
 
@@ -230,6 +229,8 @@ def mass_properties_html(mp: MassProperties) -> str:
 
 def trajectory_html(traj: Trajectory) -> str:
     """A small HTML summary of a trajectory (notebooks)."""
+    from tumble.body import label
+
     drift = traj.drift
     kind = "free body" if traj.pivot is None else f"pivot at {np.round(traj.pivot, 9).tolist()} m"
     rows = [
@@ -238,8 +239,7 @@ def trajectory_html(traj: Trajectory) -> str:
         ["method", f"{traj.method} (dt = {traj.dt:.3g} s, {traj.steps} steps): {traj.reason}"],
         [
             "relative drift",
-            f"energy {drift['energy']:.2e}, |L| {drift['angular_momentum_norm']:.2e}, "
-            f"L vector {drift['angular_momentum_vector']:.2e}",
+            ", ".join(f"{label(k)} {v:.2e}" for k, v in drift.items()) or "nothing conserved",
         ],
         ["ω at the end (body)", "[" + ", ".join(f"{v:.6g}" for v in traj.omega[-1]) + "] rad/s"],
     ]

@@ -72,31 +72,28 @@ def angular_momentum_figure(traj: Trajectory) -> Figure:
     return figure
 
 
-def drift_figure(traj: Trajectory, conserved: Sequence[str] | None = None) -> Figure:
-    """Relative change of the energy and of |L| from their initial values
-    (only those in ``conserved``, when given)."""
+def drift_figure(traj: Trajectory) -> Figure:
+    """Relative change from their initial values of the quantities the motion
+    conserves (:meth:`tumble.Trajectory.relative_change`): the numerical error."""
+    from tumble.body import label
+
     figure = _figure()
     axes = figure.add_subplot()
-    energy = traj.energy
-    scale = max(float(np.max(np.abs(energy))), np.finfo(float).tiny)
-    norms = np.linalg.norm(traj.angular_momentum, axis=1)
-    size = max(float(norms[0]), np.finfo(float).tiny)
-    shown = set(conserved) if conserved else {"energy", "angular_momentum_norm"}
-    if "energy" in shown:
-        axes.plot(traj.t, (energy - energy[0]) / scale, lw=1.0, color=_COLOURS[0],
-                  label="(E − E₀) / |E|max")  # fmt: skip
-    if "angular_momentum_norm" in shown:
-        axes.plot(traj.t, (norms - norms[0]) / size, lw=1.0, color=_COLOURS[1],
-                  label="(|L| − |L₀|) / |L₀|")  # fmt: skip
+    names = traj.conserved_quantities
+    for k, name in enumerate(names):
+        axes.plot(traj.t, traj.relative_change(name), lw=1.0, color=_COLOURS[k % len(_COLOURS)],
+                  label=label(name))  # fmt: skip
+    if not names:
+        axes.text(0.5, 0.5, "nothing is conserved in this motion", ha="center",
+                  transform=axes.transAxes)  # fmt: skip
     axes.set(
         xlabel="t (s)",
         ylabel="relative change",
-        title=f"Drift of the conserved quantities (method {traj.method})"
-        if conserved
-        else f"Change of energy and |L| (method {traj.method})",
+        title=f"Drift of the conserved quantities (method {traj.method})",
     )
     axes.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
-    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    if names:
+        axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
     axes.grid(alpha=0.3)
     return figure
 
@@ -172,15 +169,13 @@ def panel_figure(panel: Panel) -> Figure:
     return figure
 
 
-def trajectory_figures(
-    traj: Trajectory, panels: Sequence[Panel] = (), conserved: Sequence[str] | None = None
-) -> dict[str, Figure]:
+def trajectory_figures(traj: Trajectory, panels: Sequence[Panel] = ()) -> dict[str, Figure]:
     """All figures of a trajectory by name: omega, angular_momentum, drift, polhode,
-    then one per panel. ``conserved`` names what the drift figure shows."""
+    then one per panel."""
     figures = {
         "omega": omega_figure(traj),
         "angular_momentum": angular_momentum_figure(traj),
-        "drift": drift_figure(traj, conserved),
+        "drift": drift_figure(traj),
         "polhode": polhode_figure(traj),
     }
     for panel in panels:

@@ -345,7 +345,7 @@ def torque_model(
     from tumble.kinematics import required_torque
     from tumble.torques import ConstantBodyTorque, ConstantSpaceTorque, LinearDamping
 
-    terms = []
+    terms: list[Any] = []
     for k, torque in enumerate(scenario.torques):
         with at_key(loaded, "torques", k):
             if torque.type == "constant-body":

@@ -8,7 +8,6 @@ quantities, and a few scenario-specific curves (:class:`Panel`) to draw.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from collections.abc import Callable
@@ -73,8 +72,8 @@ class RunResult:
     theory : the name of the closed form compared with, or None.
     comparisons : rows ``{quantity, theory, measured, relative_error, unit}``
         (:func:`tumble.analysis.compare`), with ``run`` naming the trajectory.
-    drift : relative drift of the energy, |L| and the vector L of the main
-        trajectory, and ``conserved``: which of them the physics conserves.
+    drift : relative drift of each quantity the motion of the main trajectory
+        conserves (:attr:`tumble.Trajectory.drift`).
     panels : scenario-specific curves (tilt and precession angles, θ(t), ...).
     geometry : a mesh of the body for the 3D viewer.
     elapsed : seconds spent simulating and measuring.
@@ -143,9 +142,7 @@ def decimate(traj: Trajectory, samples: int) -> Trajectory:
     index = _kept(len(traj.t), samples)
     if len(index) == len(traj.t):
         return traj
-    return dataclasses.replace(
-        traj, t=traj.t[index], omega=traj.omega[index], quaternion=traj.quaternion[index]
-    )
+    return traj.samples(index)
 
 
 def _record_every(duration: float, dt: float | None, samples: int) -> int:
@@ -173,7 +170,6 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
         runs, comparisons, panels, theory, notes = _rigid_body(loaded, mp, progress)
     main = next(iter(runs.values()))
     drift: dict[str, Any] = dict(main.drift)
-    drift["conserved"] = _conserved(loaded, main)
     return RunResult(
         scenario=loaded,
         trajectory=main,
@@ -186,22 +182,6 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
         elapsed=time.perf_counter() - start,
         notes=notes,
     )
-
-
-def _conserved(loaded: LoadedScenario, traj: Trajectory) -> list[str]:
-    spec = loaded.spec
-    if spec.gyrocompass is not None:
-        return []
-    kinds = {t.type for t in spec.torques}
-    if kinds - {"hold-rotation"}:
-        return []
-    if kinds == {"hold-rotation"}:
-        # The holding torque ω × Iω is perpendicular to ω: no work, and L turns rigidly.
-        return ["energy", "angular_momentum_norm"]
-    gravity = spec.environment.gravity
-    if spec.environment.pivot is not None and gravity is not None and any(gravity):
-        return ["energy"]
-    return ["energy", "angular_momentum_norm", "angular_momentum_vector"]
 
 
 def _samples_at_dt(spec: Any) -> bool:

@@ -67,17 +67,17 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
     tumble.simulation.IntegrationError
         If a body's state became NaN or infinite (the message names the body).
     """
-    from tumble.core.rigid import FINITE
-    from tumble.core.sweep_metrics import (
+    from tumble.batch import measure_batch
+    from tumble.body import BodyBatch
+    from tumble.core.metrics import (
         ENERGY_DEVIATION,
         FIRST_FLIP,
         FLIPS,
         MIN_COS,
         MOMENTUM_DEVIATION,
-        N_METRICS,
-        rk4_metrics_batch,
-        splitting_metrics_batch,
     )
+    from tumble.integrators import get_integrator
+    from tumble.torques import bind
 
     start, stop = plan.chunk_range(index)
     n = stop - start
@@ -87,26 +87,13 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
     q = np.zeros((4, n))
     q[0] = 1.0
     inertia = np.ascontiguousarray(bodies.moments.T)
-    out = np.empty((N_METRICS, n))
-    status = np.full(n, FINITE, dtype=np.int64)
+    torque = bind(bodies.torque, BodyBatch(bodies.moments), bodies=n)
+    integrator = get_integrator(plan.method, batch=True)
     with _KERNEL_LOCK:
-        if plan.method == "rk4":
-            rk4_metrics_batch(w, q, inertia, bodies.params, bodies.axis, plan.dt, plan.n_steps, out)
-        else:
-            order = 4 if plan.method == "splitting" else 2
-            splitting_metrics_batch(
-                w, q, inertia, bodies.params, bodies.axis, plan.dt, plan.n_steps, order, out, status
-            )
-    bad = ~(np.isfinite(w).all(axis=0) & np.isfinite(q).all(axis=0)) | (status != FINITE)
-    if np.any(bad):
-        from tumble.simulation import IntegrationError
-
-        k = int(np.flatnonzero(bad)[0])
-        raise IntegrationError(
-            f"Expected the integration to stay finite, got NaN or inf for {int(bad.sum())} "
-            f"bodies of chunk {index} (first: body {start + k}) with dt = {plan.dt:.3g} s: "
-            "reduce dt."
-        )
+        out = measure_batch(
+            integrator, inertia, w, q, torque, plan.dt, plan.n_steps, bodies.axis,
+            first_body=start, where=f"of chunk {index}",
+        )  # fmt: skip
 
     result: dict[str, NDArray[np.generic]] = {}
     for name in plan.varied:

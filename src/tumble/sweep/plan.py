@@ -17,17 +17,22 @@ the chunk's index alone:
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble.torques import TORQUES, Parameter, TorqueModel, TorqueSum
+from tumble.units import SI_UNITS
+
 Array = NDArray[np.float64]
 
-#: The per-body parameters a sweep may fix in [base] or vary in [vary]: kind of
-#: quantity (a key of :data:`tumble.units.SI_UNITS`, or "axis") and meaning.
-PARAMETERS: dict[str, tuple[str, str]] = {
+#: The parameters of the bodies themselves a sweep may fix in [base] or vary in
+#: [vary]: kind of quantity (a key of :data:`tumble.units.SI_UNITS`, or "axis")
+#: and meaning. The bodies' axes are their principal axes.
+BODY_PARAMETERS: dict[str, tuple[str, str]] = {
     "moment_1": ("inertia", "principal moment I1, kg·m²"),
     "moment_2": ("inertia", "principal moment I2, kg·m²"),
     "moment_3": ("inertia", "principal moment I3, kg·m²"),
@@ -41,28 +46,74 @@ PARAMETERS: dict[str, tuple[str, str]] = {
         "direction of the perturbation about the spin axis, rad, from the next axis "
         "(cyclic: 1 → 2 → 3 → 1) towards the one after",
     ),
-    "body_torque_1": ("torque", "constant torque along principal axis 1, N·m"),
-    "body_torque_2": ("torque", "constant torque along principal axis 2, N·m"),
-    "body_torque_3": ("torque", "constant torque along principal axis 3, N·m"),
-    "space_torque_x": ("torque", "constant torque along space x, N·m"),
-    "space_torque_y": ("torque", "constant torque along space y, N·m"),
-    "space_torque_z": ("torque", "constant torque along space z, N·m"),
-    "damping": ("damping", "linear damping c in τ = −c ω, N·m·s"),
 }
 
-#: Values of the parameters a sweep file leaves out.
-DEFAULTS: dict[str, float] = {
+#: Values of the body parameters a sweep file leaves out (a torque parameter left
+#: out is zero: no torque of that model).
+BODY_DEFAULTS: dict[str, float] = {
     "spin_axis": 3.0,
     "perturbation": 0.0,
     "perturbation_azimuth": 0.0,
-    "body_torque_1": 0.0,
-    "body_torque_2": 0.0,
-    "body_torque_3": 0.0,
-    "space_torque_x": 0.0,
-    "space_torque_y": 0.0,
-    "space_torque_z": 0.0,
-    "damping": 0.0,
 }
+
+
+@dataclass(frozen=True)
+class TorqueParameter:
+    """A per-body sweep parameter of a torque model: component ``component`` (None
+    for a number) of the model's ``parameter``."""
+
+    model: type[TorqueModel]
+    parameter: Parameter
+    component: int | None
+
+
+def torque_parameters() -> dict[str, TorqueParameter]:
+    """The sweep parameters of the torque models that batches accept, by name, read
+    from the torque registry (:data:`tumble.torques.TORQUES`)."""
+    found = {}
+    for model in TORQUES.values():
+        if not model.in_batches:
+            continue
+        for parameter in model.parameters:
+            for k, name in enumerate(parameter.sweep):
+                found[name] = TorqueParameter(model, parameter, k if parameter.shape else None)
+    return found
+
+
+class _Parameters(Mapping[str, tuple[str, str]]):
+    """Every per-body parameter: the bodies' own, then those of the torque models
+    registered when it is read (kind of quantity, meaning)."""
+
+    def _all(self) -> dict[str, tuple[str, str]]:
+        found = dict(BODY_PARAMETERS)
+        for name, entry in torque_parameters().items():
+            unit = SI_UNITS[entry.parameter.kind].replace("*", "·")
+            component = "" if entry.component is None else f", component {entry.component + 1}"
+            found[name] = (
+                entry.parameter.kind,
+                f"{entry.model.__name__}: {entry.parameter.description}{component}, {unit}",
+            )
+        return found
+
+    def __getitem__(self, name: str) -> tuple[str, str]:
+        return self._all()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._all())
+
+    def __len__(self) -> int:
+        return len(self._all())
+
+
+#: The per-body parameters a sweep may fix in [base] or vary in [vary]: kind of
+#: quantity (a key of :data:`tumble.units.SI_UNITS`, or "axis") and meaning.
+PARAMETERS: Mapping[str, tuple[str, str]] = _Parameters()
+
+
+def defaults() -> dict[str, float]:
+    """Values of the parameters a sweep file leaves out."""
+    return {**BODY_DEFAULTS, **dict.fromkeys(torque_parameters(), 0.0)}
+
 
 #: Per-body measures a sweep can record, with their units and meaning.
 METRICS: dict[str, tuple[str, str]] = {
@@ -77,7 +128,6 @@ METRICS: dict[str, tuple[str, str]] = {
     "momentum_drift": ("", "largest ||L| − |L0|| / |L0| over the run"),
 }
 
-METHODS = ("rk4", "splitting", "strang")
 DISTRIBUTIONS = ("uniform", "loguniform", "spherical")
 
 #: Version of the layout of the output folder and of the plan's identity.
@@ -217,8 +267,8 @@ class Plan:
         return values
 
     def bodies(self, values: dict[str, Array]) -> Bodies:
-        """Principal moments, initial ω, spin axes and packed torques of bodies
-        with these parameters (from :meth:`chunk_parameters`)."""
+        """Principal moments, initial ω, spin axes and torque of bodies with these
+        parameters (from :meth:`chunk_parameters`)."""
         i1 = values["moment_1"]
         i2 = values["moment_2"] if "moment_2" in values else values["ratio_2"] * i1
         i3 = values["moment_3"] if "moment_3" in values else values["ratio_3"] * i1
@@ -234,33 +284,47 @@ class Plan:
         omega[rows, (axis + 2) % 3] = rate * np.sin(theta) * np.sin(phi)
         unit = np.zeros((3, n))
         unit[axis, rows] = 1.0
-        torque_names = (
-            "body_torque_1", "body_torque_2", "body_torque_3",
-            "space_torque_x", "space_torque_y", "space_torque_z",
-        )  # fmt: skip
-        per_body = any(
-            name in self.varied for name in (*torque_names, "damping")
-        )  # else one shared column
-        from tumble.core.rigid import N_TORQUE_PARAMS
+        return Bodies(np.column_stack([i1, i2, i3]), omega, unit, self.torque(values))
 
-        columns = n if per_body else 1
-        params = np.zeros((N_TORQUE_PARAMS, columns))
-        for row, name in enumerate(torque_names):
-            params[row] = values[name][:columns]
-        params[12] = values["damping"][:columns]
-        return Bodies(np.column_stack([i1, i2, i3]), omega, unit, params)
+    def torque(self, values: dict[str, Array]) -> TorqueModel | None:
+        """The torque models of bodies with these parameters: one value per body for a
+        model with a varied parameter, one for all otherwise; models whose
+        parameters are all zero are left out."""
+        by_model: dict[type[TorqueModel], dict[str, list[tuple[int | None, str]]]] = {}
+        for name, entry in torque_parameters().items():
+            fields = by_model.setdefault(entry.model, {})
+            fields.setdefault(entry.parameter.name, []).append((entry.component, name))
+        n = len(values["moment_1"])
+        values = {**{name: np.zeros(n) for name in torque_parameters()}, **values}
+        terms = []
+        for model, fields in by_model.items():
+            names = [name for components in fields.values() for _, name in components]
+            if not any(np.any(values[name]) for name in names):
+                continue
+            varied = any(name in self.varied for name in names)
+            arguments: dict[str, Any] = {}
+            for parameter, components in fields.items():
+                columns = [values[name] for _, name in sorted(components, key=_component)]
+                stacked = np.column_stack(columns) if len(columns) > 1 else columns[0]
+                arguments[parameter] = stacked if varied else stacked[0]
+            terms.append(model(**arguments))
+        return TorqueSum(tuple(terms)) if terms else None
+
+
+def _component(entry: tuple[int | None, str]) -> int:
+    return entry[0] or 0
 
 
 @dataclass(frozen=True, eq=False)
 class Bodies:
     """Bodies ready for the kernels: ``moments`` (n, 3) kg·m², ``omega`` (n, 3)
-    rad/s in principal axes, ``axis`` (3, n) unit spin axes, ``params``
-    (``N_TORQUE_PARAMS``, 1 or n) the packed torque."""
+    rad/s in principal axes, ``axis`` (3, n) unit spin axes, ``torque`` the
+    torque models (per body or shared), or None."""
 
     moments: Array
     omega: Array
     axis: Array
-    params: Array
+    torque: TorqueModel | None
 
 
 def _draw(rng: np.random.Generator, draw: RandomAxis, n: int) -> Array:

@@ -50,13 +50,13 @@ from pydantic_core import PydanticCustomError
 
 from tumble.errors import InputError
 from tumble.sweep.plan import (
-    DEFAULTS,
     DISTRIBUTIONS,
     PARAMETERS,
     GridAxis,
     MapSpec,
     Plan,
     RandomAxis,
+    defaults,
 )
 
 __all__ = ["SweepError", "SweepFile", "check_address", "parse_sweep"]
@@ -364,7 +364,7 @@ class _Builder:
                 grid.append(axis)
             else:
                 random.append(axis)
-        for name, value in DEFAULTS.items():
+        for name, value in defaults().items():
             if name not in fixed and name not in spec.vary:
                 fixed[name] = value
         varied = set(spec.vary)

@@ -1,0 +1,305 @@
+"""Many free bodies at once: :func:`simulate_batch`, and the batch driver sweeps share.
+
+:func:`step_batch` is the one driver of the compiled batch kernels: it steps N
+bodies (structure of arrays, principal frames) in chunks, with progress, the
+check that every state stayed finite, optional recording and optional per-body
+measures taken while stepping (:mod:`tumble.core.metrics`). Both
+:func:`simulate_batch` and the sweep engine (:mod:`tumble.sweep`) run on it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.body import ZERO_MOMENT, BodyBatch
+from tumble.core._jit import FINITE
+from tumble.errors import InputError, IntegrationError
+from tumble.integrators import Integrator, get_integrator
+from tumble.integrators.drivers import PROGRESS_CHUNK
+from tumble.massprops import PHYSICAL_TOLERANCE
+from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
+from tumble.units import to_si, vector_to_si
+
+__all__ = ["BatchResult", "BatchRun", "measure_batch", "simulate_batch", "step_batch"]
+
+Array = NDArray[np.float64]
+Progress = Callable[[int, int], object] | None
+
+
+@dataclass(frozen=True, eq=False)
+class BatchResult:
+    """Final states of a batch of bodies (and every k-th state if asked).
+
+    Attributes
+    ----------
+    omega : (N, 3) final angular velocities in each body's axes, rad/s.
+    quaternion : (N, 4) final attitudes ``[w, x, y, z]``, body → space.
+    t : (n,) times of the recorded states, s (only the final time when no
+        history was asked for).
+    omega_history, quaternion_history : (n, N, 3) and (n, N, 4), or None.
+    dt : the integration step used, s; ``method``: the integrator.
+    """
+
+    omega: Array
+    quaternion: Array
+    t: Array
+    omega_history: Array | None
+    quaternion_history: Array | None
+    dt: float
+    method: str
+
+
+@dataclass(frozen=True, eq=False)
+class BatchRun:
+    """What :func:`step_batch` did: the recorded times (s) and principal-frame
+    states (lists of (3, N) and (4, N) arrays, the initial state first), and the
+    per-body measures (``N_METRICS``, N) when asked for."""
+
+    times: list[float]
+    omega_history: list[Array]
+    quaternion_history: list[Array]
+    metrics: Array | None
+
+
+def step_batch(
+    integrator: Integrator,
+    inertia: Array,
+    w: Array,
+    q: Array,
+    torque: BoundTorque,
+    dt: float,
+    n_steps: int,
+    *,
+    record_every: int | None = None,
+    axis: Array | None = None,
+    progress: Progress = None,
+    first_body: int = 0,
+    where: str = "",
+) -> BatchRun:
+    """Advance N bodies in place by ``n_steps`` steps of ``dt`` s with the
+    integrator's batch kernels.
+
+    Parameters
+    ----------
+    inertia : (3, N) principal moments, kg·m²; ``w`` (3, N) angular velocities
+        (rad/s) and ``q`` (4, N) quaternions (principal → space), C-contiguous.
+    torque : bound to the batch (:func:`tumble.torques.bind`).
+    record_every : None, or k to keep the state every k steps.
+    axis : None, or (3, N) unit nominal axes (principal frame): measure each
+        body while stepping (:mod:`tumble.core.metrics`); not with ``record_every``.
+    progress : None or ``progress(done, n_steps)`` after each chunk of steps.
+    first_body, where : the number of the first body and where the bodies
+        are (e.g. "of chunk 3"), for the error message.
+
+    Raises
+    ------
+    IntegrationError
+        A body's state became NaN or infinite (the message names the first).
+    """
+    n = w.shape[1]
+    status = np.full(n, FINITE, dtype=np.int64)
+    metrics = None
+    times, omega_history, quaternion_history = [0.0], [], []
+    if record_every is not None:
+        omega_history.append(w.copy())
+        quaternion_history.append(q.copy())
+    if axis is not None:
+        from tumble.core.metrics import N_METRICS
+
+        # The measures run over the whole span in one call: they keep running
+        # extremes and the first flip in registers, not in the arrays.
+        metrics = np.empty((N_METRICS, n))
+        kernel = integrator.kernel("metrics", torque)
+        kernel(
+            w, q, inertia, torque.params, torque.context, axis, 0.0, dt, n_steps, metrics, status
+        )
+        chunk = n_steps
+        done = n_steps
+        if progress is not None:
+            progress(done, n_steps)
+    else:
+        kernel = integrator.kernel("batch", torque)
+        chunk = record_every or PROGRESS_CHUNK
+        done = 0
+        while done < n_steps:
+            count = min(chunk, n_steps - done)
+            kernel(w, q, inertia, torque.params, torque.context, done * dt, dt, count, status)
+            done += count
+            if np.any(status != FINITE):
+                break
+            if record_every is not None:
+                times.append(done * dt)
+                omega_history.append(w.copy())
+                quaternion_history.append(q.copy())
+            if progress is not None:
+                progress(done, n_steps)
+    diverged = ~(np.isfinite(w).all(axis=0) & np.isfinite(q).all(axis=0)) | (status != FINITE)
+    if np.any(diverged):
+        k = int(np.flatnonzero(diverged)[0])
+        place = f" {where}" if where else ""
+        raise IntegrationError(
+            f"Expected the integration to stay finite, got NaN or inf for {int(diverged.sum())} "
+            f"bodies{place} (first: body {first_body + k}) with dt = {dt:.3g} s: reduce dt."
+        )
+    return BatchRun(times, omega_history, quaternion_history, metrics)
+
+
+def measure_batch(
+    integrator: Integrator,
+    inertia: Array,
+    w: Array,
+    q: Array,
+    torque: BoundTorque,
+    dt: float,
+    n_steps: int,
+    axis: Array,
+    **options: Any,
+) -> Array:
+    """:func:`step_batch` measuring each body about its nominal axis ``axis`` (3, N):
+    the measures (``N_METRICS``, N) of :mod:`tumble.core.metrics`."""
+    run = step_batch(integrator, inertia, w, q, torque, dt, n_steps, axis=axis, **options)
+    if run.metrics is None:  # pragma: no cover - step_batch measures whenever axis is given
+        raise InputError("Expected measures from a batch with nominal axes, got none.")
+    return run.metrics
+
+
+def simulate_batch(
+    inertia: Any,
+    omega0: Any,
+    *,
+    attitude0: Any = None,
+    duration: Any,
+    dt: Any,
+    method: str = "rk4",
+    torque: TorqueModel | None = None,
+    record_every: int | None = None,
+    progress: Progress = None,
+) -> BatchResult:
+    """Simulate N free bodies at once, in parallel.
+
+    Parameters
+    ----------
+    inertia : (N, 3) principal moments (the body axes are principal axes) or
+        (N, 3, 3) inertia tensors about the centres of mass, kg·m².
+    omega0 : (N, 3) initial angular velocities in body coordinates, rad/s.
+    attitude0 : None (identity) or (N, 4) quaternions ``[w, x, y, z]``, body → space.
+    duration, dt : s, > 0; dt is shortened slightly so whole steps span duration.
+    method : an integrator of the registry with batch kernels
+        (:func:`tumble.integrators.batch_integrators`): ``"rk4"`` (vectorised
+        across bodies: the fastest per step), ``"splitting"`` or ``"strang"``
+        (as in :func:`tumble.simulate`).
+    torque : a torque model that batches accept (its class's ``in_batches``:
+        constant body and space torques and linear damping), each either one
+        value for all bodies or one per body (``ConstantBodyTorque(array (N,
+        3))``, ``LinearDamping(array (N,))``). Gravity needs a pivot, user
+        functions a single body: use :func:`tumble.simulate` for those.
+    record_every : None to keep only the final states (memory stays O(N)), or k
+        to also keep every k-th state.
+    progress : None or ``progress(done, total)`` in steps.
+
+    Returns
+    -------
+    BatchResult — the same states as N separate :func:`tumble.simulate` calls with
+    the same method and ``dt``, to round-off.
+    """
+    integrator = get_integrator(method, batch=True)
+    values = vector_to_si(
+        inertia, "inertia", "inertia", (-1, 3) if np.ndim(inertia) == 2 else (-1, 3, 3)
+    )
+    n = values.shape[0]
+    omega = vector_to_si(omega0, "angular_velocity", "omega0", (n, 3))
+    q0 = _attitudes(attitude0, n)
+    bodies = BodyBatch.from_inertia(values)
+    _check_moments(bodies.moments)
+    total_time = to_si(duration, "time", "duration")
+    if total_time <= 0:
+        raise InputError(f"Expected `duration` > 0 s, got {total_time!r}.")
+    step = to_si(dt, "time", "dt")
+    if step <= 0:
+        raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
+    if torque is not None and not isinstance(torque, TorqueModel):
+        raise InputError(
+            f"Expected `torque` to be a model from tumble.torques, got {type(torque).__name__}."
+        )
+    for term in () if torque is None else torque.terms:
+        if not term.in_batches:
+            accepted = ", ".join(name for name, cls in TORQUES.items() if cls.in_batches)
+            raise InputError(
+                f"Expected `torque` of models that batches accept ({accepted}), got {term!r} "
+                "(use simulate for it)."
+            )
+    if record_every is not None and (isinstance(record_every, bool) or record_every < 1):
+        raise InputError(
+            f"Expected `record_every` to be None or an integer >= 1, got {record_every!r}."
+        )
+    bound = bind(torque, bodies, bodies=n)
+    n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
+    step = total_time / n_steps
+
+    w = np.ascontiguousarray(bodies.to_principal(omega).T)
+    q = np.ascontiguousarray(bodies.attitude_to_principal(q0).T)
+    inertia_soa = np.ascontiguousarray(bodies.moments.T)
+    run = step_batch(
+        integrator, inertia_soa, w, q, bound, step, n_steps, record_every=record_every,
+        progress=progress,
+    )  # fmt: skip
+
+    def to_body(ws: Array, qs: Array) -> tuple[Array, Array]:
+        return bodies.from_principal(ws.T.copy()), bodies.attitude_from_principal(qs.T.copy())
+
+    final_w, final_q = to_body(w, q)
+    if record_every is None:
+        return BatchResult(final_w, final_q, np.array([total_time]), None, None, step, method)
+    pairs = [to_body(a, b) for a, b in zip(run.omega_history, run.quaternion_history, strict=True)]
+    return BatchResult(
+        final_w,
+        final_q,
+        np.asarray(run.times),
+        np.stack([p[0] for p in pairs]),
+        np.stack([p[1] for p in pairs]),
+        step,
+        method,
+    )
+
+
+def _attitudes(attitude0: Any, n: int) -> Array:
+    """(n, 4) unit quaternions (identity when None)."""
+    if attitude0 is None:
+        return np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    q0 = vector_to_si(attitude0, "dimensionless", "attitude0", (n, 4))
+    norms = np.linalg.norm(q0, axis=1)
+    if np.any(norms < 1e-12):
+        k = int(np.argmin(norms))
+        raise InputError(
+            f"Expected `attitude0` to hold non-zero quaternions, got attitude0[{k}] = "
+            f"{q0[k].tolist()}."
+        )
+    return np.asarray(q0 / norms[:, None])
+
+
+def _check_moments(moments: Array) -> None:
+    """Positive moments satisfying the triangle inequality, for every body."""
+    low = np.min(moments, axis=1)
+    high = np.max(moments, axis=1)
+    bad = np.flatnonzero(~(low > ZERO_MOMENT * high))
+    if bad.size:
+        k = int(bad[0])
+        raise InputError(
+            f"Expected every body to have positive principal moments, got body {k} with "
+            f"{moments[k].tolist()} kg·m²."
+        )
+    ordered = np.sort(moments, axis=1)
+    short = ordered[:, 0] + ordered[:, 1] < ordered[:, 2] * (1 - PHYSICAL_TOLERANCE)
+    broken = np.flatnonzero(short)
+    if broken.size:
+        k = int(broken[0])
+        raise InputError(
+            f"Expected principal moments satisfying I1 + I2 >= I3, got body {k} with "
+            f"{moments[k].tolist()} kg·m²."
+        )

@@ -1,0 +1,224 @@
+"""The integrators, in one registry.
+
+Each entry of :data:`INTEGRATORS` says what an integrator is (kind, order,
+what it preserves, which torques it handles, when ``method="auto"`` picks it)
+and gives its compiled kernels: for one body (``single``), for batches
+(``batch``) and for batches measured as they step (``metrics``), each a
+factory ``factory(torque_function, identity) -> kernel`` that specialises the
+kernel for one simulation's torque (:mod:`tumble.core.torques`). Everything
+that needs to know which methods exist — :func:`tumble.simulate` and its
+``"auto"`` choice, :func:`tumble.simulate_batch`, the scenario and sweep files,
+the sweep engine, the tests — reads this registry.
+
+A new integrator is its kernels and one :func:`register_integrator` call.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import partial
+from typing import Any, Literal
+
+from tumble.core import adaptive, rk4, splitting
+from tumble.errors import InputError
+from tumble.integrators import drivers
+from tumble.torques import BoundTorque
+
+__all__ = [
+    "INTEGRATORS",
+    "Integrator",
+    "auto_choice",
+    "batch_integrators",
+    "get_integrator",
+    "register_integrator",
+]
+
+#: How ``dt`` is used: a fixed step (``"stepping"``), the sampling interval of a
+#: solution evaluated at any time (``"sampling"``), or the sampling interval of
+#: a method that chooses its own steps (``"adaptive"``).
+Kind = Literal["stepping", "sampling", "adaptive"]
+
+KernelFactory = Callable[[Any, str], Any]
+
+
+@dataclass(frozen=True, eq=False)
+class Integrator:
+    """One integrator of the registry.
+
+    Attributes
+    ----------
+    name : its value of ``method``.
+    summary : one line: what it is.
+    kind : see :data:`Kind`.
+    order : its order of accuracy (0 for an exact solution).
+    preserves : what it keeps exactly or bounded, in words.
+    torque_free_only : True when it solves torque-free motion only.
+    exact_symmetric_spin : True when its free flow turns a symmetric body
+        exactly (a step need not resolve the spin about the symmetry axis).
+    auto : None, or ``auto(torque) -> reason or None``: why ``method="auto"``
+        picks it for this bound torque (the first entry with a reason wins).
+    single, batch, metrics : kernel factories (see the module's docstring), or None.
+    run : the single-body driver of its kind (:mod:`tumble.integrators.drivers`).
+    """
+
+    name: str
+    summary: str
+    kind: Kind
+    order: int
+    preserves: str
+    run: Callable[..., Any]
+    torque_free_only: bool = False
+    exact_symmetric_spin: bool = False
+    auto: Callable[[BoundTorque], str | None] | None = None
+    single: KernelFactory | None = None
+    batch: KernelFactory | None = None
+    metrics: KernelFactory | None = None
+    _kernels: dict[tuple[str, str], Any] = field(default_factory=dict, repr=False)
+    _lock: Any = field(default_factory=threading.Lock, repr=False)
+
+    @property
+    def supports_batch(self) -> bool:
+        return self.batch is not None
+
+    def kernel(self, role: Literal["single", "batch", "metrics"], torque: BoundTorque) -> Any:
+        """The compiled kernel ``role`` specialised for ``torque`` (built once per
+        process; compiled on first call, or loaded from the on-disk cache)."""
+        factory = getattr(self, role)
+        if factory is None:
+            raise InputError(f"Expected an integrator with a {role} kernel, got {self.name!r}.")
+        key = (role, torque.identity)
+        with self._lock:
+            kernel = self._kernels.get(key)
+            if kernel is None:
+                kernel = self._kernels[key] = factory(torque.function, torque.identity)
+        return kernel
+
+
+#: Every registered integrator by name, in the order ``"auto"`` considers them.
+INTEGRATORS: dict[str, Integrator] = {}
+
+
+def register_integrator(integrator: Integrator) -> Integrator:
+    """Add an integrator to :data:`INTEGRATORS` (replacing one of the same name)."""
+    if integrator.name == "auto":
+        raise InputError("Expected an integrator name other than 'auto', got 'auto'.")
+    INTEGRATORS[integrator.name] = integrator
+    return integrator
+
+
+def batch_integrators() -> list[str]:
+    """Names of the integrators with batch kernels."""
+    return [name for name, entry in INTEGRATORS.items() if entry.supports_batch]
+
+
+def get_integrator(name: str, *, batch: bool = False) -> Integrator:
+    """The integrator ``name`` (for batches: one with batch kernels).
+
+    Raises
+    ------
+    InputError
+        An unknown name; the message lists the choices.
+    """
+    names = batch_integrators() if batch else ["auto", *INTEGRATORS]
+    if name not in names or name == "auto":
+        raise InputError(f"Expected `method` to be one of {', '.join(names)}, got {name!r}.")
+    return INTEGRATORS[name]
+
+
+def auto_choice(torque: BoundTorque) -> tuple[Integrator, str]:
+    """The integrator ``method="auto"`` picks for this bound torque, and why."""
+    for entry in INTEGRATORS.values():
+        reason = entry.auto(torque) if entry.auto is not None else None
+        if reason is not None:
+            return entry, f"auto: {reason}"
+    raise InputError("Expected an integrator that 'auto' can choose, got none registered.")
+
+
+def _exact_when(torque: BoundTorque) -> str | None:
+    return (
+        "torque-free, so the exact solution (Jacobi elliptic functions)"
+        if (torque.torque_free)
+        else None
+    )
+
+
+def _splitting_when(torque: BoundTorque) -> str | None:
+    if not torque.conservative:
+        return None
+    return "the torque is conservative, so the symplectic splitting (bounded energy error)"
+
+
+def _adaptive_when(torque: BoundTorque) -> str | None:
+    return "non-conservative torques, so the adaptive Dormand–Prince 5(4)"
+
+
+register_integrator(
+    Integrator(
+        name="exact",
+        summary="the closed-form torque-free motion, sampled every dt; no stepping error",
+        kind="sampling",
+        order=0,
+        preserves="everything, to round-off",
+        run=drivers.run_exact,
+        torque_free_only=True,
+        auto=_exact_when,
+    )
+)
+register_integrator(
+    Integrator(
+        name="splitting",
+        summary="fourth-order symplectic splitting (Yoshida's composition of strang)",
+        kind="stepping",
+        order=4,
+        preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
+        "a symmetric body's free motion exactly",
+        run=drivers.run_stepping,
+        exact_symmetric_spin=True,
+        auto=_splitting_when,
+        single=partial(splitting.single_kernel, order=4),
+        batch=partial(splitting.batch_kernel, order=4),
+        metrics=partial(splitting.metrics_kernel, order=4),
+    )
+)
+register_integrator(
+    Integrator(
+        name="strang",
+        summary="second-order symplectic splitting: exact rotations and torque kicks",
+        kind="stepping",
+        order=2,
+        preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
+        "a symmetric body's free motion exactly",
+        run=drivers.run_stepping,
+        exact_symmetric_spin=True,
+        single=partial(splitting.single_kernel, order=2),
+        batch=partial(splitting.batch_kernel, order=2),
+        metrics=partial(splitting.metrics_kernel, order=2),
+    )
+)
+register_integrator(
+    Integrator(
+        name="rk4",
+        summary="classical Runge–Kutta, fixed step, quaternion renormalised",
+        kind="stepping",
+        order=4,
+        preserves="the unit quaternion",
+        run=drivers.run_stepping,
+        single=rk4.single_kernel,
+        batch=rk4.batch_kernel,
+        metrics=rk4.metrics_kernel,
+    )
+)
+register_integrator(
+    Integrator(
+        name="adaptive",
+        summary="Dormand–Prince 5(4) with step-size control and dense output every dt",
+        kind="adaptive",
+        order=5,
+        preserves="the unit quaternion; errors within rtol and atol per step",
+        run=drivers.run_adaptive,
+        auto=_adaptive_when,
+        single=adaptive.single_kernel,
+    )
+)

@@ -1,0 +1,213 @@
+"""Drivers that run one body's integration with the registry's kernels.
+
+One driver per kind of integrator (:data:`tumble.integrators.Kind`), each
+``run(integrator, problem, schedule, progress) -> (omega, quaternion, steps)``
+in the principal frame: fixed steps in chunks between progress reports
+(:func:`run_stepping`), adaptive steps sampled by dense output
+(:func:`run_adaptive`), or the exact solution sampled directly
+(:func:`run_exact`).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.body import RigidBody
+from tumble.core._jit import FINITE
+from tumble.errors import CoarseStepWarning, IntegrationError
+from tumble.integrators.exact import exact_principal
+from tumble.torques import BoundTorque
+
+__all__ = [
+    "ADAPTIVE_CHUNK",
+    "DEFAULT_STEPS_PER_TURN",
+    "MIN_STEPS_PER_TURN",
+    "PROGRESS_CHUNK",
+    "Problem",
+    "Schedule",
+    "run_adaptive",
+    "run_exact",
+    "run_stepping",
+    "step_in_chunks",
+    "warn_if_coarse",
+]
+
+Array = NDArray[np.float64]
+Progress = Callable[[int, int], object] | None
+
+#: Steps per call of a compiled kernel between progress reports.
+PROGRESS_CHUNK = 1 << 17
+
+#: Samples per call of the adaptive kernel between progress reports.
+ADAPTIVE_CHUNK = 4096
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """One body's integration: the body, its bound torque and the initial state in
+    its principal frame (ω0, rad/s; q0 principal → space)."""
+
+    body: RigidBody
+    torque: BoundTorque
+    omega0: Array
+    attitude0: Array
+
+
+@dataclass(frozen=True, eq=False)
+class Schedule:
+    """When to step and what to keep: ``times`` (n,) the recorded times (s; the
+    last is the end, also when it is not a whole number of ``record_every``
+    steps); ``n_steps`` steps of ``step`` s; the adaptive tolerances."""
+
+    times: Array
+    n_steps: int
+    step: float
+    record_every: int
+    rtol: float = 1e-10
+    atol: float = 1e-12
+
+    @classmethod
+    def build(
+        cls, duration: float, step: float, record_every: int, **tolerances: float
+    ) -> Schedule:
+        """Whole steps over ``duration`` (s): ``step`` shortened slightly so that they
+        span it; every ``record_every``-th step kept, and the last."""
+        n_steps = max(1, math.ceil(duration / step * (1 - 1e-12)))
+        step = duration / n_steps
+        times = np.arange(n_steps // record_every + 1) * (record_every * step)
+        if n_steps % record_every != 0:
+            times = np.append(times, duration)
+        return cls(np.asarray(times, dtype=float), n_steps, step, record_every, **tolerances)
+
+
+def step_in_chunks(
+    run: Callable[[int, int], int],
+    n_steps: int,
+    step: float,
+    progress: Progress,
+) -> None:
+    """Call ``run(done, count)`` (a compiled kernel's status: ``FINITE`` or the
+    number of the first non-finite step) over chunks of ``PROGRESS_CHUNK``
+    steps, reporting ``progress(done, n_steps)`` after each.
+
+    Raises
+    ------
+    IntegrationError
+        When a chunk reports a non-finite step; the message names it and its time.
+    """
+    done = 0
+    while done < n_steps:
+        count = min(PROGRESS_CHUNK, n_steps - done)
+        status = int(run(done, count))
+        if status != FINITE:
+            raise IntegrationError(
+                f"Expected the integration to stay finite, got NaN or inf at step {status} "
+                f"(t = {status * step:.6g} s) with dt = {step:.3g} s: reduce dt."
+            )
+        done += count
+        if progress is not None:
+            progress(done, n_steps)
+
+
+def run_stepping(
+    integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
+) -> tuple[Array, Array, int]:
+    """Fixed steps with the integrator's single-body kernel."""
+    kernel = integrator.kernel("single", problem.torque)
+    rows = len(schedule.times)
+    out_w = np.empty((rows, 3))
+    out_q = np.empty((rows, 4))
+    w = np.array(problem.omega0, dtype=float)
+    q = np.array(problem.attitude0, dtype=float)
+    out_w[0], out_q[0] = w, q
+    torque = problem.torque
+    inertia = np.ascontiguousarray(problem.body.moments)
+
+    def run(done: int, count: int) -> int:
+        status = kernel(
+            w, q, inertia, torque.params, torque.context, schedule.step, count, done,
+            schedule.record_every, out_w, out_q,
+        )  # fmt: skip
+        return int(status)
+
+    step_in_chunks(run, schedule.n_steps, schedule.step, progress)
+    if schedule.n_steps % schedule.record_every != 0:
+        out_w[-1], out_q[-1] = w, q
+    return out_w, out_q, schedule.n_steps
+
+
+def run_adaptive(
+    integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
+) -> tuple[Array, Array, int]:
+    """Adaptive steps, sampled at ``schedule.times`` (times[0] = 0) by dense output."""
+    from tumble.core.adaptive import ACCEPTED, FAILED_AT
+
+    kernel = integrator.kernel("single", problem.torque)
+    times = schedule.times
+    out_w = np.empty((times.size, 3))
+    out_q = np.empty((times.size, 4))
+    w = np.array(problem.omega0, dtype=float)
+    q = np.array(problem.attitude0, dtype=float)
+    out_w[0], out_q[0] = w, q
+    control = np.array([0.0, schedule.rtol, schedule.atol, 0.0, 0.0, 0.0])
+    torque = problem.torque
+    inertia = np.ascontiguousarray(problem.body.moments)
+    total = times.size - 1
+    for first in range(1, times.size, ADAPTIVE_CHUNK):
+        last = min(first + ADAPTIVE_CHUNK, times.size)
+        status = kernel(
+            w, q, inertia, torque.params, torque.context, times[first - 1], times[last - 1],
+            control, times[first:last], out_w[first:last], out_q[first:last],
+        )  # fmt: skip
+        if status != FINITE:
+            raise IntegrationError(
+                "Expected the integration to stay finite, got a step size below round-off at "
+                f"t = {control[FAILED_AT]:.6g} s (the state became NaN or infinite, "
+                "or the torque is singular there)."
+            )
+        if progress is not None:
+            progress(last - 1, total)
+    return out_w, out_q, int(control[ACCEPTED])
+
+
+def run_exact(
+    integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
+) -> tuple[Array, Array, int]:
+    """The exact torque-free solution at ``schedule.times``; no steps."""
+    w, q = exact_principal(problem.body.moments, problem.omega0, problem.attitude0, schedule.times)
+    if progress is not None:
+        progress(schedule.n_steps, schedule.n_steps)
+    return w, q, 0
+
+
+#: Fewer integration steps than this per turn of the fastest rotation trigger a
+#: :class:`~tumble.errors.CoarseStepWarning`: RK4's phase error per turn grows as
+#: (2π/n)⁴/120 and passes 1e-4 below about 20 steps a turn.
+MIN_STEPS_PER_TURN = 20
+
+#: Steps per turn of the fastest rotation when ``dt`` is not given: RK4 then
+#: keeps ω to about 1e-10 relative per turn.
+DEFAULT_STEPS_PER_TURN = 200
+
+
+def warn_if_coarse(step: float, fastest: float, what: str, stacklevel: int = 3) -> None:
+    """Warn (:class:`~tumble.errors.CoarseStepWarning`) when a step of ``step`` s
+    gives fewer than ``MIN_STEPS_PER_TURN`` steps per turn at ``fastest`` rad/s,
+    the rate of ``what`` (e.g. "the fastest rotation")."""
+    if fastest <= 0:
+        return
+    per_turn = 2 * math.pi / (fastest * step)
+    if per_turn < MIN_STEPS_PER_TURN:
+        warnings.warn(
+            f"dt = {step:.3g} s gives {per_turn:.1f} steps per turn of {what} "
+            f"({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the result is inaccurate.",
+            CoarseStepWarning,
+            stacklevel=stacklevel,
+        )

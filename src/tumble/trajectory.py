@@ -1,0 +1,285 @@
+"""A simulated rotation: :class:`Trajectory`, its physical quantities, its Parquet files.
+
+The angular momentum, the energy and the conserved quantities of a trajectory
+come from its body model (:class:`tumble.body.RigidBody`) and its gravity
+(:class:`tumble.torques.Gravity`); its drift report lists exactly the
+quantities its motion conserves (:data:`tumble.body.INVARIANTS`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
+
+from tumble.body import INVARIANTS, RigidBody, label
+from tumble.errors import InputError
+from tumble.massprops import MassProperties
+from tumble.torques import Gravity
+
+__all__ = ["Trajectory"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """A simulated rotation, sampled at times ``t``.
+
+    Attributes
+    ----------
+    t : (n,) s.
+    omega : (n, 3) angular velocity in body coordinates, rad/s.
+    quaternion : (n, 4) unit quaternions ``[w, x, y, z]``, body → space.
+    mass_properties : the body.
+    pivot : None (free body) or the fixed body point, m.
+    gravity : (3,) gravitational acceleration in space coordinates, m/s².
+    method : the integrator that ran; ``reason``: why it was chosen.
+    dt : the integration step used (fixed-step methods) or the sampling
+        interval (exact, adaptive), s.
+    steps : integration steps taken (accepted steps for the adaptive method;
+        0 for the exact solution).
+    conserved : the quantities the motion conserves (keys of
+        :data:`tumble.body.INVARIANTS`), as :func:`tumble.simulate` found them
+        from the body and its torques; None: those of the body under its
+        gravity alone.
+    invariant_values : quantities a model computed itself, by name (n,) (e.g.
+        the gyrocompass's ``jacobi_integral``); they count as conserved.
+    """
+
+    t: Array
+    omega: Array
+    quaternion: Array
+    mass_properties: MassProperties
+    pivot: Array | None
+    gravity: Array
+    method: str
+    reason: str
+    dt: float
+    steps: int = 0
+    conserved: tuple[str, ...] | None = None
+    invariant_values: Mapping[str, Array] = field(default_factory=dict)
+
+    def samples(self, index: Any) -> Trajectory:
+        """The trajectory at some of its samples (an index or slice into ``t``)."""
+        return dataclasses.replace(
+            self,
+            t=self.t[index],
+            omega=self.omega[index],
+            quaternion=self.quaternion[index],
+            invariant_values={k: np.asarray(v)[index] for k, v in self.invariant_values.items()},
+        )
+
+    @cached_property
+    def body(self) -> RigidBody:
+        """The body model: the body turning about its centre of mass or the pivot."""
+        return RigidBody(self.mass_properties, self.pivot)
+
+    @cached_property
+    def rotation(self) -> Any:
+        """The attitudes as one scipy ``Rotation`` (n rotations), body → space."""
+        return Rotation.from_quat(self.quaternion, scalar_first=True)
+
+    @cached_property
+    def _matrices(self) -> Array:
+        return np.asarray(self.rotation.as_matrix())
+
+    @cached_property
+    def omega_space(self) -> Array:
+        """(n, 3) angular velocity in space coordinates, rad/s."""
+        return np.einsum("nij,nj->ni", self._matrices, self.omega)
+
+    @cached_property
+    def angular_momentum(self) -> Array:
+        """(n, 3) angular momentum in space coordinates, kg·m²/s, about the centre
+        of mass (free body) or about the pivot."""
+        return np.einsum("nij,nj->ni", self._matrices, self.body.angular_momentum(self.omega))
+
+    @cached_property
+    def energy(self) -> Array:
+        """(n,) total energy, J: rotational kinetic energy (about the centre of mass,
+        or about the pivot), plus the potential energy of gravity about the pivot."""
+        kinetic = self.body.kinetic_energy(self.omega)
+        potential = Gravity(self.gravity).potential_energy(self.body, self._matrices)
+        return np.asarray(kinetic + potential)
+
+    # ------------------------------------------------------------ invariants
+    @cached_property
+    def conserved_quantities(self) -> tuple[str, ...]:
+        """The names of the quantities this motion conserves, in the order of
+        :data:`tumble.body.INVARIANTS`."""
+        names = self.conserved
+        if names is None:
+            names = self.body.conserved([Gravity(self.gravity)])
+        return tuple(dict.fromkeys((*names, *self.invariant_values)))
+
+    def invariant(self, name: str) -> Array:
+        """The values over time of a quantity of :data:`tumble.body.INVARIANTS`:
+        (n,), or (n, 3) for the vector L (space axes)."""
+        if name in self.invariant_values:
+            return np.asarray(self.invariant_values[name], dtype=float)
+        momentum = self.angular_momentum
+        if name == "energy":
+            return self.energy
+        if name == "angular_momentum_vector":
+            return momentum
+        if name == "angular_momentum_norm":
+            return np.asarray(np.linalg.norm(momentum, axis=1))
+        if name == "angular_momentum_vertical":
+            size = float(np.linalg.norm(self.gravity))
+            if size == 0.0:
+                raise InputError("Expected gravity for `angular_momentum_vertical`, got none.")
+            return np.asarray(momentum @ (-self.gravity / size))
+        if name == "angular_momentum_axial":
+            lever = self.body.lever
+            axis = lever / max(float(np.linalg.norm(lever)), np.finfo(float).tiny)
+            return np.asarray(self.body.angular_momentum(self.omega) @ axis)
+        raise InputError(
+            f"Expected one of {', '.join(INVARIANTS)} or a model's own quantity, got {name!r}."
+        )
+
+    def relative_change(self, name: str) -> Array:
+        """(n,) the change of a conserved quantity from its initial value, relative:
+        energies to their largest magnitude, components of L to |L(0)|, and the
+        vector L as the length of its change over |L(0)|."""
+        values = self.invariant(name)
+        tiny = np.finfo(float).tiny
+        if name.startswith("angular_momentum"):
+            size = max(float(np.linalg.norm(self.angular_momentum[0])), tiny)
+            if values.ndim == 2:
+                return np.asarray(np.linalg.norm(values - values[0], axis=1) / size)
+            return np.asarray((values - values[0]) / size)
+        scale = max(abs(float(values[0])), float(np.max(np.abs(values))), tiny)
+        return np.asarray((values - values[0]) / scale)
+
+    @cached_property
+    def drift(self) -> dict[str, float]:
+        """Largest relative change (:meth:`relative_change`) over the trajectory of
+        each quantity the motion conserves, and of nothing else."""
+        return {
+            name: float(np.max(np.abs(self.relative_change(name))))
+            for name in self.conserved_quantities
+        }
+
+    def __repr__(self) -> str:
+        kind = "free body" if self.pivot is None else f"pivot at {self.pivot.tolist()} m"
+        drift = ", ".join(f"{label(name)} {value:.2e}" for name, value in self.drift.items())
+        return (
+            f"Trajectory({len(self.t)} samples over {self.t[-1]:.6g} s, {kind}, "
+            f"method {self.method} (dt = {self.dt:.3g} s, {self.steps} steps; {self.reason}); "
+            f"relative drift: {drift or 'nothing conserved'})"
+        )
+
+    # ------------------------------------------------------------- Parquet
+    def to_parquet(self, path: str | os.PathLike[str]) -> None:
+        """Write the samples and the run's description to a Parquet file.
+
+        Columns ``t, omega_x, omega_y, omega_z, q_w, q_x, q_y, q_z`` (SI, body
+        axes, scalar-first body → space), and one column per quantity a model
+        computed itself; the body, pivot, gravity, method, step and conserved
+        quantities go in the file's metadata. Written to a temporary name and
+        renamed, so the file is never half-written.
+        """
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        from tumble import __version__
+
+        columns = {"t": self.t}
+        for k, axis in enumerate("xyz"):
+            columns[f"omega_{axis}"] = self.omega[:, k]
+        for k, part in enumerate("wxyz"):
+            columns[f"q_{part}"] = self.quaternion[:, k]
+        for name, values in self.invariant_values.items():
+            columns[f"invariant_{name}"] = np.asarray(values, dtype=float)
+        mp = self.mass_properties
+        meta = {
+            "tumble_version": __version__,
+            "mass": mp.mass,
+            "center_of_mass": mp.center_of_mass.tolist(),
+            "inertia": mp.inertia.tolist(),
+            "pivot": None if self.pivot is None else self.pivot.tolist(),
+            "gravity": self.gravity.tolist(),
+            "method": self.method,
+            "reason": self.reason,
+            "dt": self.dt,
+            "steps": self.steps,
+            "conserved": list(self.conserved_quantities),
+            "units": "SI: s, rad/s, kg, m, kg*m^2; quaternion [w, x, y, z] body -> space",
+        }
+        table = pa.table(columns).replace_schema_metadata({"tumble": json.dumps(meta)})
+        target = Path(path)
+        temporary = target.with_name(f".{target.name}.partial")
+        pq.write_table(table, temporary)
+        os.replace(temporary, target)
+
+    @classmethod
+    def read_parquet(cls, path: str | os.PathLike[str]) -> Trajectory:
+        """Read a file written by :meth:`to_parquet`."""
+        import pyarrow.parquet as pq
+
+        try:
+            table = pq.read_table(path)
+        except (OSError, ValueError) as exc:
+            raise InputError(
+                f"Expected a Parquet file written by tumble, got {str(path)!r}: {exc}"
+            ) from None
+        raw = (table.schema.metadata or {}).get(b"tumble")
+        if raw is None:
+            raise InputError(
+                f"Expected a Parquet file written by tumble, got {str(path)!r} "
+                "(no tumble metadata)."
+            )
+        meta = json.loads(raw)
+        data = {name: table.column(name).to_numpy() for name in table.column_names}
+        own = {
+            name.removeprefix("invariant_"): values
+            for name, values in data.items()
+            if name.startswith("invariant_")
+        }
+        conserved = meta.get("conserved")
+        return cls(
+            t=data["t"],
+            omega=np.column_stack([data[f"omega_{a}"] for a in "xyz"]),
+            quaternion=np.column_stack([data[f"q_{p}"] for p in "wxyz"]),
+            mass_properties=MassProperties(meta["mass"], meta["center_of_mass"], meta["inertia"]),
+            pivot=None if meta["pivot"] is None else np.asarray(meta["pivot"], dtype=float),
+            gravity=np.asarray(meta["gravity"], dtype=float),
+            method=meta["method"],
+            reason=meta["reason"],
+            dt=float(meta["dt"]),
+            steps=int(meta.get("steps", 0)),
+            conserved=None if conserved is None else tuple(n for n in conserved if n not in own),
+            invariant_values=own,
+        )
+
+    # ------------------------------------------------------------ notebooks
+    def _repr_html_(self) -> str:
+        from tumble.report.html import trajectory_html
+
+        return trajectory_html(self)
+
+    def plot(self) -> dict[str, Any]:
+        """Matplotlib figures by name: ``omega`` (ω(t), body axes), ``angular_momentum``
+        (L(t), space axes), ``drift`` (the conserved quantities) and ``polhode`` (L
+        in principal axes on the energy ellipsoid). See :mod:`tumble.report.plots`."""
+        from tumble.report import figures
+
+        return figures(self)
+
+    def view(self, frames: int = 300) -> Any:
+        """The interactive 3D viewer (the body as an ellipsoid of equal inertia, its
+        principal axes, ω and L, play / pause and a time slider): shown inline in a
+        notebook, ``.save(path)`` writes a self-contained HTML file."""
+        from tumble.report import view
+
+        return view(self, frames=frames)
