@@ -2,7 +2,8 @@
 
 Oracles: an independent DOP853 integration in body axes (tests/reference.py),
 the exact torque-free solution, closed forms, convergence orders, and the
-conservation laws each method must keep.
+conservation laws each method must keep. Every registered integrator also runs
+the oracle tests of tests/test_registries.py.
 """
 
 from __future__ import annotations
@@ -44,31 +45,6 @@ def heavy_top():
     disk = tb.shapes.solid_cylinder(1.0, 0.1, 0.02)
     q0 = Rotation.from_euler("x", 60, degrees=True).as_quat(scalar_first=True)
     return disk, q0, np.array([0.3, -0.2, 60.0])
-
-
-@pytest.mark.parametrize(
-    ("method", "dt", "tolerance"),
-    [
-        # Global errors over 5 s of motion at |ω| ~ 1 rad/s with an error
-        # constant of order 1: RK4 and Yoshida-4 at dt = 1e-2 have (dt)⁴ ≈ 1e-8,
-        # Strang (dt)² ≈ 1e-4 at dt = 1e-2 (its constant is smaller: 1e-5).
-        ("rk4", 1e-2, 1e-8),
-        ("splitting", 1e-2, 1e-7),
-        ("strang", 1e-2, 1e-4),
-        # Adaptive at rtol 1e-10: local errors 1e-10, amplified by the ~100
-        # accepted steps and the flow's sensitivity: 1e-8 is ample.
-        ("adaptive", 0.1, 1e-8),
-    ],
-)
-def test_forced_motion_matches_a_reference_integration(method, dt, tolerance) -> None:
-    run = tb.simulate(
-        TUMBLER, OMEGA0, attitude0=Q0, duration=5.0, dt=dt, torque=FORCING, method=method
-    )
-    times = run.t[:: max(1, len(run.t) // 7)]
-    w_ref, a_ref = reference(TUMBLER, OMEGA0, Q0, 5.0, torque=forcing_reference, times=times)
-    rows = np.searchsorted(run.t, times)
-    assert np.max(np.abs(run.omega[rows] - w_ref)) < tolerance
-    assert attitude_error(run.quaternion[rows], a_ref) < tolerance
 
 
 @pytest.mark.parametrize(
