@@ -1,6 +1,8 @@
-"""The compiled core imports only numpy, numba and a few standard modules.
+"""The compiled core imports only numpy, numba and a few standard modules; the
+file packages (config, scenario, sweep) import neither their package back nor
+another module's private names.
 
-import-linter (``make contracts``) forbids named packages; this test allows a
+import-linter (``make contracts``) forbids named packages; these tests allow a
 fixed list instead, so a new dependency cannot slip into ``tumble.core``.
 """
 
@@ -9,7 +11,12 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+import pytest
+
+import tumble.config
 import tumble.core
+import tumble.scenario
+import tumble.sweep
 
 CORE = Path(tumble.core.__file__).parent
 # numpy, numba and a few standard modules (ctypes: the user-torque callback read
@@ -40,3 +47,34 @@ def test_core_imports_only_numpy_and_numba() -> None:
     assert not outside, f"tumble.core imports {outside}"
     assert not inside_tumble, f"tumble.core imports the outer package: {inside_tumble}"
     assert "numba" in seen  # the scan does see the kernels' imports
+
+
+FILE_PACKAGES = (tumble.config, tumble.scenario, tumble.sweep)
+
+
+def test_file_packages_import_no_private_name_of_another_module() -> None:
+    found = []
+    for package in FILE_PACKAGES:
+        for path in sorted(Path(package.__file__).parent.glob("*.py")):
+            for node in ast.walk(ast.parse(path.read_text())):
+                if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("tumble"):
+                    found += [
+                        f"{path.name}: {node.module}.{alias.name}"
+                        for alias in node.names
+                        if alias.name.startswith("_") and not alias.name.startswith("__")
+                    ]
+    assert not found, f"private names imported from other modules: {found}"
+
+
+def test_modules_of_the_file_packages_do_not_import_their_package() -> None:
+    # The package's __init__ holds the entry points, which import the modules:
+    # a module importing it back would make a cycle.
+    grimp = pytest.importorskip("grimp")
+    graph = grimp.build_graph("tumble")
+    cycles = [
+        f"{module} -> {package.__name__}"
+        for package in FILE_PACKAGES
+        for module in graph.find_children(package.__name__)
+        if package.__name__ in graph.find_modules_directly_imported_by(module)
+    ]
+    assert not cycles, f"modules importing their own package: {cycles}"

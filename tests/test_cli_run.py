@@ -140,7 +140,7 @@ def test_default_folder_is_under_runs(
         ),
         (
             QUICK.replace("[output]", "[ouptut]"),
-            r"^error: .*quick\.toml, line 17, `ouptut`: Unknown key `ouptut`: .* Did you mean `output`\?$",
+            r"^error: .*quick\.toml, line 17, `ouptut`: Expected one of .*, got the unknown key `ouptut`\. Did you mean `output`\?$",
         ),
         (
             QUICK.replace('duration = "5 s"', 'duration = "0 s"'),

@@ -89,6 +89,10 @@ def test_report_is_self_contained(folder: Path, gyroscope: object) -> None:
         assert row["quantity"] in page
     assert 'href="viewer.html"' in page
     assert "pivot = &quot;0, 0, -10 cm&quot;" in page  # the scenario itself, escaped
+    # The stylesheet shipped with the package, inlined.
+    from tumble.report.html import stylesheet
+
+    assert "td.num {" in stylesheet() and f"<style>{stylesheet()}</style>" in page
 
 
 def test_viewer_is_self_contained_and_small(folder: Path) -> None:

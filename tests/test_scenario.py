@@ -34,17 +34,17 @@ def rows(result: object) -> dict[str, dict]:
         (
             'radius = "10 cm"',
             'radus = "10 cm"',
-            r"g\.toml, line 20, `body\.radus`: Unknown key `radus`: expected one of .*radius.* Did you mean `radius`\?",
+            r"g\.toml, line 20, `body\.radus`: Expected one of `translation`, `rotation`, `shape`, `mass`, `radius`, .*, got the unknown key `radus`\. Did you mean `radius`\?",
         ),
         (
             "[output]",
             "[outputs]",
-            r"line 38, `outputs`: Unknown key `outputs`.* Did you mean `output`\?",
+            r"line 38, `outputs`: Expected one of `scenario`, `body`, .*, got the unknown key `outputs`\. Did you mean `output`\?",
         ),
         (
             'method = "auto"  ',
             'methd = "auto"  ',
-            r"line 33, `simulation\.methd`: Unknown key `methd`.*Did you mean `method`\?",
+            r"line 33, `simulation\.methd`: Expected one of `duration`, `dt`, `method`, got the unknown key `methd`\. Did you mean `method`\?",
         ),
         # wrong units
         (
@@ -197,6 +197,15 @@ def test_a_missing_table_is_named() -> None:
         parse("[scenario]\nname = 'x'\n[body]\nshape = 'solid-sphere'\nmass = 1\nradius = 1\n")
 
 
+def test_other_problems_are_counted() -> None:
+    text = edited('duration = "5 s"', 'duration = "0 s"', edited('mass = "1 kg"', 'mass = "-1 kg"'))
+    with pytest.raises(
+        ScenarioError,
+        match=r"^<scenario>, line 19, `body\.mass`: Expected `mass` > 0 kg, got -1\.0\. \(1 more problem\)$",
+    ):
+        parse(text)
+
+
 def test_keys_inside_a_part_are_located() -> None:
     text = edited('radius = "4 cm"', 'radius = "4 kg"', builtin_text("heavy-top"))
     with pytest.raises(
@@ -205,7 +214,8 @@ def test_keys_inside_a_part_are_located() -> None:
     ):
         parse(text)
     with pytest.raises(
-        ScenarioError, match=r"`body\.parts\[0\]\.rotation\.angel`: Unknown key `angel`"
+        ScenarioError,
+        match=r"`body\.parts\[0\]\.rotation\.angel`: Expected one of `euler_zxz`, `axis`, `angle`, `quaternion`, got the unknown key `angel`\. Did you mean `angle`\?",
     ):
         parse(edited('angle = "180 deg"', 'angel = "180 deg"', builtin_text("heavy-top")))
 

@@ -356,6 +356,10 @@ def test_sweep_writes_store_summary_and_report(
     page = (folder / "report.html").read_text()
     # Default maps: each of the 5 metrics over the first two varied parameters.
     assert page.count("data:image/png;base64,") == 5
+    # The run report's stylesheet: one for every page.
+    from tumble.report.html import stylesheet
+
+    assert f"<style>{stylesheet()}</style>" in page
     group = open_results(folder)
     assert group["metrics/first_flip_time"].attrs["units"] == "s"
     assert group["final/omega"].chunks == (18, 3)

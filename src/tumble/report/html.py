@@ -7,9 +7,11 @@ Nothing here loads from the network: figures are PNG data URIs, styles inline.
 from __future__ import annotations
 
 import base64
+import functools
 import html
 import math
 from collections.abc import Mapping, Sequence
+from importlib import resources
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -19,23 +21,14 @@ if TYPE_CHECKING:
     from tumble.scenario.execute import RunResult
     from tumble.simulation import Trajectory
 
-__all__ = ["mass_properties_html", "report_html", "trajectory_html"]
+__all__ = ["mass_properties_html", "report_html", "stylesheet", "trajectory_html"]
 
-_STYLE = """
-body { font-family: system-ui, sans-serif; max-width: 980px; margin: 24px auto; padding: 0 16px;
-       color: #222; line-height: 1.45; }
-h1 { font-size: 1.5rem; margin-bottom: 4px; }
-h2 { font-size: 1.15rem; margin-top: 28px; border-bottom: 1px solid #ddd; }
-table { border-collapse: collapse; margin: 8px 0; font-size: 0.92rem; }
-th, td { border: 1px solid #ddd; padding: 3px 8px; }
-th { background: #f3f3f3; text-align: left; }
-td.num { text-align: right; font-variant-numeric: tabular-nums;
-         font-family: ui-monospace, monospace; }
-.good { color: #1a7f37; } .fair { color: #9a6700; } .poor { color: #cf222e; }
-img { max-width: 100%; display: block; margin: 8px 0 18px 0; }
-pre { background: #f6f8fa; padding: 10px; overflow-x: auto; font-size: 0.85rem; }
-p.small { font-size: 0.85rem; color: #555; }
-"""
+
+@functools.cache
+def stylesheet() -> str:
+    """The CSS of tumble's HTML pages (``style.css``, shared by the run and sweep
+    reports), to inline in a page."""
+    return resources.files("tumble.report").joinpath("style.css").read_text(encoding="utf-8")
 
 
 def _e(value: Any) -> str:
@@ -143,7 +136,7 @@ def report_html(result: RunResult, figures: Mapping[str, bytes], viewer: str | N
     parts = [
         "<!DOCTYPE html>",
         '<html lang="en"><head><meta charset="utf-8">',
-        f"<title>{_e(title)} — tumble</title><style>{_STYLE}</style></head><body>",
+        f"<title>{_e(title)} — tumble</title><style>{stylesheet()}</style></head><body>",
         f"<h1>{_e(title)}</h1>",
         f'<p class="small">Scenario <b>{_e(info.name)}</b> ({_e(result.scenario.source)}), '
         f"tumble {_e(__version__)}.</p>",

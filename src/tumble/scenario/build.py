@@ -17,8 +17,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble.config import dotted
 from tumble.errors import InputError
 from tumble.massprops import MassProperties
+from tumble.scenario.files import BUILTINS, ScenarioError, where
 from tumble.scenario.schema import (
     Attitude,
     InertiaBody,
@@ -30,7 +32,7 @@ from tumble.scenario.schema import (
 )
 
 if TYPE_CHECKING:
-    from tumble.scenario import LoadedScenario
+    from tumble.scenario.files import LoadedScenario
 
 __all__ = [
     "Geometry",
@@ -48,14 +50,12 @@ Array = NDArray[np.float64]
 def at_key(loaded: LoadedScenario | None, *path: str | int) -> Iterator[None]:
     """Re-raise the library's InputError as a ScenarioError naming the key ``path``
     (and its line in the scenario's text)."""
-    from tumble.scenario import ScenarioError, _dotted, where
-
     try:
         yield
     except ScenarioError:
         raise
     except InputError as exc:
-        place = where(loaded, path) if loaded is not None else f"`{_dotted(path)}`"
+        place = where(loaded, path) if loaded is not None else f"`{dotted(path)}`"
         raise ScenarioError(f"{place}: {exc}") from None
 
 
@@ -80,11 +80,9 @@ def _rotation(attitude: Attitude | None) -> Any:
 
 def _mesh_path(body: MeshBody, folder: Path) -> Path:
     """The mesh file: relative to the scenario's folder, else one shipped with tumble."""
-    from tumble.scenario import _builtin_folder
-
     path = Path(body.mesh)
     if not path.is_absolute():
-        for base in (folder, _builtin_folder()):
+        for base in (folder, BUILTINS.folder()):
             if (base / path).is_file():
                 return base / path
         raise InputError(f"Expected a mesh file, got {body.mesh!r} (not found in {folder}).")

@@ -26,10 +26,11 @@ from tumble.scenario.build import (
     mass_properties,
     torque_model,
 )
+from tumble.scenario.files import ScenarioError
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
-    from tumble.scenario import LoadedScenario
+    from tumble.scenario.files import LoadedScenario
     from tumble.simulation import Trajectory
 
 __all__ = ["Curve", "Panel", "RunResult", "decimate", "execute"]
@@ -292,8 +293,6 @@ def _choose_theory(loaded: LoadedScenario, mp: MassProperties, state: Any) -> st
             "free-symmetric-top": "a free body with two equal principal moments",
             "flip-period": "a free body (no pivot with gravity, no torques)",
         }[wanted]
-        from tumble.scenario import ScenarioError
-
         raise ScenarioError(
             f"{loaded.source}, `theory.model`: Expected {needs} for {wanted!r}, got another setup "
             '(use model = "auto" or "none").'

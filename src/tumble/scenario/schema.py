@@ -21,7 +21,6 @@ import numpy as np
 from pydantic import (
     BaseModel,
     BeforeValidator,
-    ConfigDict,
     Discriminator,
     Field,
     Tag,
@@ -29,8 +28,8 @@ from pydantic import (
     field_validator,
     model_validator,
 )
-from pydantic_core import PydanticCustomError
 
+from tumble.config import StrictModel, key_error
 from tumble.errors import InputError
 from tumble.units import to_si, vector_to_si
 
@@ -46,6 +45,7 @@ __all__ = [
     "Simulation",
     "Theory",
     "Torque",
+    "key_path",
 ]
 
 Vector = tuple[float, float, float]
@@ -92,35 +92,8 @@ PositiveLengths = Annotated[Vector, _vector("length", positive=True)]
 Angles = Annotated[Vector, _vector("angle")]
 
 
-def _at(key: str, message: str) -> PydanticCustomError:
-    """An error about the key ``key`` of the model being validated (its path gets the key)."""
-    return PydanticCustomError("scenario_value", "{message}", {"message": message, "key": key})
-
-
-class _Strict(BaseModel):
-    """Frozen, and an unknown key is an error that suggests the nearest known one."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, str_strip_whitespace=True)
-
-    @model_validator(mode="before")
-    @classmethod
-    def _known_keys(cls, data: Any) -> Any:
-        if isinstance(data, dict):
-            known = list(cls.model_fields)
-            for key in data:
-                if key not in known:
-                    close = difflib.get_close_matches(str(key), known, n=1)
-                    hint = f" Did you mean `{close[0]}`?" if close else ""
-                    raise PydanticCustomError(
-                        "unknown_key",
-                        "Unknown key `{key}`: expected one of {known}.{hint}",
-                        {"key": str(key), "known": ", ".join(known), "hint": hint},
-                    )
-        return data
-
-
 # ------------------------------------------------------------ attitude
-class Attitude(_Strict):
+class Attitude(StrictModel):
     """An orientation, body → space (or part → assembly): exactly one of
 
     * ``euler_zxz = "φ, θ, ψ deg"`` — z-x-z Euler angles (precession, nutation,
@@ -200,7 +173,7 @@ SHAPES: dict[str, tuple[str, ...]] = {
 }
 
 
-class _Placed(_Strict):
+class _Placed(StrictModel):
     """A body that may be moved: first rotated about its origin, then translated."""
 
     translation: LengthVector | None = None
@@ -230,7 +203,7 @@ class ShapeBody(_Placed):
         if name not in SHAPES:
             close = difflib.get_close_matches(name, list(SHAPES), n=1)
             hint = f" Did you mean {close[0]!r}?" if close else ""
-            raise _at(
+            raise key_error(
                 "shape",
                 f"Expected `shape` to be one of {', '.join(SHAPES)}, got {self.shape!r}.{hint}",
             )
@@ -239,14 +212,14 @@ class ShapeBody(_Placed):
         given = {n for n in every if getattr(self, n) is not None}
         extra = sorted(given - set(needed))
         if extra:
-            raise _at(
+            raise key_error(
                 extra[0],
                 f"Expected only {', '.join(f'`{n}`' for n in needed)} for a {name}, "
                 f"got `{extra[0]}`.",
             )
         missing = [n for n in needed if n not in given]
         if missing:
-            raise _at(
+            raise key_error(
                 missing[0],
                 f"Expected {', '.join(f'`{n}`' for n in missing)} for a {name} "
                 f"(it takes `mass`, {', '.join(f'`{n}`' for n in needed)}).",
@@ -338,7 +311,7 @@ def _body_tag(value: Any) -> str | None:
     return present[0] if present else None
 
 
-class _Ambiguous(_Strict):
+class _Ambiguous(StrictModel):
     @model_validator(mode="before")
     @classmethod
     def _refuse(cls, data: Any) -> Any:
@@ -382,9 +355,24 @@ Body = Annotated[
     Discriminator(_body_tag, custom_error_type="body_kind", custom_error_message=_BODY_ERROR),
 ]
 
+_BODY_TAGS = {*_TAGS.values(), "ambiguous"}
+
+
+def key_path(loc: tuple[Any, ...]) -> list[Any]:
+    """The key path of the file from pydantic's location of an error: without the tags
+    of the body's union (after ``body``, or after a part's index), which no file writes."""
+    path: list[Any] = []
+    for k, part in enumerate(loc):
+        after_body = k == 1 and loc[0] == "body"
+        after_part = k >= 2 and isinstance(loc[k - 1], int) and loc[k - 2] == "parts"
+        if (after_body or after_part) and part in _BODY_TAGS:
+            continue
+        path.append(part)
+    return path
+
 
 # ------------------------------------------------------------ the rest
-class Info(_Strict):
+class Info(StrictModel):
     """``[scenario]``: a name (letters, digits, dashes), a title and a description."""
 
     name: str
@@ -402,7 +390,7 @@ class Info(_Strict):
         return value
 
 
-class Initial(_Strict):
+class Initial(StrictModel):
     """``[initial]``: ω (in body axes, or space axes with ``omega_frame = "space"``)
     and the attitude at t = 0 (default: body axes along space axes)."""
 
@@ -411,7 +399,7 @@ class Initial(_Strict):
     attitude: Attitude | None = None
 
 
-class Environment(_Strict):
+class Environment(StrictModel):
     """``[environment]``: a body point held fixed (``pivot``) and ``gravity`` (space axes)."""
 
     pivot: LengthVector | None = None
@@ -427,7 +415,7 @@ class Environment(_Strict):
         return self
 
 
-class Torque(_Strict):
+class Torque(StrictModel):
     """``[[torques]]``: ``type`` and its value.
 
     * ``constant-body``: ``torque`` (3,) N·m fixed in body axes;
@@ -458,7 +446,7 @@ class Torque(_Strict):
         return self
 
 
-class Simulation(_Strict):
+class Simulation(StrictModel):
     """``[simulation]``: ``duration``, and optionally ``dt`` and ``method``
     (see :func:`tumble.simulate`)."""
 
@@ -476,7 +464,7 @@ class Simulation(_Strict):
         return self
 
 
-class Theory(_Strict):
+class Theory(StrictModel):
     """``[theory]``: which closed form to compare with (``auto`` picks from the setup)."""
 
     model: Literal[
@@ -485,7 +473,7 @@ class Theory(_Strict):
     bearings: Annotated[tuple[float, float], _vector("length", (2,))] | None = None
 
 
-class Output(_Strict):
+class Output(StrictModel):
     """``[output]``: what the run records and produces."""
 
     samples: Annotated[int, Field(ge=10, le=1_000_000)] = 2000
@@ -494,7 +482,7 @@ class Output(_Strict):
     viewer_frames: Annotated[int, Field(ge=2, le=2000)] = 300
 
 
-class Gyrocompass(_Strict):
+class Gyrocompass(StrictModel):
     """``[gyrocompass]``: the gimballed gyroscope on a turning platform.
 
     The disk is ``[body]`` (symmetric about its z axis), spinning at
@@ -522,7 +510,7 @@ class Gyrocompass(_Strict):
         return self
 
 
-class Scenario(_Strict):
+class Scenario(StrictModel):
     """A whole scenario file, validated and in SI units."""
 
     scenario: Info

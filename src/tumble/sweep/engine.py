@@ -8,13 +8,13 @@ import os
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble.config import Builtins, read_source
 from tumble.errors import InputError
 from tumble.sweep.plan import Plan
 from tumble.sweep.schema import SweepError, check_address, parse_sweep
@@ -88,19 +88,13 @@ class SweepSummary:
 
 
 # ------------------------------------------------------------- built-ins
-def _examples() -> Path:
-    return Path(str(resources.files("tumble.sweep") / "examples"))
+#: The sweeps shipped with tumble.
+BUILTINS = Builtins(kind="sweep", package="tumble.sweep", folder_name="examples", error=SweepError)
 
 
 def builtin_sweeps() -> dict[str, str]:
     """The built-in sweeps: name → one-line description."""
-    import tomllib
-
-    found = {}
-    for path in sorted(_examples().glob("*.toml")):
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-        found[path.stem] = str(data.get("sweep", {}).get("description", "")).split("\n")[0]
-    return found
+    return {name: BUILTINS.description(name) for name in BUILTINS.names()}
 
 
 def show_sweep(name: str) -> str:
@@ -111,16 +105,7 @@ def show_sweep(name: str) -> str:
     SweepError
         If there is no built-in sweep of that name (the message lists them).
     """
-    names = list(builtin_sweeps())
-    if name not in names:
-        import difflib
-
-        close = difflib.get_close_matches(name, names, n=1)
-        hint = f" Did you mean {close[0]}?" if close else ""
-        raise SweepError(
-            f"Expected a built-in sweep ({', '.join(names)}) or a .toml file, got {name!r}.{hint}"
-        )
-    return (_examples() / f"{name}.toml").read_text(encoding="utf-8")
+    return BUILTINS.text(name)
 
 
 def load_sweep(sweep: str | os.PathLike[str]) -> Plan:
@@ -131,17 +116,10 @@ def load_sweep(sweep: str | os.PathLike[str]) -> Plan:
     SweepError
         Unknown name, unreadable file, invalid TOML or an invalid sweep.
     """
-    text_name = str(sweep)
-    path = Path(text_name)
-    if path.suffix.lower() == ".toml" or path.exists():
-        if not path.is_file():
-            raise SweepError(f"Expected a sweep file, got {text_name!r} (no such file).")
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise SweepError(f"Expected a readable UTF-8 file, got {text_name!r}: {exc}.") from None
-        return parse_sweep(text, source=path.name)
-    return parse_sweep(show_sweep(text_name), source=f"builtin:{text_name}")
+    source = read_source(sweep, BUILTINS)
+    # A sweep's messages name its file without the folder.
+    name = source.file.name if source.file is not None else source.name
+    return parse_sweep(source.text, source=name)
 
 
 # ------------------------------------------------------------------ run

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble.report.html import stylesheet
 from tumble.sweep.plan import METRICS, PARAMETERS, GridAxis, MapSpec, Plan
 
 if TYPE_CHECKING:
@@ -270,20 +271,6 @@ def map_png(data: MapData) -> bytes:
     return buffer.getvalue()
 
 
-_STYLE = """
-body { font-family: system-ui, sans-serif; max-width: 980px; margin: 24px auto; padding: 0 16px;
-       color: #222; line-height: 1.45; }
-h1 { font-size: 1.5rem; margin-bottom: 4px; }
-h2 { font-size: 1.15rem; margin-top: 28px; border-bottom: 1px solid #ddd; }
-table { border-collapse: collapse; margin: 8px 0; font-size: 0.92rem; }
-th, td { border: 1px solid #ddd; padding: 3px 8px; }
-th { background: #f3f3f3; text-align: left; }
-td.num { text-align: right; font-family: ui-monospace, monospace; }
-img { max-width: 100%; display: block; margin: 8px 0 18px 0; }
-pre { background: #f6f8fa; padding: 10px; overflow-x: auto; font-size: 0.85rem; }
-"""
-
-
 def _number(value: Any) -> str:
     if value is None:
         return "—"
@@ -327,7 +314,7 @@ def report_html(summary: dict[str, Any], maps: list[MapData], text: str) -> str:
     )
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{e(summary["name"])} — tumble sweep</title>
-<style>{_STYLE}</style></head><body>
+<style>{stylesheet()}</style></head><body>
 <h1>Sweep {e(summary["name"])}</h1>
 <p>{e(summary.get("description", ""))}</p>
 <table>{rows}</table>

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import difflib
 import math
-import tomllib
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -36,18 +35,16 @@ from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import (
-    BaseModel,
     BeforeValidator,
-    ConfigDict,
     Field,
     StrictBool,
     StrictInt,
     StrictStr,
-    ValidationError,
     model_validator,
 )
 from pydantic_core import PydanticCustomError
 
+from tumble.config import ConfigError, StrictModel, key_error, shown, validate_toml, where
 from tumble.errors import InputError
 from tumble.sweep.plan import (
     DISTRIBUTIONS,
@@ -66,7 +63,7 @@ __all__ = ["SweepError", "SweepFile", "check_address", "parse_sweep"]
 DEFAULT_CHUNK_SIZE = 1 << 16
 
 
-class SweepError(InputError):
+class SweepError(ConfigError):
     """A sweep file is invalid; the message names the file, line and key."""
 
 
@@ -75,19 +72,9 @@ def _value(value: Any) -> Any:
         raise PydanticCustomError(
             "sweep_value",
             "Expected a number or a quantity such as '2 rad/s', got {got}.",
-            {"got": _shown(value)},
+            {"got": shown(value)},
         )
     return value
-
-
-def _shown(value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, dict):
-        return "a table"
-    if isinstance(value, list):
-        return "an array"
-    return repr(value)
 
 
 MetricName = Literal["flips", "first_flip_time", "max_nutation", "energy_drift", "momentum_drift"]
@@ -96,33 +83,7 @@ MetricName = Literal["flips", "first_flip_time", "max_nutation", "energy_drift",
 Value = Annotated[int | float | str, BeforeValidator(_value)]
 
 
-class _Strict(BaseModel):
-    """Frozen, and an unknown key is an error that suggests the nearest known one."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, str_strip_whitespace=True)
-
-    @model_validator(mode="before")
-    @classmethod
-    def _known_keys(cls, data: Any) -> Any:
-        if isinstance(data, dict):
-            known = list(cls.model_fields)
-            for key in data:
-                if key not in known:
-                    raise _unknown(str(key), known)
-        return data
-
-
-def _unknown(key: str, known: list[str]) -> PydanticCustomError:
-    close = difflib.get_close_matches(key, known, n=1)
-    hint = f" Did you mean `{close[0]}`?" if close else ""
-    return PydanticCustomError(
-        "unknown_key",
-        "Expected one of {known}, got the unknown key `{key}`.{hint}",
-        {"key": key, "known": ", ".join(f"`{k}`" for k in known), "hint": hint},
-    )
-
-
-class SweepTable(_Strict):
+class SweepTable(StrictModel):
     """``[sweep]``: what the sweep is called and how it is cut into chunks."""
 
     name: Annotated[StrictStr, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$", max_length=80)]
@@ -132,7 +93,7 @@ class SweepTable(_Strict):
     chunk_size: Annotated[StrictInt, Field(ge=1)] = DEFAULT_CHUNK_SIZE
 
 
-class Base(_Strict):
+class Base(StrictModel):
     """``[base]``: the run and the fixed per-body parameters."""
 
     duration: Value
@@ -156,7 +117,7 @@ class Base(_Strict):
     damping: Value | None = None
 
 
-class Vary(_Strict):
+class Vary(StrictModel):
     """``[vary.NAME]``: a grid or a random draw of one parameter."""
 
     values: list[Value] | None = None
@@ -170,7 +131,7 @@ class Vary(_Strict):
     unit: StrictStr | None = None
 
 
-class Outputs(_Strict):
+class Outputs(StrictModel):
     """``[outputs]``: what is stored per body."""
 
     metrics: list[MetricName] = [
@@ -184,7 +145,7 @@ class Outputs(_Strict):
     initial_state: StrictBool = True
 
 
-class MapTable(_Strict):
+class MapTable(StrictModel):
     """One map of the report."""
 
     x: StrictStr
@@ -194,21 +155,21 @@ class MapTable(_Strict):
     bins: Annotated[StrictInt, Field(ge=1, le=1000)] = 40
 
 
-class Report(_Strict):
+class Report(StrictModel):
     """``[report]``: the maps of report.html (default: each metric over the first
     two varied parameters)."""
 
     maps: list[MapTable] | None = None
 
 
-class DaskTable(_Strict):
+class DaskTable(StrictModel):
     """``[dask]``: where to run, unless the command line says otherwise."""
 
     scheduler: StrictStr | None = None
     workers: Annotated[StrictInt, Field(ge=1)] | None = None
 
 
-class SweepFile(_Strict):
+class SweepFile(StrictModel):
     """A whole sweep file."""
 
     sweep: SweepTable
@@ -227,15 +188,9 @@ class SweepFile(_Strict):
                 if key not in known:
                     close = difflib.get_close_matches(str(key), known, n=1)
                     hint = f" Did you mean `{close[0]}`?" if close else ""
-                    raise PydanticCustomError(
-                        "sweep_key",
-                        "Expected a parameter ({known}), got `{name}`.{hint}",
-                        {
-                            "key": f"vary.{key}",
-                            "name": str(key),
-                            "known": ", ".join(known),
-                            "hint": hint,
-                        },
+                    raise key_error(
+                        ("vary", str(key)),
+                        f"Expected a parameter ({', '.join(known)}), got `{key}`.{hint}",
                     )
         return data
 
@@ -254,56 +209,16 @@ def parse_sweep(text: str, source: str = "<sweep>") -> Plan:
     tumble.simulation.CoarseStepWarning
         When ``dt`` gives fewer than 20 steps per turn at the fastest spin rate.
     """
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SweepError(f"{source}: Expected valid TOML, got an error: {exc}.") from None
-    try:
-        spec = SweepFile.model_validate(data)
-    except ValidationError as exc:
-        raise SweepError(_first_error(exc, text, source)) from None
+    spec = validate_toml(
+        SweepFile, text, source, error=SweepError, key_path=_key_path, name_input=True
+    )
     return _Builder(spec, text, source).plan()
 
 
-def _first_error(exc: ValidationError, text: str, source: str) -> str:
-    errors = exc.errors(include_url=False)
-    errors.sort(key=lambda e: 0 if e["type"] in ("unknown_key", "sweep_key") else 1)
-    error = errors[0]
-    path: list[Any] = [part for part in error["loc"] if part not in ("int", "float", "str")]
-    if error["type"] == "unknown_key":
-        path.append(error["ctx"]["key"])
-    elif error["type"] == "sweep_key":
-        path = error["ctx"]["key"].split(".")
-    message = str(error["msg"])
-    if error["type"] == "missing":
-        message = (
-            f"Expected the table [{path[-1]}], which is missing."
-            if len(path) == 1
-            else f"Expected the key `{path[-1]}`, which is missing."
-        )
-    elif message.startswith("Input should be "):
-        rest = message.removeprefix("Input should be ")
-        if rest.startswith(("greater", "less")):
-            rest = f"a value {rest}"
-        message = f"Expected {rest}, got {_shown(error['input'])}."
-    elif message.startswith("String should "):
-        rest = message.removeprefix("String should ")
-        message = f"Expected a string that should {rest}, got {_shown(error['input'])}."
-    elif not message.startswith("Expected"):
-        message = f"Expected a valid value ({message}), got {_shown(error['input'])}."
-    return f"{_where(text, source, tuple(path))}: {message}"
-
-
-def _where(text: str, source: str, path: tuple[Any, ...]) -> str:
-    """``source, line N, `dotted.path``` for a key path of the file."""
-    from tumble.scenario._locate import key_lines, line_of
-
-    line = line_of(key_lines(text), path) if path else None
-    place = f"{source}, line {line}" if line is not None else source
-    dotted = ""
-    for part in path:
-        dotted += f"[{part}]" if isinstance(part, int) else (f".{part}" if dotted else str(part))
-    return f"{place}, `{dotted}`" if dotted else place
+def _key_path(loc: tuple[Any, ...]) -> list[Any]:
+    """The key path of the file from pydantic's location: without the tags of the
+    union of a value's types (a number or a quantity)."""
+    return [part for part in loc if part not in ("int", "float", "str")]
 
 
 class _Builder:
@@ -322,10 +237,10 @@ class _Builder:
         except SweepError:
             raise
         except InputError as exc:
-            raise SweepError(f"{_where(self.text, self.source, path)}: {exc}") from None
+            raise SweepError(f"{where(self.text, self.source, path)}: {exc}") from None
 
     def fail(self, path: tuple[Any, ...], message: str) -> SweepError:
-        return SweepError(f"{_where(self.text, self.source, path)}: {message}")
+        return SweepError(f"{where(self.text, self.source, path)}: {message}")
 
     def si(self, value: Any, kind: str, path: tuple[Any, ...], unit: str | None = None) -> float:
         from tumble.units import to_si
@@ -371,9 +286,9 @@ class _Builder:
         given = set(fixed) | varied
         for first, second in (("moment_2", "ratio_2"), ("moment_3", "ratio_3")):
             if first in given and second in given:
-                where = ("vary", second) if second in varied else ("base", second)
+                key = ("vary", second) if second in varied else ("base", second)
                 raise self.fail(
-                    where, f"Expected one of `{first}` and `{second}`, not both, got both."
+                    key, f"Expected one of `{first}` and `{second}`, not both, got both."
                 )
         for needed in (
             ("moment_1",),
@@ -559,15 +474,13 @@ class _Builder:
             i3 = v["moment_3"] if "moment_3" in v else v["ratio_3"] * i1
             a, b, c = sorted((i1, i2, i3))
             if a + b < c * (1 - 1e-9):
-                shown = ", ".join(f"{n} = {v[n]:.6g}" for n in names)
-                where = next(
-                    (("vary", n) for n in names if n in self.spec.vary), ("base", names[-1])
-                )
+                corner_values = ", ".join(f"{n} = {v[n]:.6g}" for n in names)
+                key = next((("vary", n) for n in names if n in self.spec.vary), ("base", names[-1]))
                 raise self.fail(
-                    where,
+                    key,
                     "Expected principal moments satisfying the triangle inequality "
                     "(I1 + I2 >= I3 and cyclic) for every body, got "
-                    f"I1, I2, I3 = {i1:.6g}, {i2:.6g}, {i3:.6g} kg·m² at {shown}.",
+                    f"I1, I2, I3 = {i1:.6g}, {i2:.6g}, {i3:.6g} kg·m² at {corner_values}.",
                 )
 
     def warn_coarse(self, ranges: dict[str, tuple[float, float]], dt: float) -> None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["key_lines"]
+__all__ = ["KeyPath", "key_lines", "line_of"]
 
 _HEADER = re.compile(r"^\s*(\[\[?)\s*([^\]]+?)\s*\]\]?\s*(#.*)?$")
 _KEY = re.compile(
@@ -19,7 +19,8 @@ _KEY = re.compile(
 )
 _INLINE_KEY = re.compile(r"""[{,]\s*([A-Za-z0-9_-]+|"[^"]*"|'[^']*')\s*=""")
 
-Path = tuple[str | int, ...]
+#: A key path: table and key names, and indices into arrays of tables.
+KeyPath = tuple[str | int, ...]
 
 
 def _split(dotted: str) -> list[str]:
@@ -27,11 +28,11 @@ def _split(dotted: str) -> list[str]:
     return [p.strip("\"'") for p in parts]
 
 
-def key_lines(text: str) -> dict[Path, int]:
+def key_lines(text: str) -> dict[KeyPath, int]:
     """Map each key path (array-of-tables entries by index) to its 1-based line."""
-    lines: dict[Path, int] = {}
-    table: Path = ()
-    counts: dict[Path, int] = {}
+    lines: dict[KeyPath, int] = {}
+    table: KeyPath = ()
+    counts: dict[KeyPath, int] = {}
     depth = 0  # brackets and braces still open from a value spread over lines
     for number, line in enumerate(text.splitlines(), start=1):
         code = _strip_comment(line)
@@ -63,7 +64,7 @@ def key_lines(text: str) -> dict[Path, int]:
     return lines
 
 
-def _resolve(names: tuple[str, ...], counts: dict[Path, int]) -> Path:
+def _resolve(names: tuple[str, ...], counts: dict[KeyPath, int]) -> KeyPath:
     """A ``[a.b]`` header inside the last entry of an array of tables ``[[a]]``."""
     path: list[str | int] = []
     for name in names:
@@ -103,7 +104,7 @@ def _balance(code: str) -> int:
     return depth
 
 
-def line_of(lines: dict[Path, int], path: Path) -> int | None:
+def line_of(lines: dict[KeyPath, int], path: KeyPath) -> int | None:
     """The line of ``path`` or of its nearest ancestor that has one."""
     for k in range(len(path), 0, -1):
         if path[:k] in lines:
