@@ -326,3 +326,22 @@ def test_missing_and_unreadable_files_are_named(shelf: Builtins, tmp_path: Path)
         match=r"^Expected a readable UTF-8 file, got '.*bad\.toml': .*codec can't decode",
     ):
         read_source(bad, shelf)
+
+
+def test_methods_are_read_from_the_integrator_registry() -> None:
+    from tumble.config.registries import method_choice
+    from tumble.integrators import INTEGRATORS
+
+    assert method_choice("auto") == "auto"
+    for name in INTEGRATORS:
+        assert method_choice(name) == name
+    with pytest.raises(
+        tb.InputError,
+        match=r"Expected `method` to be one of auto, exact, splitting, strang, rk4, adaptive, got 'strnag'\. Did you mean 'strang'\?",
+    ):
+        method_choice("strnag")
+    # Files for batches may name only integrators with batch kernels that measure.
+    with pytest.raises(
+        tb.InputError, match=r"Expected `method` to be one of splitting, strang, rk4, got 'adaptive'\.$"
+    ):
+        method_choice("adaptive", batch=True)

@@ -21,6 +21,7 @@ from scipy.spatial.transform import Rotation
 
 import tumble as tb
 from reference import attitude_error, reference
+from tumble import scenario
 from tumble.core._jit import FINITE, njit, njit_vector, prange, specialise
 from tumble.core.dynamics import euler_coefficients, is_finite, normalised, rates, record
 from tumble.core.rk4 import BLOCK, load_block, store_block
@@ -251,8 +252,33 @@ def test_a_torque_model_added_here_runs_in_simulate_and_simulate_batch(oscillati
         torque=oscillating([0, 0, 1], amplitudes, 3.0),
     )  # fmt: skip
     assert_allclose(batch.omega[:, 2], sphere_spin(2.0, amplitudes, 3.0, inertia), atol=1e-10)
-    # The sweep files' per-body parameters come from the registry too.
-    assert "oscillation_amplitude" in tb.sweep.PARAMETERS
+    # A scenario file names it by its registry name, its parameters with units.
+    text = """
+        [scenario]
+        name = "driven"
+        [body]
+        shape = "solid-sphere"
+        mass = "2 kg"
+        radius = "10 cm"
+        [initial]
+        omega = "0, 0, 1 rad/s"
+        [[torques]]
+        type = "test-oscillating"
+        axis = [0, 0, 1]
+        amplitude = "10 mN*m"
+        rate = "3 rad/s"
+        [simulation]
+        duration = "3 s"
+        dt = "1 ms"
+        method = "rk4"
+    """
+    result = scenario.run(scenario.parse(text.replace("\n        ", "\n")))
+    traj = result.trajectory
+    # RK4 at dt = 1 ms, as above: ~1e-13.
+    assert_allclose(traj.omega[:, 2], sphere_spin(traj.t, 0.01, 3.0, inertia), atol=1e-12)
+    # Sweep files take a model's parameters per body when every one has a sweep
+    # name; this one's axis and rate have none, so sweeps leave it out.
+    assert "oscillation_amplitude" not in tb.sweep.PARAMETERS
 
 
 def test_an_unregistered_name_is_refused_by_its_registry() -> None:

@@ -553,7 +553,7 @@ def test_unknown_builtin_is_refused() -> None:
         ),
         (
             {"dt = 0.01": 'dt = 0.01\nmethod = "euler"'},
-            r"`base.method`: Expected 'rk4', 'splitting' or 'strang', got 'euler'.",
+            r"line 11, `base.method`: Expected `method` to be one of splitting, strang, rk4, got 'euler'.",
         ),
         (
             {"spin_axis = 2": "spin_axis = 4"},

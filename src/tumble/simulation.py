@@ -13,13 +13,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from tumble.body import RigidBody
 from tumble.errors import CoarseStepWarning, InputError, IntegrationError
-from tumble.integrators import auto_choice, get_integrator
+from tumble.integrators import Integrator, auto_choice, get_integrator
 from tumble.integrators.drivers import (
     DEFAULT_STEPS_PER_TURN,
     MIN_STEPS_PER_TURN,
@@ -30,19 +32,23 @@ from tumble.integrators.drivers import (
 from tumble.integrators.exact import exact_solution
 from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties
-from tumble.torques import Gravity, TorqueModel, bind
+from tumble.torques import BoundTorque, Gravity, TorqueModel, bind
 from tumble.trajectory import Trajectory
 from tumble.units import to_si, vector_to_si
 
 _attitude = as_attitude  # TEMPORARY until theory imports it from tumble.kinematics
+
+Array = NDArray[np.float64]
 
 __all__ = [
     "DEFAULT_STEPS_PER_TURN",
     "MIN_STEPS_PER_TURN",
     "CoarseStepWarning",
     "IntegrationError",
+    "Setup",
     "Trajectory",
     "exact_solution",
+    "prepare",
     "simulate",
 ]
 
@@ -124,59 +130,30 @@ def simulate(
         When ``dt`` gives fewer than ``MIN_STEPS_PER_TURN`` steps per turn of
         the fastest rotation.
     """
-    if not isinstance(mp, MassProperties):
-        raise InputError(f"Expected `mp` to be a MassProperties, got {type(mp).__name__}.")
-    if torque is not None and not isinstance(torque, TorqueModel):
-        raise InputError(
-            f"Expected `torque` to be a model from tumble.torques, got {type(torque).__name__}."
-        )
-    integrator = None if method == "auto" else get_integrator(method)
     if (
         isinstance(record_every, bool)
         or not isinstance(record_every, int | np.integer)
         or record_every < 1
     ):
         raise InputError(f"Expected `record_every` to be an integer >= 1, got {record_every!r}.")
-    omega = vector_to_si(omega0, "angular_velocity", "omega0")
-    q0 = as_attitude(attitude0)
+    setup = prepare(
+        mp, omega0, attitude0=attitude0, pivot=pivot, gravity=gravity, torque=torque, method=method
+    )
+    body, bound, integrator, omega = setup.body, setup.torque, setup.integrator, setup.omega0
+    reason = setup.reason
     total_time = to_si(duration, "time", "duration")
     if total_time <= 0:
         raise InputError(f"Expected `duration` > 0 s, got {total_time!r}.")
-    model = torque
-    if gravity is not None:
-        weight_field = Gravity(vector_to_si(gravity, "acceleration", "gravity"))
-        model = weight_field if torque is None else weight_field + torque
-    terms = () if model is None else model.terms
-    gravities = [term for term in terms if isinstance(term, Gravity)]
-    if pivot is not None and gravity is None and not gravities:
-        raise InputError(
-            "Expected `gravity` with `pivot`, got none (a pivot without gravity is a free "
-            "rotation about that point: pass gravity=[0, 0, 0] to mean it)."
-        )
-    body = RigidBody(mp, None if pivot is None else vector_to_si(pivot, "length", "pivot"))
-    body.check_simulable()
-    bound = bind(model, body, omega)
-
-    if integrator is None:
-        integrator, reason = auto_choice(bound)
-        if integrator.kind == "adaptive":
-            reason += f" (rtol {rtol:g}, atol {atol:g})"
-    else:
-        reason = "requested"
-    if integrator.torque_free_only and not bound.torque_free:
-        raise InputError(
-            f"Expected a torque-free body for method {integrator.name!r} (no torque model other "
-            "than gravity, and no gravity with a pivot), got "
-            + ("gravity about a pivot." if bound.conservative else f"{model!r}.")
-        )
     if integrator.kind == "adaptive":
+        if method == "auto":
+            reason += f" (rtol {rtol:g}, atol {atol:g})"
         for name, value in (("rtol", rtol), ("atol", atol)):
             if not (isinstance(value, float | int) and math.isfinite(value) and value > 0):
                 raise InputError(f"Expected `{name}` > 0, got {value!r}.")
         if rtol < 1e-15:
             raise InputError(f"Expected `rtol` >= 1e-15 (round-off), got {rtol!r}.")
 
-    g = sum((term.acceleration for term in gravities), np.zeros(3))
+    g = setup.gravity
     weight = mp.mass * float(np.linalg.norm(g))
     fastest = body.fastest_rate(omega, weight, exact_spin=integrator.exact_symmetric_spin)
     if dt is None:
@@ -189,7 +166,9 @@ def simulate(
     if dt is not None and integrator.kind == "stepping":
         warn_if_coarse(schedule.step, fastest, "the fastest rotation")
 
-    problem = Problem(body, bound, body.to_principal(omega), body.attitude_to_principal(q0))
+    problem = Problem(
+        body, bound, body.to_principal(omega), body.attitude_to_principal(setup.attitude0)
+    )
     out_w, out_q, steps = integrator.run(integrator, problem, schedule, progress)
     return Trajectory(
         t=schedule.times,
@@ -204,3 +183,75 @@ def simulate(
         steps=steps,
         conserved=body.conserved(bound.terms),
     )
+
+
+@dataclass(frozen=True, eq=False)
+class Setup:
+    """What :func:`simulate` integrates and how, before any step: the body model,
+    the torque bound to it, the integrator and why, the initial state (body axes)
+    and the total gravity (m/s², space axes)."""
+
+    body: RigidBody
+    torque: BoundTorque
+    integrator: Integrator
+    reason: str
+    omega0: Array
+    attitude0: Array
+    gravity: Array
+
+
+def prepare(
+    mp: MassProperties,
+    omega0: Any,
+    *,
+    attitude0: Any = None,
+    pivot: Any = None,
+    gravity: Any = None,
+    torque: TorqueModel | None = None,
+    method: str = "auto",
+) -> Setup:
+    """Validate :func:`simulate`'s description of a motion and choose its
+    integrator (arguments as there), without integrating: what a caller needs
+    to know beforehand, such as whether ``dt`` will be a step or a sampling
+    interval (``prepare(...).integrator.kind``).
+
+    Raises
+    ------
+    InputError
+        As :func:`simulate`.
+    """
+    if not isinstance(mp, MassProperties):
+        raise InputError(f"Expected `mp` to be a MassProperties, got {type(mp).__name__}.")
+    if torque is not None and not isinstance(torque, TorqueModel):
+        raise InputError(
+            f"Expected `torque` to be a model from tumble.torques, got {type(torque).__name__}."
+        )
+    chosen = None if method == "auto" else get_integrator(method)
+    omega = vector_to_si(omega0, "angular_velocity", "omega0")
+    q0 = as_attitude(attitude0)
+    model = torque
+    if gravity is not None:
+        weight_field = Gravity(vector_to_si(gravity, "acceleration", "gravity"))
+        model = weight_field if torque is None else weight_field + torque
+    terms = () if model is None else model.terms
+    gravities = [term for term in terms if isinstance(term, Gravity)]
+    if pivot is not None and gravity is None and not gravities:
+        raise InputError(
+            "Expected `gravity` with `pivot`, got none (a pivot without gravity is a free "
+            "rotation about that point: pass gravity=[0, 0, 0] to mean it)."
+        )
+    body = RigidBody(mp, None if pivot is None else vector_to_si(pivot, "length", "pivot"))
+    body.check_simulable()
+    bound = bind(model, body, omega)
+    if chosen is None:
+        chosen, reason = auto_choice(bound)
+    else:
+        reason = "requested"
+    if chosen.torque_free_only and not bound.torque_free:
+        raise InputError(
+            f"Expected a torque-free body for method {chosen.name!r} (no torque model other "
+            "than gravity, and no gravity with a pivot), got "
+            + ("gravity about a pivot." if bound.conservative else f"{model!r}.")
+        )
+    total = sum((np.asarray(term.acceleration) for term in gravities), np.zeros(3))
+    return Setup(body, bound, chosen, reason, omega, q0, total)

@@ -333,27 +333,13 @@ def initial_state(scenario: Scenario) -> InitialState:
     return InitialState(omega, q)
 
 
-def torque_model(
-    scenario: Scenario,
-    mp: MassProperties,
-    state: InitialState,
-    loaded: LoadedScenario | None = None,
-) -> Any:
-    """The sum of the scenario's ``[[torques]]``, or None."""
-    from tumble.kinematics import required_torque
-    from tumble.torques import ConstantBodyTorque, ConstantSpaceTorque, LinearDamping
+def torque_model(scenario: Scenario, loaded: LoadedScenario | None = None) -> Any:
+    """The sum of the scenario's ``[[torques]]`` (models of the registry,
+    :data:`tumble.torques.TORQUES`), or None."""
+    from tumble.torques import TORQUES
 
-    terms: list[Any] = []
+    terms = []
     for k, torque in enumerate(scenario.torques):
         with at_key(loaded, "torques", k):
-            if torque.type == "constant-body":
-                terms.append(ConstantBodyTorque(torque.torque))
-            elif torque.type == "constant-space":
-                terms.append(ConstantSpaceTorque(torque.torque))
-            elif torque.type == "damping":
-                terms.append(LinearDamping(torque.coefficient))
-            else:
-                about = scenario.environment.pivot
-                hold = required_torque(mp, state.omega, np.zeros(3), about=about)
-                terms.append(ConstantBodyTorque(np.asarray(hold, dtype=float)))
+            terms.append(TORQUES[torque.type](**torque.values))
     return sum(terms[1:], terms[0]) if terms else None

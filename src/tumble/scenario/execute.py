@@ -185,33 +185,26 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
     )
 
 
-def _samples_at_dt(spec: Any) -> bool:
-    """Whether the method that will run (as ``simulate`` chooses for ``auto``) samples
-    at ``dt`` (exact, adaptive) rather than stepping by it."""
-    method = spec.simulation.method
-    if method != "auto":
-        return bool(method in ("exact", "adaptive"))
-    gravity = spec.environment.gravity
-    heavy = spec.environment.pivot is not None and gravity is not None and any(gravity)
-    return bool(spec.torques) or not heavy
-
-
 def _rigid_body(
     loaded: LoadedScenario, mp: MassProperties, progress: Progress
 ) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str | None, list[str]]:
-    from tumble.simulation import simulate
+    from tumble.simulation import prepare, simulate
 
     spec = loaded.spec
     state = initial_state(spec)
-    torque = torque_model(spec, mp, state, loaded)
+    torque = torque_model(spec, loaded)
     sim = spec.simulation
     env = spec.environment
     dt = sim.dt
-    if dt is None and _samples_at_dt(spec):
-        # The exact and adaptive methods sample every dt rather than step by it:
-        # sample as often as [output] asks.
-        dt = sim.duration / spec.output.samples
     with at_key(loaded, "simulation"):
+        chosen = prepare(
+            mp, state.omega, attitude0=state.attitude, pivot=env.pivot, gravity=env.gravity,
+            torque=torque, method=sim.method,
+        ).integrator  # fmt: skip
+        if dt is None and chosen.kind != "stepping":
+            # Methods that sample every dt rather than step by it (the exact
+            # solution, the adaptive method): sample as often as [output] asks.
+            dt = sim.duration / spec.output.samples
         traj = simulate(
             mp,
             state.omega,

@@ -30,6 +30,7 @@ from pydantic import (
 )
 
 from tumble.config import StrictModel, key_error
+from tumble.config.registries import method_choice, torque_entry
 from tumble.errors import InputError
 from tumble.units import to_si, vector_to_si
 
@@ -416,34 +417,20 @@ class Environment(StrictModel):
 
 
 class Torque(StrictModel):
-    """``[[torques]]``: ``type`` and its value.
+    """``[[torques]]``: ``type``, the name of a torque model of the registry
+    (:data:`tumble.torques.TORQUES`; for example ``constant-body`` with
+    ``torque``, ``constant-space`` with ``torque``, ``damping`` with
+    ``coefficient``, ``hold-rotation`` alone), and that model's parameters, with
+    units. ``values`` holds them in SI once validated."""
 
-    * ``constant-body``: ``torque`` (3,) N·m fixed in body axes;
-    * ``constant-space``: ``torque`` (3,) N·m fixed in space axes;
-    * ``damping``: ``coefficient`` N·m·s, τ = −c ω;
-    * ``hold-rotation``: the body-fixed torque ω0 × (I ω0) that keeps the initial
-      rotation steady (a motor driving a shaft at constant rate).
-    """
+    type: str
+    values: dict[str, Any] = {}
 
-    type: Literal["constant-body", "constant-space", "damping", "hold-rotation"]
-    torque: Annotated[Vector, _vector("torque")] | None = None
-    coefficient: Annotated[float, _scalar("damping", non_negative=True)] | None = None
-
-    @model_validator(mode="after")
-    def _value(self) -> Torque:
-        needs = {
-            "constant-body": "torque",
-            "constant-space": "torque",
-            "damping": "coefficient",
-            "hold-rotation": None,
-        }[self.type]
-        for name in ("torque", "coefficient"):
-            given = getattr(self, name) is not None
-            if name == needs and not given:
-                raise ValueError(f"Expected `{name}` for a {self.type} torque.")
-            if name != needs and given:
-                raise ValueError(f"Expected no `{name}` for a {self.type} torque.")
-        return self
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any) -> Any:
+        # Replaces the strict check of the base: the keys are the model's parameters.
+        return torque_entry(data)
 
 
 class Simulation(StrictModel):
@@ -452,7 +439,7 @@ class Simulation(StrictModel):
 
     duration: Time
     dt: Time | None = None
-    method: Literal["auto", "exact", "splitting", "strang", "rk4", "adaptive"] = "auto"
+    method: Annotated[str, BeforeValidator(method_choice)] = "auto"
 
     @model_validator(mode="after")
     def _steps(self) -> Simulation:

@@ -68,11 +68,12 @@ class TorqueParameter:
 
 
 def torque_parameters() -> dict[str, TorqueParameter]:
-    """The sweep parameters of the torque models that batches accept, by name, read
-    from the torque registry (:data:`tumble.torques.TORQUES`)."""
+    """The sweep parameters of the torque models that batches accept and whose every
+    parameter has sweep names, by name, read from the torque registry
+    (:data:`tumble.torques.TORQUES`)."""
     found = {}
     for model in TORQUES.values():
-        if not model.in_batches:
+        if not (model.in_batches and all(p.sweep for p in model.parameters)):
             continue
         for parameter in model.parameters:
             for k, name in enumerate(parameter.sweep):

@@ -30,6 +30,7 @@ import math
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
+from functools import partial
 from itertools import product
 from typing import Annotated, Any, Literal
 
@@ -44,7 +45,16 @@ from pydantic import (
 )
 from pydantic_core import PydanticCustomError
 
-from tumble.config import ConfigError, StrictModel, key_error, shown, validate_toml, where
+from tumble.config import (
+    ConfigError,
+    StrictModel,
+    key_error,
+    shown,
+    unknown_key,
+    validate_toml,
+    where,
+)
+from tumble.config.registries import method_choice
 from tumble.errors import InputError
 from tumble.sweep.plan import (
     DISTRIBUTIONS,
@@ -54,6 +64,7 @@ from tumble.sweep.plan import (
     Plan,
     RandomAxis,
     defaults,
+    torque_parameters,
 )
 
 __all__ = ["SweepError", "SweepFile", "check_address", "parse_sweep"]
@@ -94,11 +105,13 @@ class SweepTable(StrictModel):
 
 
 class Base(StrictModel):
-    """``[base]``: the run and the fixed per-body parameters."""
+    """``[base]``: the run and the fixed per-body parameters: those of the bodies
+    here, those of the torque models (:func:`~tumble.sweep.plan.torque_parameters`,
+    read from the torque registry) in ``torques``."""
 
     duration: Value
     dt: Value
-    method: Literal["rk4", "splitting", "strang"] = "rk4"
+    method: Annotated[str, BeforeValidator(partial(method_choice, batch=True))] = "rk4"
     moment_1: Value | None = None
     moment_2: Value | None = None
     moment_3: Value | None = None
@@ -108,13 +121,27 @@ class Base(StrictModel):
     spin_rate: Value | None = None
     perturbation: Value | None = None
     perturbation_azimuth: Value | None = None
-    body_torque_1: Value | None = None
-    body_torque_2: Value | None = None
-    body_torque_3: Value | None = None
-    space_torque_x: Value | None = None
-    space_torque_y: Value | None = None
-    space_torque_z: Value | None = None
-    damping: Value | None = None
+    torques: dict[str, Value] = {}
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any) -> Any:
+        # The torque models' parameters are not fields: they come from the registry.
+        if not isinstance(data, dict):
+            return data
+        torques = torque_parameters()
+        known = [name for name in cls.model_fields if name != "torques"] + list(torques)
+        own = {}
+        for key, value in data.items():
+            if key not in known:
+                raise unknown_key(str(key), known)
+            if key not in torques:
+                own[key] = value
+        return {**own, "torques": {k: v for k, v in data.items() if k in torques}}
+
+    def value(self, name: str) -> Any:
+        """The value given for a per-body parameter, or None."""
+        return self.torques.get(name) if name in self.torques else getattr(self, name, None)
 
 
 class Vary(StrictModel):
@@ -262,7 +289,7 @@ class _Builder:
         base = spec.base
         fixed: dict[str, float] = {}
         for name, (kind, _) in PARAMETERS.items():
-            value = getattr(base, name)
+            value = base.value(name)
             if value is None:
                 continue
             if name in spec.vary:
@@ -437,15 +464,18 @@ class _Builder:
         return RandomAxis(name, vary.distribution, low, high)
 
     def check_ranges(self, ranges: dict[str, tuple[float, float]], varied: set[str]) -> None:
-        limits = {
+        limits: dict[str, tuple[str, Any]] = {
             "moment_1": ("> 0", lambda v: v > 0),
             "moment_2": ("> 0", lambda v: v > 0),
             "moment_3": ("> 0", lambda v: v > 0),
             "ratio_2": ("> 0", lambda v: v > 0),
             "ratio_3": ("> 0", lambda v: v > 0),
             "spin_rate": (">= 0", lambda v: v >= 0),
-            "damping": (">= 0", lambda v: v >= 0),
         }
+        for name, entry in torque_parameters().items():
+            least = entry.parameter.minimum
+            if least is not None:
+                limits[name] = (f">= {least:g}", lambda v, least=least: v >= least)
         for name, (text, ok) in limits.items():
             if name not in ranges:
                 continue

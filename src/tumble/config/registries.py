@@ -1,0 +1,90 @@
+"""What configuration files may name, read from tumble's registries when a file is read.
+
+Scenario and sweep files name integrators (``method``) and torque models
+(``[[torques]] type``); the allowed values are never listed here: they come
+from :data:`tumble.integrators.INTEGRATORS` and :data:`tumble.torques.TORQUES`
+at validation time, so a model or method registered later (a user's, a
+test's) is accepted by both file formats without a change to either schema.
+"""
+
+from __future__ import annotations
+
+import difflib
+from typing import Any
+
+from tumble.config.errors import key_error, unknown_key
+from tumble.errors import InputError
+
+__all__ = ["method_choice", "torque_entry", "torque_types"]
+
+
+def method_choice(value: Any, *, batch: bool = False) -> str:
+    """``value`` if it names a registered integrator (with batch kernels measured
+    as they step, for ``batch``; else also ``"auto"``).
+
+    Raises
+    ------
+    InputError
+        Another value; the message lists the choices.
+    """
+    from tumble.integrators import INTEGRATORS
+
+    if batch:
+        names = [name for name, entry in INTEGRATORS.items() if entry.metrics is not None]
+    else:
+        names = ["auto", *INTEGRATORS]
+    if value not in names:
+        close = difflib.get_close_matches(str(value), names, n=1)
+        hint = f" Did you mean {close[0]!r}?" if close else ""
+        raise InputError(f"Expected `method` to be one of {', '.join(names)}, got {value!r}.{hint}")
+    return str(value)
+
+
+def torque_types() -> list[str]:
+    """The ``type`` names of the torque models files may use."""
+    from tumble.torques import TORQUES
+
+    return [name for name, model in TORQUES.items() if model.in_files]
+
+
+def torque_entry(data: Any) -> Any:
+    """Check one ``[[torques]]`` table against the torque registry: its ``type`` is a
+    model files may use, its other keys are exactly that model's parameters,
+    each converted to SI (:meth:`tumble.torques.Parameter.convert`).
+
+    Returns ``{"type": name, "values": {parameter: value}}`` (data that is not a
+    table is returned as it is, for pydantic to refuse); raises pydantic errors
+    located at the key at fault.
+    """
+    from tumble.torques import TORQUES
+
+    if not isinstance(data, dict):
+        return data
+    names = torque_types()
+    kind = data.get("type")
+    if kind is None:
+        raise key_error("type", f"Expected `type` ({', '.join(names)}), which is missing.")
+    if kind not in names:
+        close = difflib.get_close_matches(str(kind), names, n=1)
+        hint = f" Did you mean {close[0]!r}?" if close else ""
+        raise key_error(
+            "type", f"Expected `type` to be one of {', '.join(names)}, got {kind!r}.{hint}"
+        )
+    model = TORQUES[kind]
+    known = ["type", *(parameter.name for parameter in model.parameters)]
+    for key in data:
+        if key not in known:
+            raise unknown_key(str(key), known)
+    values = {}
+    for parameter in model.parameters:
+        if parameter.name not in data:
+            raise key_error(
+                parameter.name,
+                f"Expected `{parameter.name}` ({parameter.description}) for a {kind} torque, "
+                "which is missing.",
+            )
+        try:
+            values[parameter.name] = parameter.convert(data[parameter.name], per_body=False)
+        except InputError as exc:
+            raise key_error(parameter.name, str(exc)) from None
+    return {"type": kind, "values": values}
