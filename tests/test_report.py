@@ -198,7 +198,7 @@ def test_plot_and_view(tmp_path: Path) -> None:
 
 
 def test_equal_inertia_ellipsoid() -> None:
-    from tumble.scenario.build import equal_inertia_ellipsoid
+    from tumble.report.geometry import equal_inertia_ellipsoid
 
     body = tb.shapes.box(2.0, [0.3, 0.2, 0.1]).transformed(translation=[1, 2, 3])
     geometry = equal_inertia_ellipsoid(body)
@@ -251,10 +251,10 @@ def test_drift_figure_shows_only_what_is_conserved(gyroscope: object) -> None:
 def test_drawn_solids_are_closed_and_centred(shape: dict, volume: float) -> None:
     import trimesh
 
-    from tumble.scenario.build import _shape_mesh
+    from tumble.report.scenario_geometry import shape_mesh
     from tumble.scenario.schema import ShapeBody
 
-    vertices, faces = _shape_mesh(ShapeBody(mass=1, **shape))
+    vertices, faces = shape_mesh(ShapeBody(mass=1, **shape))
     mesh = trimesh.Trimesh(vertices, faces, process=True)
     assert mesh.is_watertight
     # Like tumble.shapes, centred on the centre of mass; polygons of 16-48 sides lose < 3 %.

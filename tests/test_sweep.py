@@ -17,6 +17,7 @@ from numpy.testing import assert_allclose
 from scipy.spatial.transform import Rotation
 
 import tumble as tb
+from tumble.report import write_sweep_report
 from tumble.simulation import CoarseStepWarning, IntegrationError
 from tumble.sweep import load_sweep, open_results, run_sweep, show_sweep
 from tumble.sweep.metrics import compute_chunk
@@ -115,6 +116,7 @@ def reference(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str,
     source = write(folder, SMALL, "small.toml")
     summary = run_sweep(source, folder / "out")
     assert summary.chunks == 7 and summary.chunks_run == 7 and summary.bodies == 120
+    assert write_sweep_report(summary) == folder / "out" / "report.html"
     return source, stored(folder / "out")
 
 

@@ -239,6 +239,7 @@ def sweep(
     """Run (or resume) a sweep over many bodies into a chunked Zarr store with a report."""
 
     def work() -> None:
+        from tumble.report import write_sweep_report
         from tumble.sweep import run_sweep
 
         with _LazyProgress(enabled=not quiet) as progress:
@@ -251,6 +252,7 @@ def sweep(
                 force=force,
                 progress=progress.chunks,
             )
+        write_sweep_report(summary)
         if as_json:
             typer.echo(json.dumps(summary.to_dict(), indent=2, allow_nan=False, default=str))
         elif not quiet:

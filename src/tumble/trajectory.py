@@ -14,7 +14,6 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -23,6 +22,7 @@ from scipy.spatial.transform import Rotation
 
 from tumble.body import INVARIANTS, RigidBody, label
 from tumble.errors import InputError
+from tumble.files import replaced
 from tumble.massprops import MassProperties
 from tumble.torques import Gravity
 
@@ -217,10 +217,8 @@ class Trajectory:
             "units": "SI: s, rad/s, kg, m, kg*m^2; quaternion [w, x, y, z] body -> space",
         }
         table = pa.table(columns).replace_schema_metadata({"tumble": json.dumps(meta)})
-        target = Path(path)
-        temporary = target.with_name(f".{target.name}.partial")
-        pq.write_table(table, temporary)
-        os.replace(temporary, target)
+        with replaced(path) as temporary:
+            pq.write_table(table, temporary)
 
     @classmethod
     def read_parquet(cls, path: str | os.PathLike[str]) -> Trajectory:

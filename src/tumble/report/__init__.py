@@ -4,6 +4,7 @@
   ``summary.json``, ``report.html``, PNG figures and ``viewer.html``.
 * :func:`figures` — matplotlib figures of a trajectory (``Trajectory.plot``).
 * :func:`view` — the interactive viewer (``Trajectory.view``).
+* :func:`write_sweep_report` — the ``report.html`` of a finished sweep.
 
 Everything written is self-contained and works offline; every file is written
 to a temporary name and renamed, and a run folder is filled beside its final
@@ -25,12 +26,13 @@ from tumble.errors import InputError
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from tumble.report.geometry import Geometry
     from tumble.report.viewer import Viewer
-    from tumble.scenario.build import Geometry
     from tumble.scenario.execute import RunResult
-    from tumble.simulation import Trajectory
+    from tumble.sweep.engine import SweepSummary
+    from tumble.trajectory import Trajectory
 
-__all__ = ["RunFolderExistsError", "figures", "view", "write_run"]
+__all__ = ["RunFolderExistsError", "figures", "view", "write_run", "write_sweep_report"]
 
 #: The files of a run folder, whatever the scenario (PNG figures come besides).
 RUN_FILES = ("trajectory.parquet", "summary.json", "report.html", "viewer.html")
@@ -55,11 +57,19 @@ def view(traj: Trajectory, geometry: Geometry | None = None, frames: int = 300) 
     return Viewer(viewer_html(traj, geometry, frames=frames))
 
 
+def write_sweep_report(summary: SweepSummary) -> Path:
+    """Write the ``report.html`` of a finished sweep (statistics, maps, the sweep
+    file) into its folder and return its path (see :mod:`tumble.report.sweep`)."""
+    from tumble.report.sweep import write_sweep_report as write
+
+    return write(summary)
+
+
 def _write_parquet(traj: Trajectory, path: Path, scenario: str, label: str) -> None:
     """The trajectory's Parquet file, its metadata extended with the scenario."""
     import pyarrow.parquet as pq
 
-    from tumble.report.files import write_bytes
+    from tumble.files import write_bytes
 
     staging = path.with_name(f".{path.name}.staging")
     traj.to_parquet(staging)
@@ -109,7 +119,7 @@ def write_run(
     RunFolderExistsError
         If ``folder`` holds files and ``force`` is false.
     """
-    from tumble.report.files import permissions, write_bytes, write_text
+    from tumble.files import permissions, write_bytes, write_text
     from tumble.report.html import report_html
 
     target = Path(folder)
@@ -138,11 +148,15 @@ def write_run(
         viewer = None
         if spec.output.viewer:
             step("viewer.html")
+            from tumble.report.scenario_geometry import body_geometry
             from tumble.report.viewer import viewer_html
+            from tumble.scenario.build import at_key
 
             title = spec.scenario.title or name
+            with at_key(result.scenario, "body"):
+                geometry = body_geometry(spec.body, result.scenario.folder)
             page = viewer_html(
-                result.trajectory, result.geometry, frames=spec.output.viewer_frames, title=title
+                result.trajectory, geometry, frames=spec.output.viewer_frames, title=title
             )
             write_text(staging / "viewer.html", page)
             viewer = "viewer.html"

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from tumble.scenario.build import Geometry
+    from tumble.report.geometry import Geometry
     from tumble.simulation import Trajectory
 
 __all__ = ["Viewer", "viewer_html"]
@@ -47,7 +47,7 @@ def _frames(count: int, frames: int) -> NDArray[np.int64]:
 
 def _geometry(traj: Trajectory, geometry: Geometry | None) -> tuple[Array, NDArray[np.int64], bool]:
     if geometry is None:
-        from tumble.scenario.build import equal_inertia_ellipsoid
+        from tumble.report.geometry import equal_inertia_ellipsoid
 
         geometry = equal_inertia_ellipsoid(traj.mass_properties)
     return geometry.vertices, geometry.faces, geometry.exact
@@ -346,7 +346,7 @@ class Viewer:
 
     def save(self, path: str | Path) -> Path:
         """Write the page (atomically: a temporary name, then renamed)."""
-        from tumble.report.files import write_text
+        from tumble.files import write_text
 
         return write_text(Path(path), self.html)
 

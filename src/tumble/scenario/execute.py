@@ -19,9 +19,7 @@ from numpy.typing import NDArray
 
 from tumble.errors import InputError
 from tumble.scenario.build import (
-    Geometry,
     at_key,
-    body_geometry,
     initial_state,
     mass_properties,
     torque_model,
@@ -76,7 +74,6 @@ class RunResult:
     drift : relative drift of each quantity the motion of the main trajectory
         conserves (:attr:`tumble.Trajectory.drift`).
     panels : scenario-specific curves (tilt and precession angles, θ(t), ...).
-    geometry : a mesh of the body for the 3D viewer.
     elapsed : seconds spent simulating and measuring.
     """
 
@@ -87,7 +84,6 @@ class RunResult:
     comparisons: list[dict[str, Any]]
     drift: dict[str, Any]
     panels: list[Panel]
-    geometry: Geometry
     elapsed: float
     notes: list[str] = field(default_factory=list)
 
@@ -158,8 +154,6 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
     spec = loaded.spec
     start = time.perf_counter()
     mp = mass_properties(spec.body, loaded.folder, loaded)
-    with at_key(loaded, "body"):
-        geometry = body_geometry(spec.body, loaded.folder)
     theory: str | None
     if spec.gyrocompass is not None:
         runs, comparisons, panels, theory = _gyrocompass(loaded, mp, progress)
@@ -179,7 +173,6 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
         comparisons=comparisons,
         drift=drift,
         panels=panels,
-        geometry=geometry,
         elapsed=time.perf_counter() - start,
         notes=notes,
     )

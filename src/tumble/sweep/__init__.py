@@ -4,7 +4,8 @@ A sweep file (TOML; see :mod:`tumble.sweep.schema`) gives a base scenario and
 the parameters to vary, on grids or drawn at random; each body is stepped by
 the batched compiled kernels and measured as it goes (flips, time of the first
 flip, largest nutation, conservation drift), and the results go to a Zarr store
-chunked by bodies, with ``summary.json`` and a ``report.html`` of maps.
+chunked by bodies, with ``summary.json``; the maps of the report page are
+computed here and drawn by :func:`tumble.report.write_sweep_report`.
 
 * :func:`run_sweep` — run (or resume) a sweep into a folder: a :class:`SweepSummary`.
 * :func:`load_sweep` — validate a sweep file or built-in into a :class:`Plan`.

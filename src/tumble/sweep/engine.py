@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import copy
 import json
 import math
 import os
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -16,9 +17,11 @@ from numpy.typing import NDArray
 
 from tumble.config import Builtins, read_source
 from tumble.errors import InputError
+from tumble.files import write_text
 from tumble.sweep.plan import Plan
 from tumble.sweep.schema import SweepError, check_address, parse_sweep
-from tumble.sweep.store import SweepStore, atomic_write, fingerprint
+from tumble.sweep.store import SweepStore, fingerprint
+from tumble.sweep.summary import MapData
 
 __all__ = ["SweepSummary", "builtin_sweeps", "load_sweep", "run_sweep", "show_sweep"]
 
@@ -43,6 +46,9 @@ class SweepSummary:
     metrics : per metric: unit, bodies with a finite value, NaN count, mean,
         min, max (and for flips the fraction of bodies that flipped).
     fingerprint : SHA-256 of what decides the results.
+    maps : the maps of the sweep file's [report] as numbers, for
+        :func:`tumble.report.write_sweep_report` (not in ``summary.json``).
+    text : the sweep file as written.
     """
 
     name: str
@@ -62,6 +68,8 @@ class SweepSummary:
     body_steps_per_second: float | None
     metrics: dict[str, Any] = field(default_factory=dict)
     fingerprint: str = ""
+    maps: tuple[MapData, ...] = field(default=(), repr=False)
+    text: str = field(default="", repr=False)
 
     @property
     def store(self) -> Path:
@@ -76,8 +84,13 @@ class SweepSummary:
         return self.folder / "summary.json"
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready (paths as strings)."""
-        data = asdict(self)
+        """JSON-ready (paths as strings; without the maps and the file's text)."""
+        data = {
+            name: getattr(self, name)
+            for name in self.__dataclass_fields__
+            if name not in ("maps", "text")
+        }
+        data["metrics"] = copy.deepcopy(self.metrics)
         data["folder"] = str(self.folder)
         data["files"] = {
             "store": str(self.store),
@@ -155,9 +168,10 @@ def run_sweep(
 
     Returns
     -------
-    SweepSummary, also written to ``output_dir/summary.json``; the maps are in
-    ``output_dir/report.html`` and the per-body results in
-    ``output_dir/results.zarr``.
+    SweepSummary, also written to ``output_dir/summary.json``; the per-body
+    results are in ``output_dir/results.zarr``. Its maps are drawn into
+    ``output_dir/report.html`` by :func:`tumble.report.write_sweep_report`
+    (``tumble sweep`` does it).
 
     Raises
     ------
@@ -221,8 +235,8 @@ def run_sweep(
 
 
 def _finish(store: SweepStore, pending: list[int], backend: str, seconds: float) -> SweepSummary:
-    """Summary, summary.json and report.html of a finished sweep."""
-    from tumble.sweep.report import report_html, summarize
+    """Summary and summary.json of a finished sweep."""
+    from tumble.sweep.summary import summarize
 
     plan = store.plan
     computed = sum(plan.chunk_range(k)[1] - plan.chunk_range(k)[0] for k in pending)
@@ -246,10 +260,10 @@ def _finish(store: SweepStore, pending: list[int], backend: str, seconds: float)
         body_steps_per_second=rate,
         metrics=metrics,
         fingerprint=fingerprint(plan.identity()),
+        maps=tuple(maps),
+        text=plan.text,
     )
-    data = summary.to_dict()
-    atomic_write(store.folder / "summary.json", json.dumps(_clean(data), indent=2))
-    atomic_write(store.folder / "report.html", report_html(data, maps, plan.text))
+    write_text(store.folder / "summary.json", json.dumps(_clean(summary.to_dict()), indent=2))
     return summary
 
 

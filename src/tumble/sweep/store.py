@@ -22,7 +22,6 @@ import hashlib
 import json
 import os
 import shutil
-import uuid
 from pathlib import Path
 from typing import Any
 
@@ -30,26 +29,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
+from tumble.files import write_text
 from tumble.sweep.plan import FORMAT, Plan
 
-__all__ = ["SweepStore", "atomic_write", "open_results"]
+__all__ = ["SweepStore", "open_results"]
 
 STORE = "results.zarr"
 IDENTITY = "sweep.json"
 MARKERS = "chunks"
 #: Files and folders a sweep writes into its output folder (``--force`` removes these only).
 OWN = (IDENTITY, "sweep.toml", STORE, MARKERS, "summary.json", "report.html", "dask-scratch")
-
-
-def atomic_write(path: Path, data: bytes | str) -> None:
-    """Write a file under a temporary name, then rename it into place."""
-    raw = data.encode("utf-8") if isinstance(data, str) else data
-    temporary = path.with_name(f".{path.name}.{uuid.uuid4().hex}.partial")
-    try:
-        temporary.write_bytes(raw)
-        os.replace(temporary, path)
-    finally:
-        temporary.unlink(missing_ok=True)
 
 
 def fingerprint(identity: dict[str, Any]) -> str:
@@ -120,8 +109,8 @@ class SweepStore:
                     f"got {str(path)!r} with {', '.join(others[:3])}"
                     f"{' ...' if len(others) > 3 else ''} (no sweep.json): choose another folder."
                 )
-            atomic_write(existing, json.dumps(record, indent=2, allow_nan=False))
-            atomic_write(path / "sweep.toml", plan.text)
+            write_text(existing, json.dumps(record, indent=2, allow_nan=False))
+            write_text(path / "sweep.toml", plan.text)
         if not (path / STORE).exists():
             # Markers without their data (the store deleted by hand) mean nothing.
             shutil.rmtree(path / MARKERS, ignore_errors=True)
@@ -241,7 +230,7 @@ class SweepStore:
         start, stop = self.plan.chunk_range(index)
         for name, data in arrays.items():
             self._array(name)[start:stop] = data
-        atomic_write(self._marker(index), f"{start} {stop}\n")
+        write_text(self._marker(index), f"{start} {stop}\n")
 
     def _array(self, name: str) -> Any:
         if name not in self._arrays:

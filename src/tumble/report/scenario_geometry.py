@@ -1,0 +1,136 @@
+"""Meshes of the bodies of scenario files, to draw them in the 3D viewer.
+
+Solids of :mod:`tumble.shapes` are drawn as they are (turned profiles, boxes),
+mesh files as read, point masses as small spheres, and a body given by its
+mass properties as the uniform ellipsoid of equal inertia
+(:func:`tumble.report.geometry.equal_inertia_ellipsoid`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.massprops import MassProperties
+from tumble.report.geometry import (
+    Geometry,
+    Mesh,
+    box,
+    cylinder,
+    equal_inertia_ellipsoid,
+    revolve,
+    sphere,
+    torus,
+)
+from tumble.scenario.build import mesh_path, rotation
+from tumble.scenario.schema import InertiaBody, MeshBody, PartsBody, PointsBody, ShapeBody
+
+__all__ = ["body_geometry", "shape_mesh"]
+
+Array = NDArray[np.float64]
+
+
+def shape_mesh(spec: ShapeBody) -> Mesh:
+    """A drawing of a solid of :mod:`tumble.shapes`, centred like it (on its centre of mass)."""
+    d = spec.dimensions()
+    name = spec.shape
+    if name == "box":
+        return box(d["size"])
+    if name == "solid-cylinder":
+        return cylinder(d["radius"], d["height"])
+    if name == "hollow-cylinder":
+        h = 0.5 * d["height"]
+        inner, outer = d["inner_radius"], d["outer_radius"]
+        return revolve([(inner, -h), (outer, -h), (outer, h), (inner, h)], closed=True)
+    if name in ("solid-sphere", "spherical-shell"):
+        return sphere(d["radius"])
+    if name == "hollow-sphere":
+        return sphere(d["outer_radius"])
+    if name == "solid-cone":
+        # Apex at +z, centre of mass (a quarter of the height above the base) at the origin.
+        h = d["height"]
+        return revolve([(0.0, -0.25 * h), (d["radius"], -0.25 * h), (0.0, 0.75 * h)])
+    if name == "thin-rod":
+        return cylinder(d["length"] / 80.0, d["length"], sections=12)
+    if name == "thin-disk":
+        return cylinder(d["radius"], d["radius"] / 40.0)
+    if name == "thin-ring":
+        return torus(d["radius"], d["radius"] / 30.0, tube=8)
+    if name == "ellipsoid":
+        vertices, faces = sphere()
+        return vertices * np.asarray(d["semi_axes"]), faces
+    if name == "torus":
+        return torus(d["major_radius"], d["minor_radius"])
+    if name == "capsule":
+        r, h = d["radius"], 0.5 * d["cylinder_height"]
+        theta = np.linspace(0.0, 0.5 * np.pi, 9)
+        bottom = [(r * np.sin(t), -h - r * np.cos(t)) for t in theta]
+        top = [(r * np.cos(t), h + r * np.sin(t)) for t in theta]
+        profile = np.array(bottom + top)
+        profile[0, 0] = profile[-1, 0] = 0.0
+        return revolve(profile)
+    # A regular tetrahedron: vertices (a / √8)(±1, ±1, ±1) with an even number of minus signs.
+    a = d["edge"] / np.sqrt(8.0)
+    vertices = a * np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float)
+    return vertices, np.array([[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]], dtype=np.int64)
+
+
+def body_geometry(spec: Any, folder: Path) -> Geometry:
+    """A mesh of the body in body coordinates, for the 3D viewer.
+
+    Solids and mesh files are drawn as they are; point masses as small spheres;
+    a body given by its inertia as the ellipsoid of equal inertia.
+    """
+    pieces: list[tuple[Array, NDArray[np.int64]]] = []
+    exact = True
+    if isinstance(spec, PartsBody):
+        for part in spec.parts:
+            child = body_geometry(part, folder)
+            pieces.append((child.vertices, child.faces))
+            exact = exact and child.exact
+    elif isinstance(spec, ShapeBody):
+        pieces.append(shape_mesh(spec))
+    elif isinstance(spec, MeshBody):
+        import trimesh
+
+        mesh_file: Any = trimesh.load(mesh_path(spec, folder), force="mesh", process=False)
+        scale = 1.0
+        if spec.units is not None:
+            from tumble.units import length_scale
+
+            scale = length_scale(spec.units)
+        pieces.append(
+            (np.asarray(mesh_file.vertices, float) * scale, np.asarray(mesh_file.faces, np.int64))
+        )
+    elif isinstance(spec, PointsBody):
+        positions = np.asarray(spec.positions, dtype=float)
+        extent = float(np.ptp(positions, axis=0).max()) if len(positions) > 1 else 0.1
+        radius = max(extent, 1e-6) / 20.0
+        ball, ball_faces = sphere(radius, rings=8, sections=12)
+        for point in positions:
+            pieces.append((ball + point, ball_faces))
+        exact = False
+    else:
+        assert isinstance(spec, InertiaBody)
+        unplaced = MassProperties(spec.mass, spec.center_of_mass, spec.inertia)
+        ellipsoid = equal_inertia_ellipsoid(unplaced)
+        pieces.append((ellipsoid.vertices, ellipsoid.faces))
+        exact = False
+    vertices, faces = _concatenate(pieces)
+    if spec.rotation is not None:
+        vertices = rotation(spec.rotation).apply(vertices)
+    if spec.translation is not None:
+        vertices = vertices + np.asarray(spec.translation)
+    return Geometry(vertices, faces, exact)
+
+
+def _concatenate(pieces: list[tuple[Array, NDArray[np.int64]]]) -> tuple[Array, NDArray[np.int64]]:
+    vertices, faces, offset = [], [], 0
+    for v, f in pieces:
+        vertices.append(v)
+        faces.append(f + offset)
+        offset += len(v)
+    return np.vstack(vertices), np.vstack(faces).astype(np.int64)
