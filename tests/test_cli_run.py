@@ -181,19 +181,19 @@ def test_debug_shows_the_traceback(tmp_path: Path) -> None:
 def test_progress_bar_appears_for_slow_runs(
     quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from tumble import cli
+    from tumble.cli.progress import LazyProgress
 
     shown: list[str] = []
-    monkeypatch.setattr(cli._LazyProgress, "DELAY", 0.0)
-    original = cli._LazyProgress._show
+    monkeypatch.setattr(LazyProgress, "DELAY", 0.0)
+    original = LazyProgress._show
 
-    def spy(self: cli._LazyProgress) -> bool:
+    def spy(self: LazyProgress) -> bool:
         visible = original(self)
         if visible:
             shown.append(self.description)
         return visible
 
-    monkeypatch.setattr(cli._LazyProgress, "_show", spy)
+    monkeypatch.setattr(LazyProgress, "_show", spy)
     assert invoke("run", str(quick), "-o", str(tmp_path / "p"))[0] == 0
     assert shown and any(d.startswith("writing") for d in shown)
     shown.clear()

@@ -1,0 +1,71 @@
+"""The ``tumble`` command line's application object and how a command runs.
+
+Each command is: load → validate → call the library → print. User errors
+print one line on stderr and exit with code 2; ``--debug`` shows the
+traceback instead. Heavy imports live inside the commands so that
+``tumble --help`` is instant.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+import typer
+
+__all__ = ["USER_ERROR", "State", "app", "run_command"]
+
+app = typer.Typer(
+    name="tumble",
+    help="Rotation of rigid bodies: mass properties, angular momentum, torque, Euler's equations.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,
+)
+
+#: Exit code for errors in what the user asked for (bad values, missing files).
+USER_ERROR = 2
+
+
+class State:
+    """Options of the whole command line."""
+
+    debug = False
+
+
+def _version(value: bool) -> None:
+    if value:
+        from tumble import __version__
+
+        typer.echo(f"tumble {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(
+    debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks for errors.")] = False,
+    version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Show the version.")
+    ] = False,
+) -> None:
+    State.debug = debug
+
+
+def run_command(work: Any) -> None:
+    """Run a command body: user errors become one line and exit code 2, warnings one line each."""
+    import warnings
+
+    from tumble.errors import InputError
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            work()
+        except InputError as exc:
+            if State.debug:
+                raise
+            typer.echo(f"error: {exc}", err=True)
+            raise typer.Exit(USER_ERROR) from None
+        finally:
+            for warning in caught:
+                typer.echo(f"warning: {warning.message}", err=True)

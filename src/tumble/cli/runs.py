@@ -1,0 +1,195 @@
+"""``tumble run`` (a scenario into a run folder) and ``tumble sweep`` (many bodies into a store)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from tumble.cli.app import app, run_command
+from tumble.cli.progress import LazyProgress
+
+__all__ = ["run_scenario", "sweep"]
+
+
+@app.command("run")
+def run_scenario(
+    scenario: Annotated[
+        str | None,
+        typer.Argument(
+            metavar="SCENARIO|FILE.toml",
+            help="A built-in scenario (see `tumble list`) or a scenario file; default: gyroscope.",
+            show_default=False,
+        ),
+    ] = None,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o",
+            "--output",
+            help="Run folder to write; default runs/NAME-YYYYmmdd-HHMMSS.",
+            show_default=False,
+        ),
+    ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Replace the output folder if it holds files.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")] = False,
+    as_json: Annotated[
+        bool, typer.Option("--json", help="Print the run's summary as JSON on stdout.")
+    ] = False,
+) -> None:
+    """Simulate a scenario, compare with theory, and write a run folder with a report."""
+
+    def work() -> None:
+        from tumble.report import check_folder, write_run
+        from tumble.scenario import load, run
+
+        loaded = load(scenario)
+        folder = output if output is not None else default_folder(loaded.name)
+        check_folder(folder, force)  # before simulating: say it at once
+        with LazyProgress(enabled=not quiet) as progress:
+            result = run(loaded, progress=progress.steps)
+            write_run(result, folder, force=force, progress=progress.stage)
+        report = folder / "report.html"
+        if as_json:
+            summary = result.summary()
+            summary["folder"] = str(folder)
+            summary["report"] = str(report)
+            summary["viewer"] = (
+                str(folder / "viewer.html") if (folder / "viewer.html").exists() else None
+            )
+            typer.echo(json.dumps(summary, indent=2, allow_nan=False))
+        elif not quiet:
+            print_run(result, folder)
+
+    run_command(work)
+
+
+@app.command("sweep")
+def sweep(
+    file: Annotated[
+        str,
+        typer.Argument(
+            metavar="FILE.toml",
+            help="A sweep file, or a built-in sweep (see `tumble list`), e.g. flip-map.",
+            show_default=False,
+        ),
+    ],
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o", "--output", help="Output folder; default sweep-NAME.", show_default=False
+        ),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            metavar="tcp://HOST:PORT",
+            help="Run on an existing Dask cluster.",
+            show_default=False,
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option(
+            "--workers", help="Run on a local Dask cluster of N workers.", show_default=False
+        ),
+    ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Discard the results of a different sweep there.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")] = False,
+    as_json: Annotated[
+        bool, typer.Option("--json", help="Print the sweep's summary as JSON on stdout.")
+    ] = False,
+) -> None:
+    """Run (or resume) a sweep over many bodies into a chunked Zarr store with a report."""
+
+    def work() -> None:
+        from tumble.report import write_sweep_report
+        from tumble.sweep import run_sweep
+
+        with LazyProgress(enabled=not quiet) as progress:
+            progress.description = "chunks"
+            summary = run_sweep(
+                file,
+                output,
+                workers=workers,
+                scheduler=scheduler,
+                force=force,
+                progress=progress.chunks,
+            )
+        write_sweep_report(summary)
+        if as_json:
+            typer.echo(json.dumps(summary.to_dict(), indent=2, allow_nan=False, default=str))
+        elif not quiet:
+            rate = summary.body_steps_per_second
+            speed = f", {rate:.3g} body-steps/s" if rate else ""
+            typer.echo(
+                f"{summary.name}: {summary.bodies} bodies in {summary.chunks} chunks "
+                f"({summary.chunks_run} run, {summary.chunks_reused} reused) on "
+                f"{summary.backend}, {summary.seconds:.2f} s{speed}"
+            )
+            typer.echo(f"Results: {summary.folder}")
+            typer.echo(f"Report: {summary.report}")
+
+    run_command(work)
+
+
+def default_folder(name: str) -> Path:
+    """runs/NAME-YYYYmmdd-HHMMSS, with -2, -3, ... if that exists already."""
+    import time
+
+    base = Path("runs") / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    folder, k = base, 1
+    while folder.exists():
+        k += 1
+        folder = base.with_name(f"{base.name}-{k}")
+    return folder
+
+
+def print_run(result: Any, folder: Path) -> None:
+    """The run's theory-vs-simulation table and drift, and where its files are."""
+    import math
+
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console()
+    spec = result.scenario.spec
+    traj = result.trajectory
+    console.print(
+        f"[bold]{spec.scenario.title or spec.scenario.name}[/bold]  "
+        f"({traj.method}, {len(traj.t)} samples over {traj.t[-1]:.4g} s, {result.elapsed:.2f} s)",
+        highlight=False,
+    )
+    if result.comparisons:
+        table = Table(title=f"Theory ({result.theory}) vs simulation", title_justify="left")
+        table.add_column("quantity")
+        table.add_column("theory", justify="right")
+        table.add_column("simulation", justify="right")
+        table.add_column("relative error", justify="right")
+        table.add_column("unit")
+        for row in result.comparisons:
+            error = row["relative_error"]
+            table.add_row(
+                row["quantity"],
+                f"{row['theory']:.9g}",
+                f"{row['measured']:.9g}",
+                f"{error:.2e}" if math.isfinite(error) else "inf",
+                row.get("unit", ""),
+            )
+        console.print(table)
+    from tumble.body import label
+
+    parts = [f"{label(key)} {value:.2e}" for key, value in result.drift.items()]
+    console.print(
+        "Relative drift of the conserved quantities: " + (", ".join(parts) or "none conserved"),
+        highlight=False,
+    )
+    console.print(f"Run folder: {folder}", highlight=False, soft_wrap=True)
+    console.print(f"Report: {folder / 'report.html'}", highlight=False, soft_wrap=True)
