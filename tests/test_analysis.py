@@ -31,7 +31,7 @@ from scipy.integrate import quad, solve_ivp
 from scipy.spatial.transform import Rotation
 
 import tumble as tb
-from tumble import analysis, theory
+from tumble import analysis, checks, theory
 from tumble.simulation import Trajectory
 
 G = 9.81
@@ -196,7 +196,7 @@ def test_heavy_top_measurements_do_not_depend_much_on_the_sampling() -> None:
 
 def test_compare_a_heavy_top_with_theory() -> None:
     trajectory, gyro = heavy_top(200.0)
-    rows = {row["quantity"]: row for row in analysis.compare(trajectory, gyro)}
+    rows = {row["quantity"]: row for row in checks.compare(trajectory, gyro)}
     assert set(rows) == {
         "precession rate (steady, exact)",
         "precession rate (fast top)",
@@ -232,7 +232,7 @@ def test_compare_a_heavy_top_with_theory() -> None:
         "nutation amplitude (fast top)",
     ):
         assert rows[name]["relative_error"] < epsilon
-    table = analysis.comparison_table(analysis.compare(trajectory, gyro))
+    table = checks.comparison_table(checks.compare(trajectory, gyro))
     assert "nutation amplitude (exact)" in table
 
 
@@ -247,7 +247,7 @@ def test_free_symmetric_top_cones(method: str, per_turn: int) -> None:
     fastest = max(abs(top.body_precession_rate), top.space_precession_rate)
     period = 2 * math.pi / fastest
     trajectory = tb.simulate(TOP, OMEGA0, duration=4 * period, dt=period / per_turn, method=method)
-    rows = {row["quantity"]: row for row in analysis.compare(trajectory, top)}
+    rows = {row["quantity"]: row for row in checks.compare(trajectory, top)}
     # Both rates are constant, the azimuths linear in t: the least-squares slope is
     # exact whatever the sampling. The exact solution is good to ~1e-12; RK4 at 300
     # steps a turn to ~(2π/300)⁴/120 ≈ 2e-9 a turn.
@@ -295,7 +295,7 @@ def test_tennis_racket_flips(per_period: int) -> None:
     assert result.period == pytest.approx(period, rel=2 * error / (3 * period) + 1e-10)
     # Flips half a period apart, each to the same bound.
     np.testing.assert_allclose(np.diff(result.times), period / 2, atol=2 * error + 1e-9)
-    [row] = analysis.compare(trajectory, period)
+    [row] = checks.compare(trajectory, period)
     assert row["quantity"] == "flip period" and row["unit"] == "s"
     assert row["relative_error"] == pytest.approx(abs(result.period / period - 1), abs=1e-16)
 
@@ -395,9 +395,9 @@ def gyrocompass_trajectory(
 )
 def test_gyrocompass_oscillation_frequency(spin: float, platform: float, amplitude: float) -> None:
     trajectory, compass = gyrocompass_trajectory(spin, platform, amplitude)
-    rows = {row["quantity"]: row for row in analysis.compare(trajectory, compass)}
+    rows = {row["quantity"]: row for row in checks.compare(trajectory, compass)}
     # The platform's axis may be given with either sign.
-    assert analysis.compare(trajectory, compass, vertical=[0.0, 0.0, -1.0]) == list(rows.values())
+    assert checks.compare(trajectory, compass, vertical=[0.0, 0.0, -1.0]) == list(rows.values())
     # |θ| peaks twice a period, ~25 samples apart (h ≈ 0.25): its maxima are
     # smooth turning points, 11 half-periods apart, timed to h³/24 each; the
     # period at the measured amplitude θ0 changes by dT/dθ0 δθ0 with δθ0 ≤ θ0 h⁴/40.
@@ -434,7 +434,7 @@ def test_comparison_table_lists_each_row() -> None:
             "unit": "rad",
         },
     ]
-    lines = analysis.comparison_table(rows).splitlines()
+    lines = checks.comparison_table(rows).splitlines()
     assert lines[0].split() == ["quantity", "theory", "measured", "relative", "error", "unit"]
     assert set(lines[1]) == {"-", " "}
     assert len(lines) == 4
@@ -512,11 +512,11 @@ SPHERE = tb.shapes.solid_sphere(1.0, 0.1)
             r"Expected ω to change sign along the intermediate principal axis at least twice to measure the flip period, got 0 sign changes over 10 s\.",
         ),
         (
-            lambda: analysis.compare(short_top(3.0), "gyroscope"),
+            lambda: checks.compare(short_top(3.0), "gyroscope"),
             r"Expected `result` to be a Gyroscope, FreeSymmetricTop, Gyrocompass or a flip period \(float\) from tumble.theory, got str\.",
         ),
         (
-            lambda: analysis.compare(short_top(3.0), 1.0, spam=1),
+            lambda: checks.compare(short_top(3.0), 1.0, spam=1),
             r"Expected options `axis` or `vertical`, got spam\.",
         ),
     ],

@@ -1,10 +1,11 @@
-"""The torque and integrator registries.
+"""The torque, integrator and theory-check registries.
 
 Every registered integrator is run against the exact torque-free solution and
 against an independent DOP853 integration of a forced body (tests/reference.py),
-its batch kernels against its single-body kernel; a torque model and an
-integrator defined in this module alone (registered for one test) are then
-used by simulate and simulate_batch without any other change.
+its batch kernels against its single-body kernel; a torque model, an
+integrator and a theory check defined in this module alone (registered for one
+test) are then used by simulate, simulate_batch and scenario files without any
+other change.
 """
 
 from __future__ import annotations
@@ -22,6 +23,17 @@ from scipy.spatial.transform import Rotation
 import tumble as tb
 from reference import attitude_error, reference
 from tumble import scenario
+from tumble.checks import (
+    THEORY_CHECKS,
+    Comparison,
+    Curve,
+    Panel,
+    Setup,
+    TheoryCheck,
+    choose_check,
+    comparison_row,
+    register_check,
+)
 from tumble.core._jit import FINITE, njit, njit_vector, prange, specialise
 from tumble.core.dynamics import euler_coefficients, is_finite, normalised, rates, record
 from tumble.core.rk4 import BLOCK, load_block, store_block
@@ -385,3 +397,48 @@ def test_an_integrator_added_here_is_wired_and_tested(midpoint: Integrator) -> N
         tb.simulate_batch(
             [[1.0, 2.0, 2.5]], [[0.1, 1.0, 0.0]], duration=1.0, dt=0.1, method="exact"
         )
+
+
+# ============================================================ a theory check added here
+class EnergyCheck(TheoryCheck):
+    """A free body keeps its kinetic energy ½ ω0 · I ω0."""
+
+    name = "test-energy"
+    needs = "a free body"
+
+    def fits(self, setup: Setup) -> bool:
+        return setup.free
+
+    def compare(self, setup: Setup, trajectory: tb.Trajectory) -> Comparison:
+        expected = float(tb.kinetic_energy(setup.mass_properties, setup.omega0))
+        measured = float(np.mean(trajectory.energy))
+        curve = Curve("energy", trajectory.t, trajectory.energy)
+        return Comparison(
+            [comparison_row("kinetic energy", expected, measured, "J")],
+            [Panel("Energy", "E (J)", [curve], name="energy")],
+        )
+
+
+@pytest.fixture
+def energy_check() -> Iterator[TheoryCheck]:
+    check = register_check(EnergyCheck())
+    yield check
+    THEORY_CHECKS.pop(check.name)
+
+
+def test_a_theory_check_added_here_is_named_by_scenario_files(energy_check: TheoryCheck) -> None:
+    text = scenario.builtin_text("tennis-racket").replace(
+        'model = "flip-period"', 'model = "test-energy"', 1
+    )
+    result = scenario.run(scenario.parse(text))
+    assert result.theory == "test-energy"
+    (row,) = result.comparisons
+    # The exact solution keeps the energy to round-off: 1e-15 relative.
+    assert row["quantity"] == "kinetic energy" and row["relative_error"] < 1e-13
+    assert [panel.name for panel in result.panels] == ["energy"]
+    with pytest.raises(tb.InputError, match=r"Expected a free body for 'test-energy', got another"):
+        choose_check("test-energy", Setup(TUMBLER, OMEGA0, Q0, torque=FORCING))
+    with pytest.raises(
+        tb.InputError, match=r"Expected `model` to be one of auto, none, .*, got 'energy'\."
+    ):
+        choose_check("energy", Setup(TUMBLER, OMEGA0, Q0))

@@ -159,7 +159,7 @@ def rows(result: object) -> dict[str, dict]:
         (
             'model = "gyroscope"',
             'model = "lagrange"',
-            r"`theory\.model`: Expected a valid value: input should be 'auto', 'none', 'gyroscope'",
+            r"line 36, `theory\.model`: Expected `model` to be one of auto, none, gyroscope, rotor-loads, free-symmetric-top, flip-period, gyrocompass, got 'lagrange'\.",
         ),
         (
             "samples = 2500",

@@ -13,9 +13,11 @@ depends as little as possible on the sampling interval, and says how:
   (the tennis-racket flips), by linear interpolation between samples.
 * :func:`polhode` — L in the principal axes with the energy ellipsoid and the
   momentum sphere it lies on.
+* :func:`body_precession_rate` — the rate at which ω turns about a body axis.
 * :func:`drift` — the relative drift of the conserved quantities.
-* :func:`compare` and :func:`comparison_table` — these measurements side by
-  side with a closed form from :mod:`tumble.theory`.
+
+These measurements side by side with a closed form of :mod:`tumble.theory` are
+the theory checks of :mod:`tumble.checks`.
 
 Conventions as in the rest of tumble: SI units (s, rad, rad/s), body axes for
 ``axis``, space axes for ``vertical``, quaternions ``[w, x, y, z]`` body → space.
@@ -34,8 +36,7 @@ from numpy.typing import NDArray
 from scipy.integrate import trapezoid
 
 from tumble.errors import InputError
-from tumble.simulation import Trajectory
-from tumble.theory import FreeSymmetricTop, Gyrocompass, Gyroscope
+from tumble.trajectory import Trajectory
 from tumble.units import vector_to_si
 
 __all__ = [
@@ -44,9 +45,7 @@ __all__ = [
     "Nutation",
     "Polhode",
     "Precession",
-    "compare",
-    "comparison_row",
-    "comparison_table",
+    "body_precession_rate",
     "drift",
     "flips",
     "nutation",
@@ -529,199 +528,18 @@ def polhode(trajectory: Trajectory) -> Polhode:
 
 
 def drift(trajectory: Trajectory) -> dict[str, float]:
-    """Largest relative drift of the energy, |L| and the vector L over the trajectory
-    (:attr:`tumble.Trajectory.drift`; a copy)."""
+    """Largest relative drift of each quantity the motion conserves over the
+    trajectory (:attr:`tumble.Trajectory.drift`; a copy)."""
     traj = _trajectory(trajectory)
     return dict(traj.drift)
 
 
-# ----------------------------------------------------------------- theory vs measurement
-def comparison_row(quantity: str, theory: float, measured: float, unit: str) -> dict[str, Any]:
-    """One row of a theory-vs-measurement table: ``{quantity, theory, measured,
-    relative_error, unit}``, the error ``|measured − theory| / |theory|`` (inf
-    when theory is 0 or not finite and they differ)."""
-    if theory != 0 and math.isfinite(theory):
-        error = abs(measured - theory) / abs(theory)
-    else:
-        error = math.inf if measured != theory else 0.0
-    return {
-        "quantity": quantity,
-        "theory": float(theory),
-        "measured": float(measured),
-        "relative_error": error,
-        "unit": unit,
-    }
-
-
-def _body_precession_rate(trajectory: Trajectory, axis: Array) -> float:
-    """Least-squares rate at which ω (body coordinates) turns about the body ``axis``."""
-    angle = _azimuth(trajectory.omega, axis, "ω", trajectory.t)
-    times = trajectory.t
-    return float(np.polyfit(times - times.mean(), angle, 1)[0])
-
-
-def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
-    """Closed-form results next to the same quantities measured on a trajectory.
-
-    Each row is ``{"quantity", "theory", "measured", "relative_error", "unit"}``
-    with ``relative_error = |measured − theory| / |theory|`` (inf where theory is
-    0 and the measurement is not). What is compared depends on ``result``:
-
-    * :class:`~tumble.theory.Gyroscope` (a top released from rest): the
-      precession rate (:func:`precession`) against the exact slow steady rate
-      ``precession_rates[0]`` and the fast-top ``precession_rate``; the nutation
-      frequency (:func:`nutation`) against the exact frequency of the released
-      top ``2π / nutation_period``, the small-nutation
-      ``small_nutation_frequencies[0]`` and the fast-top ``nutation_frequency``;
-      the nutation amplitude against half the difference of the exact
-      ``nutation_limits`` and the fast-top ``nutation_amplitude``. ``options``
-      (``axis``, ``vertical``) go to :func:`precession` and :func:`nutation`.
-      The released top's mean precession differs from the steady rates, and its
-      nutation from the small nutation, by O(m g l I⊥' / (I_s ω_s)²).
-    * :class:`~tumble.theory.FreeSymmetricTop` (computed from the trajectory's
-      body, so its ``axis`` is in body coordinates; ``axis=`` overrides it):
-      the rate at which ω turns about the symmetry axis in the body
-      (least-squares slope of its azimuth) against ``body_precession_rate``, and
-      the rate at which the symmetry axis turns about the initial L in space
-      (:func:`precession` with that vertical; ``vertical=`` overrides it)
-      against ``space_precession_rate``.
-    * a float, the period from :func:`tumble.theory.flip_period`: against
-      :func:`flips`' period (``options`` are not used).
-    * :class:`~tumble.theory.Gyrocompass` (a trajectory whose spin axis swings
-      about the direction of Ω; ``options``: ``axis``, the body spin axis,
-      default z, and ``vertical``, the platform's axis of rotation in space,
-      default z, of either sign): the tilt of the spin axis from the direction
-      it swings through, +``vertical`` or −``vertical`` (the one it comes
-      nearer to: where its angular momentum settles along Ω), is |θ|,
-      which peaks at both ends of each swing, so the oscillation's angular
-      frequency is half the frequency :func:`nutation` measures on it.
-      Compared with ``oscillation_frequency`` β (the Ω² term dropped),
-      ``small_oscillation_frequency`` and ``2π / period(θ0)``, the exact
-      frequency at the measured amplitude θ0 (the mean refined maximum of |θ|).
-
-    Raises
-    ------
-    InputError
-        An unsupported ``result``, an option other than ``axis`` and
-        ``vertical``, or any error of the measurements it needs.
-    """
-    unknown = sorted(set(options) - {"axis", "vertical"})
-    if unknown:
-        raise InputError(f"Expected options `axis` or `vertical`, got {', '.join(unknown)}.")
+def body_precession_rate(trajectory: Trajectory, axis: Any) -> float:
+    """Least-squares rate (rad/s) at which ω, in body coordinates, turns about the
+    body ``axis`` (a free symmetric top's ω turns about its symmetry axis at
+    ``(I⊥ − Is)/I⊥ · ωs``)."""
     traj = _trajectory(trajectory)
-    if isinstance(result, Gyroscope):
-        rate = precession(traj, **options).rate
-        nut = nutation(traj, **options)
-        rows = []
-        if result.precession_rates is not None:
-            rows.append(
-                comparison_row(
-                    "precession rate (steady, exact)", result.precession_rates[0], rate, "rad/s"
-                )
-            )
-        rows.append(
-            comparison_row("precession rate (fast top)", result.precession_rate, rate, "rad/s")
-        )
-        rows.append(
-            comparison_row(
-                "nutation frequency (released, exact)",
-                2 * math.pi / result.nutation_period,
-                nut.frequency,
-                "rad/s",
-            )
-        )
-        if result.small_nutation_frequencies is not None:
-            rows.append(
-                comparison_row(
-                    "nutation frequency (small, exact)",
-                    result.small_nutation_frequencies[0],
-                    nut.frequency,
-                    "rad/s",
-                )
-            )
-        rows.append(
-            comparison_row(
-                "nutation frequency (fast top)", result.nutation_frequency, nut.frequency, "rad/s"
-            )
-        )
-        low, high = result.nutation_limits
-        rows.append(
-            comparison_row("nutation amplitude (exact)", 0.5 * (high - low), nut.amplitude, "rad")
-        )
-        rows.append(
-            comparison_row(
-                "nutation amplitude (fast top)", result.nutation_amplitude, nut.amplitude, "rad"
-            )
-        )
-        return rows
-    if isinstance(result, FreeSymmetricTop):
-        axis = _unit(options.get("axis", result.axis), "axis")
-        vertical = options.get("vertical", traj.angular_momentum[0])
-        body_rate = _body_precession_rate(traj, axis)
-        space_rate = precession(traj, axis=axis, vertical=vertical).rate
-        return [
-            comparison_row("body precession rate", result.body_precession_rate, body_rate, "rad/s"),
-            comparison_row(
-                "space precession rate", result.space_precession_rate, space_rate, "rad/s"
-            ),
-        ]
-    if isinstance(result, Gyrocompass):
-        axis = options.get("axis", (0.0, 0.0, 1.0))
-        up = _unit(options.get("vertical", (0.0, 0.0, 1.0)), "vertical")
-        # The axis swings through the direction its angular momentum settles along,
-        # +vertical or −vertical: the one it comes nearer to.
-        tilt = _tilt(_space_axis(traj, axis)[1], up)
-        if float(tilt.min()) > math.pi - float(tilt.max()):
-            up = -up
-        nut = nutation(traj, axis=axis, vertical=up)
-        frequency = 0.5 * nut.frequency
-        amplitude = float(nut.maxima.mean()) if nut.maxima.size else float(nut.tilt.max())
-        return [
-            comparison_row(
-                "oscillation frequency β", result.oscillation_frequency, frequency, "rad/s"
-            ),
-            comparison_row(
-                "oscillation frequency (small, exact)",
-                result.small_oscillation_frequency,
-                frequency,
-                "rad/s",
-            ),
-            comparison_row(
-                "oscillation frequency (amplitude, exact)",
-                2 * math.pi / result.period(amplitude),
-                frequency,
-                "rad/s",
-            ),
-        ]
-    if isinstance(result, float | int) and not isinstance(result, bool):
-        return [comparison_row("flip period", float(result), flips(traj).period, "s")]
-    raise InputError(
-        "Expected `result` to be a Gyroscope, FreeSymmetricTop, Gyrocompass or a flip period "
-        f"(float) from tumble.theory, got {type(result).__name__}."
-    )
-
-
-def comparison_table(rows: list[dict[str, Any]]) -> str:
-    """The rows of :func:`compare` as a plain-text table (one line per row, aligned)."""
-    header = ("quantity", "theory", "measured", "relative error", "unit")
-    lines = [header]
-    for row in rows:
-        lines.append(
-            (
-                str(row["quantity"]),
-                f"{row['theory']:.9g}",
-                f"{row['measured']:.9g}",
-                f"{row['relative_error']:.2e}",
-                str(row["unit"]),
-            )
-        )
-    widths = [max(len(line[k]) for line in lines) for k in range(len(header))]
-    text = []
-    for n, line in enumerate(lines):
-        cells = [line[0].ljust(widths[0])]
-        cells += [cell.rjust(width) for cell, width in zip(line[1:4], widths[1:4], strict=True)]
-        cells.append(line[4].ljust(widths[4]))
-        text.append("  ".join(cells).rstrip())
-        if n == 0:
-            text.append("  ".join("-" * width for width in widths))
-    return "\n".join(text) + "\n"
+    unit = _unit(axis, "axis")
+    angle = _azimuth(traj.omega, unit, "ω", traj.t)
+    times = traj.t
+    return float(np.polyfit(times - times.mean(), angle, 1)[0])

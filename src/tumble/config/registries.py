@@ -1,10 +1,12 @@
 """What configuration files may name, read from tumble's registries when a file is read.
 
-Scenario and sweep files name integrators (``method``) and torque models
-(``[[torques]] type``); the allowed values are never listed here: they come
-from :data:`tumble.integrators.INTEGRATORS` and :data:`tumble.torques.TORQUES`
-at validation time, so a model or method registered later (a user's, a
-test's) is accepted by both file formats without a change to either schema.
+Scenario and sweep files name integrators (``method``), torque models
+(``[[torques]] type``) and theory checks (``[theory] model``); the allowed
+values are never listed here: they come from
+:data:`tumble.integrators.INTEGRATORS`, :data:`tumble.torques.TORQUES` and
+:data:`tumble.checks.THEORY_CHECKS` at validation time, so a model, method
+or check registered later (a user's, a test's) is accepted by both file
+formats without a change to either schema.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from typing import Any
 from tumble.config.errors import key_error, unknown_key
 from tumble.errors import InputError
 
-__all__ = ["method_choice", "torque_entry", "torque_types"]
+__all__ = ["method_choice", "theory_choice", "torque_entry", "torque_types"]
 
 
 def method_choice(value: Any, *, batch: bool = False) -> str:
@@ -37,6 +39,25 @@ def method_choice(value: Any, *, batch: bool = False) -> str:
         close = difflib.get_close_matches(str(value), names, n=1)
         hint = f" Did you mean {close[0]!r}?" if close else ""
         raise InputError(f"Expected `method` to be one of {', '.join(names)}, got {value!r}.{hint}")
+    return str(value)
+
+
+def theory_choice(value: Any) -> str:
+    """``value`` if it is ``"auto"``, ``"none"`` or the name of a registered theory
+    check (:data:`tumble.checks.THEORY_CHECKS`).
+
+    Raises
+    ------
+    InputError
+        Another value; the message lists the choices.
+    """
+    from tumble.checks import THEORY_CHECKS
+
+    names = ["auto", "none", *THEORY_CHECKS]
+    if value not in names:
+        close = difflib.get_close_matches(str(value), names, n=1)
+        hint = f" Did you mean {close[0]!r}?" if close else ""
+        raise InputError(f"Expected `model` to be one of {', '.join(names)}, got {value!r}.{hint}")
     return str(value)
 
 

@@ -15,7 +15,7 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from tumble.scenario.execute import Panel
+    from tumble.checks import Panel
     from tumble.simulation import Trajectory
 
 __all__ = [

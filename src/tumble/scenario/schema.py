@@ -30,7 +30,7 @@ from pydantic import (
 )
 
 from tumble.config import StrictModel, key_error
-from tumble.config.registries import method_choice, torque_entry
+from tumble.config.registries import method_choice, theory_choice, torque_entry
 from tumble.errors import InputError
 from tumble.units import to_si, vector_to_si
 
@@ -452,11 +452,11 @@ class Simulation(StrictModel):
 
 
 class Theory(StrictModel):
-    """``[theory]``: which closed form to compare with (``auto`` picks from the setup)."""
+    """``[theory]``: which closed form to compare with: a theory check of the
+    registry (:data:`tumble.checks.THEORY_CHECKS`), ``auto`` (the first that fits
+    the setup) or ``none``; ``bearings`` for the rotor loads."""
 
-    model: Literal[
-        "auto", "none", "gyroscope", "free-symmetric-top", "flip-period", "rotor-loads"
-    ] = "auto"
+    model: Annotated[str, BeforeValidator(theory_choice)] = "auto"
     bearings: Annotated[tuple[float, float], _vector("length", (2,))] | None = None
 
 

@@ -1,0 +1,58 @@
+"""Theory checks: each closed form a simulation can be compared with, in one registry.
+
+* :data:`THEORY_CHECKS` — the checks by name, in the order ``auto`` tries them:
+  ``gyroscope`` (:mod:`~tumble.checks.tops`), ``rotor-loads``
+  (:mod:`~tumble.checks.rotors`), ``free-symmetric-top`` and ``flip-period``
+  (:mod:`~tumble.checks.free`), ``gyrocompass`` (:mod:`~tumble.checks.gyrocompass`).
+* :func:`choose_check` — the check a scenario's ``[theory] model`` names, or
+  the first that fits its setup.
+* :func:`compare`, :func:`comparison_row`, :func:`comparison_table` — closed-form
+  results next to the same quantities measured on a trajectory.
+
+A new check is a :class:`TheoryCheck` subclass and one :func:`register_check`
+call: scenario files can then name it.
+"""
+
+from __future__ import annotations
+
+from tumble.checks.base import (
+    THEORY_CHECKS,
+    Comparison,
+    Curve,
+    Panel,
+    Setup,
+    TheoryCheck,
+    choose_check,
+    compare,
+    comparison_row,
+    comparison_table,
+    register_check,
+)
+from tumble.checks.free import FlipPeriodCheck, FreeSymmetricTopCheck
+from tumble.checks.gyrocompass import GyrocompassCheck
+from tumble.checks.rotors import RotorLoadsCheck
+from tumble.checks.tops import GyroscopeCheck
+
+# In the order `auto` tries them: the most specific setups first.
+for _check in (
+    GyroscopeCheck(),
+    RotorLoadsCheck(),
+    FreeSymmetricTopCheck(),
+    FlipPeriodCheck(),
+    GyrocompassCheck(),
+):
+    register_check(_check)
+
+__all__ = [
+    "THEORY_CHECKS",
+    "Comparison",
+    "Curve",
+    "Panel",
+    "Setup",
+    "TheoryCheck",
+    "choose_check",
+    "compare",
+    "comparison_row",
+    "comparison_table",
+    "register_check",
+]

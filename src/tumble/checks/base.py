@@ -1,0 +1,273 @@
+"""The registry of theory checks, and what a check takes and gives.
+
+A theory check is one closed form of :mod:`tumble.theory` that a simulation can
+be compared with: it says which setups it fits (:meth:`TheoryCheck.fits`),
+which quantities it compares (the closed form next to the same quantity
+measured on the trajectory by :mod:`tumble.analysis`) and which curves show
+the comparison (:class:`Panel`). :data:`THEORY_CHECKS` holds them in the order
+``auto`` tries them; scenario files name them in ``[theory] model``.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.errors import InputError
+
+if TYPE_CHECKING:
+    from tumble.massprops import MassProperties
+    from tumble.torques import TorqueModel
+    from tumble.trajectory import Trajectory
+
+__all__ = [
+    "THEORY_CHECKS",
+    "Comparison",
+    "Curve",
+    "Panel",
+    "Setup",
+    "TheoryCheck",
+    "choose_check",
+    "compare",
+    "comparison_row",
+    "comparison_table",
+    "register_check",
+]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Curve:
+    """One line of a panel: ``t`` (s), ``values`` and a legend ``label``;
+    ``style`` is "simulation" (solid), "theory" (dashed) or "fit"."""
+
+    label: str
+    t: Array
+    values: Array
+    style: str = "simulation"
+
+
+@dataclass(frozen=True)
+class Panel:
+    """A plot of a comparison: a title, the y label with its unit, and curves;
+    ``name`` names its figure file, ``until`` limits it to t <= until (a few
+    periods of a fast oscillation)."""
+
+    title: str
+    ylabel: str
+    curves: list[Curve]
+    name: str = "angles"
+    until: float | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class Setup:
+    """What a check needs to know of a simulation.
+
+    Attributes
+    ----------
+    mass_properties : the body.
+    omega0 : (3,) initial angular velocity, body axes, rad/s.
+    attitude0 : (4,) initial attitude ``[w, x, y, z]``, body → space.
+    pivot : None, or the fixed body point, m; ``gravity``: None or (3,) m/s², space axes.
+    torque : the torque models besides gravity, or None.
+    options : what a check takes besides (``bearings`` of a rotor, the
+        gyrocompass's ``spin_rate`` and ``platform_rate``).
+    """
+
+    mass_properties: MassProperties
+    omega0: Array
+    attitude0: Array
+    pivot: Any = None
+    gravity: Any = None
+    torque: TorqueModel | None = None
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def heavy(self) -> bool:
+        """A pivot under gravity: a top."""
+        return self.pivot is not None and self.gravity is not None and bool(np.any(self.gravity))
+
+    @property
+    def torques(self) -> tuple[TorqueModel, ...]:
+        """The torque models besides gravity."""
+        return () if self.torque is None else self.torque.terms
+
+    @property
+    def free(self) -> bool:
+        """No torque at all."""
+        return not self.torques and not self.heavy
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """The rows theory vs simulation (:func:`comparison_row`) and the panels to draw."""
+
+    rows: list[dict[str, Any]]
+    panels: list[Panel]
+
+
+class TheoryCheck:
+    """A closed form a simulation can be compared with (see the module's docstring)."""
+
+    #: Its name in ``[theory] model``.
+    name: ClassVar[str] = ""
+    #: The setup it needs, for messages.
+    needs: ClassVar[str] = ""
+    #: The type of the :mod:`tumble.theory` result :func:`compare` hands to :meth:`rows`.
+    result_type: ClassVar[Any] = ()
+
+    def fits(self, setup: Setup) -> bool:
+        """True when the closed form describes this setup."""
+        raise NotImplementedError
+
+    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
+        """The comparison of a trajectory of this setup with the closed form."""
+        raise NotImplementedError
+
+    def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
+        """The rows for a result of :mod:`tumble.theory` (see :func:`compare`)."""
+        raise NotImplementedError
+
+
+#: Every registered check by name, in the order ``auto`` tries them.
+THEORY_CHECKS: dict[str, TheoryCheck] = {}
+
+
+def register_check(check: TheoryCheck) -> TheoryCheck:
+    """Add a check to :data:`THEORY_CHECKS` (replacing one of the same name)."""
+    THEORY_CHECKS[check.name] = check
+    return check
+
+
+def choose_check(name: str, setup: Setup) -> TheoryCheck | None:
+    """The check named ``name`` ("none": None; "auto": the first that fits, or None).
+
+    Raises
+    ------
+    InputError
+        An unknown name, or a check that does not fit the setup.
+    """
+    if name == "none":
+        return None
+    if name == "auto":
+        return next((check for check in THEORY_CHECKS.values() if check.fits(setup)), None)
+    check = THEORY_CHECKS.get(name)
+    if check is None:
+        names = ["auto", "none", *THEORY_CHECKS]
+        close = difflib.get_close_matches(name, names, n=1)
+        hint = f" Did you mean {close[0]!r}?" if close else ""
+        raise InputError(f"Expected `model` to be one of {', '.join(names)}, got {name!r}.{hint}")
+    if not check.fits(setup):
+        raise InputError(
+            f"Expected {check.needs} for {name!r}, got another setup "
+            '(use model = "auto" or "none").'
+        )
+    return check
+
+
+def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
+    """Closed-form results next to the same quantities measured on a trajectory.
+
+    Each row is ``{"quantity", "theory", "measured", "relative_error", "unit"}``
+    (:func:`comparison_row`). What is compared depends on the type of
+    ``result`` (a :class:`~tumble.theory.Gyroscope`,
+    :class:`~tumble.theory.FreeSymmetricTop`, :class:`~tumble.theory.Gyrocompass`
+    or a flip period from :func:`~tumble.theory.flip_period`): the check of
+    that type says (see :meth:`TheoryCheck.rows` of each check). ``options``
+    are ``axis`` (a body axis) and ``vertical`` (a space direction).
+
+    Raises
+    ------
+    InputError
+        An unsupported ``result``, an option other than ``axis`` and
+        ``vertical``, or any error of the measurements it needs.
+    """
+    from tumble.trajectory import Trajectory
+
+    unknown = sorted(set(options) - {"axis", "vertical"})
+    if unknown:
+        raise InputError(f"Expected options `axis` or `vertical`, got {', '.join(unknown)}.")
+    if not isinstance(trajectory, Trajectory):
+        raise InputError(
+            f"Expected `trajectory` to be a Trajectory, got {type(trajectory).__name__}."
+        )
+    for check in THEORY_CHECKS.values():
+        if check.result_type and isinstance(result, check.result_type):
+            if isinstance(result, bool):
+                break
+            return check.rows(trajectory, result, **options)
+    raise InputError(
+        "Expected `result` to be a Gyroscope, FreeSymmetricTop, Gyrocompass or a flip period "
+        f"(float) from tumble.theory, got {type(result).__name__}."
+    )
+
+
+def comparison_row(quantity: str, theory: float, measured: float, unit: str) -> dict[str, Any]:
+    """One row of a theory-vs-measurement table: ``{quantity, theory, measured,
+    relative_error, unit}``, the error ``|measured − theory| / |theory|`` (inf
+    when theory is 0 or not finite and they differ)."""
+    if theory != 0 and math.isfinite(theory):
+        error = abs(measured - theory) / abs(theory)
+    else:
+        error = math.inf if measured != theory else 0.0
+    return {
+        "quantity": quantity,
+        "theory": float(theory),
+        "measured": float(measured),
+        "relative_error": error,
+        "unit": unit,
+    }
+
+
+def comparison_table(rows: list[dict[str, Any]]) -> str:
+    """The rows of :func:`compare` as a plain-text table (one line per row, aligned)."""
+    header = ("quantity", "theory", "measured", "relative error", "unit")
+    lines = [header]
+    for row in rows:
+        lines.append(
+            (
+                str(row["quantity"]),
+                f"{row['theory']:.9g}",
+                f"{row['measured']:.9g}",
+                f"{row['relative_error']:.2e}",
+                str(row["unit"]),
+            )
+        )
+    widths = [max(len(line[k]) for line in lines) for k in range(len(header))]
+    text = []
+    for n, line in enumerate(lines):
+        cells = [line[0].ljust(widths[0])]
+        cells += [cell.rjust(width) for cell, width in zip(line[1:4], widths[1:4], strict=True)]
+        cells.append(line[4].ljust(widths[4]))
+        text.append("  ".join(cells).rstrip())
+        if n == 0:
+            text.append("  ".join("-" * width for width in widths))
+    return "\n".join(text) + "\n"
+
+
+def axis_angles(trajectory: Trajectory, axis: Array, vertical: Array) -> tuple[Array, Array]:
+    """Tilt (rad) of a body axis from a space direction, and its azimuth about it
+    (unwrapped, from 0), for the panels."""
+    directions = trajectory.rotation.apply(np.array(axis, dtype=float))
+    tilt = np.arccos(np.clip(directions @ vertical, -1.0, 1.0))
+    helper = np.array([1.0, 0.0, 0.0]) if abs(vertical[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(vertical, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(vertical, e1)
+    azimuth = np.unwrap(np.arctan2(directions @ e2, directions @ e1))
+    return tilt, azimuth - azimuth[0]
+
+
+def periods(period: float, count: int, duration: float) -> float | None:
+    """The end of the first ``count`` periods, or None when the run is not much longer."""
+    if not math.isfinite(period) or count * period * 2 > duration:
+        return None
+    return count * period

@@ -1,0 +1,77 @@
+"""The gimballed gyroscope on a turning platform: the swing of its spin axis."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from tumble import analysis, theory
+from tumble.checks.base import Comparison, Setup, TheoryCheck, comparison_row
+
+if TYPE_CHECKING:
+    from tumble.trajectory import Trajectory
+
+__all__ = ["GyrocompassCheck"]
+
+
+class GyrocompassCheck(TheoryCheck):
+    """The disk of a gyrocompass (:func:`tumble.models.gyrocompass`) swinging about
+    the direction of the platform's rotation: its frequency against β of
+    :func:`tumble.theory.gyrocompass` (``options``: ``spin_rate`` and
+    ``platform_rate``, rad/s)."""
+
+    name = "gyrocompass"
+    needs = "the gimballed gyroscope of a [gyrocompass] table"
+    result_type = theory.Gyrocompass
+
+    def fits(self, setup: Setup) -> bool:
+        return "platform_rate" in setup.options and "spin_rate" in setup.options
+
+    def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
+        """``options``: ``axis``, the body spin axis (default z), and ``vertical``, the
+        platform's axis of rotation in space (default z, of either sign). The
+        tilt of the spin axis from the direction it swings through, +vertical or
+        −vertical (the one it comes nearer to: where its angular momentum settles
+        along Ω), is |θ|, which peaks at both ends of each swing, so the
+        swing's angular frequency is half the frequency
+        :func:`tumble.analysis.nutation` measures on it. Compared with
+        ``oscillation_frequency`` β (the Ω² term dropped),
+        ``small_oscillation_frequency`` and ``2π / period(θ0)``, the exact
+        frequency at the measured amplitude θ0 (the mean refined maximum of |θ|)."""
+        axis = np.asarray(options.get("axis", (0.0, 0.0, 1.0)), dtype=float)
+        up = np.asarray(options.get("vertical", (0.0, 0.0, 1.0)), dtype=float)
+        up = up / np.linalg.norm(up)
+        directions = trajectory.rotation.apply(axis / np.linalg.norm(axis))
+        tilt = np.arccos(np.clip(directions @ up, -1.0, 1.0))
+        if float(tilt.min()) > math.pi - float(tilt.max()):
+            up = -up
+        nut = analysis.nutation(trajectory, axis=axis, vertical=up)
+        frequency = 0.5 * nut.frequency
+        amplitude = float(nut.maxima.mean()) if nut.maxima.size else float(nut.tilt.max())
+        return [
+            comparison_row(
+                "oscillation frequency β", result.oscillation_frequency, frequency, "rad/s"
+            ),
+            comparison_row(
+                "oscillation frequency (small, exact)",
+                result.small_oscillation_frequency,
+                frequency,
+                "rad/s",
+            ),
+            comparison_row(
+                "oscillation frequency (amplitude, exact)",
+                2 * math.pi / result.period(amplitude),
+                frequency,
+                "rad/s",
+            ),
+        ]
+
+    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
+        """The rows of one run, its platform turning about +z (or −z for a negative rate)."""
+        rate = float(setup.options["platform_rate"])
+        result = theory.gyrocompass(setup.mass_properties, setup.options["spin_rate"], rate)
+        direction = np.sign(rate) * np.array([0.0, 0.0, 1.0])
+        return Comparison(self.rows(trajectory, result, vertical=direction), [])
+
