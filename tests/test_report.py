@@ -252,7 +252,7 @@ def test_drawn_solids_are_closed_and_centred(shape: dict, volume: float) -> None
     import trimesh
 
     from tumble.report.scenario_geometry import shape_mesh
-    from tumble.scenario.schema import ShapeBody
+    from tumble.scenario.bodies import ShapeBody
 
     vertices, faces = shape_mesh(ShapeBody(mass=1, **shape))
     mesh = trimesh.Trimesh(vertices, faces, process=True)

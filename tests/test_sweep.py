@@ -20,9 +20,10 @@ import tumble as tb
 from tumble.report import write_sweep_report
 from tumble.simulation import CoarseStepWarning, IntegrationError
 from tumble.sweep import load_sweep, open_results, run_sweep, show_sweep
+from tumble.sweep.build import parse_sweep
 from tumble.sweep.metrics import compute_chunk
 from tumble.sweep.plan import Plan
-from tumble.sweep.schema import SweepError, parse_sweep
+from tumble.sweep.schema import SweepError
 
 #: A small sweep with grid, random and per-body torque parameters: 3 × 10
 #: grid points × 4 draws = 120 bodies in 7 chunks (the last one partial).

@@ -42,7 +42,21 @@ import numpy as np
 
 from tumble.core._jit import njit
 
-__all__ = ["ellipj", "ellipj_mc", "ellipk", "ellipk_mc", "elliprc", "elliprf", "elliprj"]
+__all__ = [
+    "dd_add",
+    "dd_mul",
+    "dd_sqrt",
+    "ellipj",
+    "ellipj_mc",
+    "ellipk",
+    "ellipk_mc",
+    "elliprc",
+    "elliprf",
+    "elliprj",
+    "fast_two_sum",
+    "two_prod",
+    "two_sum",
+]
 
 # Arithmetic-geometric mean in double: once |a - b| <= 2^-26 a, the mean (a + b)/2
 # is within (a - b)²/(16 a) <= 2^-56 a of the limit, below half an ulp.
@@ -85,7 +99,7 @@ _RJ_HUGE_P = 2.0**-60
 
 
 @njit
-def _two_sum(a, b):  # type: ignore[no-untyped-def]
+def two_sum(a, b):  # type: ignore[no-untyped-def]
     """``a + b = s + e`` exactly (Knuth)."""
     s = a + b
     bb = s - a
@@ -94,7 +108,7 @@ def _two_sum(a, b):  # type: ignore[no-untyped-def]
 
 
 @njit
-def _fast_two_sum(a, b):  # type: ignore[no-untyped-def]
+def fast_two_sum(a, b):  # type: ignore[no-untyped-def]
     """``a + b = s + e`` exactly, for ``|a| >= |b|``."""
     s = a + b
     e = b - (s - a)
@@ -102,7 +116,7 @@ def _fast_two_sum(a, b):  # type: ignore[no-untyped-def]
 
 
 @njit
-def _two_prod(a, b):  # type: ignore[no-untyped-def]
+def two_prod(a, b):  # type: ignore[no-untyped-def]
     """``a b = p + e`` exactly (Dekker's product), for ``|a|, |b| < 2^995``."""
     p = a * b
     t = _SPLIT * a
@@ -116,25 +130,25 @@ def _two_prod(a, b):  # type: ignore[no-untyped-def]
 
 
 @njit
-def _dd_add(ah, al, bh, bl):  # type: ignore[no-untyped-def]
-    s, e = _two_sum(ah, bh)
-    return _fast_two_sum(s, e + (al + bl))
+def dd_add(ah, al, bh, bl):  # type: ignore[no-untyped-def]
+    s, e = two_sum(ah, bh)
+    return fast_two_sum(s, e + (al + bl))
 
 
 @njit
-def _dd_mul(ah, al, bh, bl):  # type: ignore[no-untyped-def]
-    p, e = _two_prod(ah, bh)
-    return _fast_two_sum(p, e + (ah * bl + al * bh))
+def dd_mul(ah, al, bh, bl):  # type: ignore[no-untyped-def]
+    p, e = two_prod(ah, bh)
+    return fast_two_sum(p, e + (ah * bl + al * bh))
 
 
 @njit
-def _dd_sqrt(ah, al):  # type: ignore[no-untyped-def]
+def dd_sqrt(ah, al):  # type: ignore[no-untyped-def]
     """Square root of a positive double-double, one Newton step from the double root."""
     s = math.sqrt(ah)
     if s == 0.0:
         return 0.0, 0.0
-    p, e = _two_prod(s, s)
-    return _fast_two_sum(s, ((ah - p) - e + al) / (2.0 * s))
+    p, e = two_prod(s, s)
+    return fast_two_sum(s, ((ah - p) - e + al) / (2.0 * s))
 
 
 # --------------------------------------------------------------------------
@@ -215,26 +229,26 @@ def _inverse_period(mc, mc_lo):  # type: ignore[no-untyped-def]
     al = 0.0
     if mc < 2.0**-900:
         # The square root's residual would be subnormal and lose bits: scale by 4^500.
-        bh, bl = _dd_sqrt(mc * 2.0**1000, mc_lo * 2.0**1000)
+        bh, bl = dd_sqrt(mc * 2.0**1000, mc_lo * 2.0**1000)
         bh *= 2.0**-500
         bl *= 2.0**-500
     else:
-        bh, bl = _dd_sqrt(mc, mc_lo)
+        bh, bl = dd_sqrt(mc, mc_lo)
     for _ in range(_MAX_AGM):
         if abs(ah - bh) <= _AGM_TOL * ah:
             break
-        sh, sl = _dd_add(ah, al, bh, bl)
-        ph, pl = _dd_mul(ah, al, bh, bl)
-        bh, bl = _dd_sqrt(ph, pl)
+        sh, sl = dd_add(ah, al, bh, bl)
+        ph, pl = dd_mul(ah, al, bh, bl)
+        bh, bl = dd_sqrt(ph, pl)
         ah = 0.5 * sh
         al = 0.5 * sl
     # With x = (a - b)/(a + b) <= 2^-27, AGM(a, b) = (a + b)/2 (1 - x²/4 - 5x⁴/64 - ...);
     # the x⁴ term is below 2^-108, so the x² term finishes the mean in double-double
     # one step before the ladder itself would.
-    sh, sl = _dd_add(ah, al, bh, bl)
+    sh, sl = dd_add(ah, al, bh, bl)
     x = ((ah - bh) + (al - bl)) / sh  # ah - bh is exact; the low parts matter at x ~ 2^-40
-    sh, sl = _fast_two_sum(sh, sl - sh * (0.25 * x * x))  # 2A
-    fh, fl = _dd_mul(sh, sl, _INV_4PI_HI, _INV_4PI_LO)  # A / (2π) = 1 / (4K)
+    sh, sl = fast_two_sum(sh, sl - sh * (0.25 * x * x))  # 2A
+    fh, fl = dd_mul(sh, sl, _INV_4PI_HI, _INV_4PI_LO)  # A / (2π) = 1 / (4K)
     return fh, fl
 
 
@@ -246,7 +260,7 @@ def _reduce(u, fh, fl):  # type: ignore[no-untyped-def]
     if abs(u) > _SPLIT_LIMIT:
         u *= 2.0**-64
         scale = 2.0**64
-    p, e = _two_prod(u, fh)
+    p, e = two_prod(u, fh)
     p *= scale
     e = (e + u * fl) * scale
     # u / 4K = p + e; p - round(p) is exact (Sterbenz), e adds the low part.
@@ -448,7 +462,7 @@ def ellipj(u, m):  # type: ignore[no-untyped-def]
     rounding the phase to a double does by itself; the ``2^-48 |u|`` term, from
     the double-double period, counts only within ``2^-48 |u|`` of a zero.
     """
-    mc, mc_lo = _two_sum(1.0, -m)
+    mc, mc_lo = two_sum(1.0, -m)
     return _ellipj(u, mc, mc_lo)
 
 

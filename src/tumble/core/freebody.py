@@ -29,17 +29,17 @@ import numpy as np
 
 from tumble.core._jit import njit
 from tumble.core.elliptic import (
-    _dd_add,
-    _dd_mul,
-    _dd_sqrt,
-    _fast_two_sum,
-    _two_prod,
-    _two_sum,
+    dd_add,
+    dd_mul,
+    dd_sqrt,
     ellipj_mc,
     ellipk_mc,
     elliprf,
+    fast_two_sum,
     jacobi_from_table,
     jacobi_table,
+    two_prod,
+    two_sum,
 )
 from tumble.core.quaternion import multiply
 
@@ -66,23 +66,23 @@ def _incomplete_first_kind(phi, m, mc):  # type: ignore[no-untyped-def]
 def _dd_difference_product(ia, ib, ic, id, wa, wb):  # type: ignore[no-untyped-def]
     """``Ia ωa² (Ia − Ib) + Ic ωb² (Ic − Id)`` in double-double (the energy
     differences such as L² − 2EI1), every product and difference carried."""
-    d1 = _two_sum(ia, -ib)
-    d2 = _two_sum(ic, -id)
-    sa = _two_prod(wa, wa)
-    sb = _two_prod(wb, wb)
-    pa = _dd_mul(sa[0], sa[1], ia, 0.0)
-    pb = _dd_mul(sb[0], sb[1], ic, 0.0)
-    x = _dd_mul(pa[0], pa[1], d1[0], d1[1])
-    y = _dd_mul(pb[0], pb[1], d2[0], d2[1])
-    return _dd_add(x[0], x[1], y[0], y[1])
+    d1 = two_sum(ia, -ib)
+    d2 = two_sum(ic, -id)
+    sa = two_prod(wa, wa)
+    sb = two_prod(wb, wb)
+    pa = dd_mul(sa[0], sa[1], ia, 0.0)
+    pb = dd_mul(sb[0], sb[1], ic, 0.0)
+    x = dd_mul(pa[0], pa[1], d1[0], d1[1])
+    y = dd_mul(pb[0], pb[1], d2[0], d2[1])
+    return dd_add(x[0], x[1], y[0], y[1])
 
 
 @njit(inline="always")
 def _dd_divide(ah, al, bh, bl):  # type: ignore[no-untyped-def]
     """a / b in double-double: the double quotient and one correction."""
     q = ah / bh
-    p, e = _two_prod(q, bh)
-    return _fast_two_sum(q, ((ah - p) - e + al - q * bl) / bh)
+    p, e = two_prod(q, bh)
+    return fast_two_sum(q, ((ah - p) - e + al - q * bl) / bh)
 
 
 @njit
@@ -93,14 +93,14 @@ def _rate_and_mc_double_double(i1, i2, i3, w1, w2, w3):  # type: ignore[no-untyp
     below a double's rounding at 1e6 periods."""
     lower = _dd_difference_product(i2, i1, i3, i1, w2, w3)  # L² − 2EI1
     middle = _dd_difference_product(i1, i2, i3, i2, w1, w3)  # L² − 2EI2
-    d32 = _two_sum(i3, -i2)
-    d31 = _two_sum(i3, -i1)
-    numerator = _dd_mul(d32[0], d32[1], lower[0], lower[1])
-    product = _two_prod(i1, i2)
-    denominator = _dd_mul(product[0], product[1], i3, 0.0)
+    d32 = two_sum(i3, -i2)
+    d31 = two_sum(i3, -i1)
+    numerator = dd_mul(d32[0], d32[1], lower[0], lower[1])
+    product = two_prod(i1, i2)
+    denominator = dd_mul(product[0], product[1], i3, 0.0)
     squared = _dd_divide(numerator[0], numerator[1], denominator[0], denominator[1])
-    rate = _dd_sqrt(squared[0], squared[1])
-    top = _dd_mul(d31[0], d31[1], middle[0], middle[1])
+    rate = dd_sqrt(squared[0], squared[1])
+    top = dd_mul(d31[0], d31[1], middle[0], middle[1])
     mc = _dd_divide(top[0], top[1], numerator[0], numerator[1])
     return rate[0], rate[1], mc[0], mc[1]
 
@@ -134,8 +134,8 @@ def _solve_side(i1, i2, i3, w1, w2, w3, times, out, k1, k2, k3, flip2, direction
     for n in range(times.shape[0]):
         # u = λ t + τ0 in double-double: at 1e6 periods a double λ t alone
         # would be off by ~1e-9 of a period.
-        u_hi, u_lo = _two_prod(rate_hi, times[n])
-        u_hi, u_lo = _dd_add(u_hi, u_lo + rate_lo * times[n], phase, 0.0)
+        u_hi, u_lo = two_prod(rate_hi, times[n])
+        u_hi, u_lo = dd_add(u_hi, u_lo + rate_lo * times[n], phase, 0.0)
         if mc > 0.0:
             sn, cn, dn = jacobi_from_table(u_hi, table, u_lo)
         else:

@@ -25,8 +25,8 @@ from tumble.report.geometry import (
     sphere,
     torus,
 )
+from tumble.scenario.bodies import InertiaBody, MeshBody, PartsBody, PointsBody, ShapeBody
 from tumble.scenario.build import mesh_path, rotation
-from tumble.scenario.schema import InertiaBody, MeshBody, PartsBody, PointsBody, ShapeBody
 
 __all__ = ["body_geometry", "shape_mesh"]
 

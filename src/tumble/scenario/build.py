@@ -20,16 +20,16 @@ from numpy.typing import NDArray
 from tumble.config import dotted
 from tumble.errors import InputError
 from tumble.massprops import MassProperties
-from tumble.scenario.files import BUILTINS, ScenarioError, where
-from tumble.scenario.schema import (
+from tumble.scenario.bodies import (
     Attitude,
     InertiaBody,
     MeshBody,
     PartsBody,
     PointsBody,
-    Scenario,
     ShapeBody,
 )
+from tumble.scenario.files import BUILTINS, ScenarioError, where
+from tumble.scenario.schema import Scenario
 
 if TYPE_CHECKING:
     from tumble.scenario.files import LoadedScenario

@@ -18,8 +18,9 @@ from numpy.typing import NDArray
 from tumble.config import Builtins, read_source
 from tumble.errors import InputError
 from tumble.files import write_text
+from tumble.sweep.build import parse_sweep
 from tumble.sweep.plan import Plan
-from tumble.sweep.schema import SweepError, check_address, parse_sweep
+from tumble.sweep.schema import SweepError, check_address
 from tumble.sweep.store import SweepStore, fingerprint
 from tumble.sweep.summary import MapData
 

@@ -1,0 +1,363 @@
+"""From a structurally valid sweep file to a :class:`~tumble.sweep.plan.Plan` in SI:
+values converted with their units and checked together (ranges, the triangle
+inequality of the moments at every corner of the swept box, a coarse step),
+each error one :class:`~tumble.sweep.schema.SweepError` naming the file, the
+line and the key path.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
+from itertools import product
+from typing import Any
+
+import numpy as np
+
+from tumble.config import validate_toml, where
+from tumble.errors import InputError
+from tumble.sweep.plan import (
+    DISTRIBUTIONS,
+    PARAMETERS,
+    GridAxis,
+    MapSpec,
+    Plan,
+    RandomAxis,
+    defaults,
+    torque_parameters,
+)
+from tumble.sweep.schema import SweepError, SweepFile, Vary, check_address
+
+__all__ = ["PlanBuilder", "parse_sweep"]
+
+
+def parse_sweep(text: str, source: str = "<sweep>") -> Plan:
+    """Validate sweep text and convert it to a :class:`Plan` in SI.
+
+    Raises
+    ------
+    SweepError
+        Invalid TOML, or the first problem in the sweep.
+
+    Warns
+    -----
+    tumble.simulation.CoarseStepWarning
+        When ``dt`` gives fewer than 20 steps per turn at the fastest spin rate.
+    """
+    spec = validate_toml(
+        SweepFile, text, source, error=SweepError, key_path=_key_path, name_input=True
+    )
+    return PlanBuilder(spec, text, source).plan()
+
+
+def _key_path(loc: tuple[Any, ...]) -> list[Any]:
+    """The key path of the file from pydantic's location: without the tags of the
+    union of a value's types (a number or a quantity)."""
+    return [part for part in loc if part not in ("int", "float", "str")]
+
+
+class PlanBuilder:
+    """Turns a structurally valid :class:`SweepFile` into a :class:`Plan`."""
+
+    def __init__(self, spec: SweepFile, text: str, source: str) -> None:
+        self.spec = spec
+        self.text = text
+        self.source = source
+
+    @contextmanager
+    def at(self, *path: Any) -> Iterator[None]:
+        """Prefix an InputError raised inside with the file, line and key path."""
+        try:
+            yield
+        except SweepError:
+            raise
+        except InputError as exc:
+            raise SweepError(f"{where(self.text, self.source, path)}: {exc}") from None
+
+    def fail(self, path: tuple[Any, ...], message: str) -> SweepError:
+        return SweepError(f"{where(self.text, self.source, path)}: {message}")
+
+    def si(self, value: Any, kind: str, path: tuple[Any, ...], unit: str | None = None) -> float:
+        from tumble.units import to_si
+
+        # The key's own name; a list entry is named by its parameter.
+        name = next(str(p) for p in reversed(path) if isinstance(p, str) and p != "values")
+        with self.at(*path):
+            if kind == "axis":
+                if isinstance(value, bool) or value not in (1, 2, 3):
+                    raise InputError(f"Expected `{name}` to be 1, 2 or 3, got {value!r}.")
+                return float(value)
+            if unit is not None and not isinstance(value, str):
+                return float(value) * to_si(f"1 {unit}", kind, "unit")
+            return to_si(value, kind, name)
+
+    # --------------------------------------------------------------- plan
+    def plan(self) -> Plan:
+        spec = self.spec
+        base = spec.base
+        fixed: dict[str, float] = {}
+        for name, (kind, _) in PARAMETERS.items():
+            value = base.value(name)
+            if value is None:
+                continue
+            if name in spec.vary:
+                raise self.fail(
+                    ("vary", name),
+                    f"Expected `{name}` in [base] or in [vary], not both, got both.",
+                )
+            fixed[name] = self.si(value, kind, ("base", name))
+        grid: list[GridAxis] = []
+        random: list[RandomAxis] = []
+        for name, vary in spec.vary.items():
+            axis = self.axis(name, vary)
+            if isinstance(axis, GridAxis):
+                grid.append(axis)
+            else:
+                random.append(axis)
+        for name, value in defaults().items():
+            if name not in fixed and name not in spec.vary:
+                fixed[name] = value
+        varied = set(spec.vary)
+        given = set(fixed) | varied
+        for first, second in (("moment_2", "ratio_2"), ("moment_3", "ratio_3")):
+            if first in given and second in given:
+                key = ("vary", second) if second in varied else ("base", second)
+                raise self.fail(
+                    key, f"Expected one of `{first}` and `{second}`, not both, got both."
+                )
+        for needed in (
+            ("moment_1",),
+            ("moment_2", "ratio_2"),
+            ("moment_3", "ratio_3"),
+            ("spin_rate",),
+        ):
+            if not any(n in given for n in needed):
+                names = " or ".join(f"`{n}`" for n in needed)
+                raise self.fail(("base",), f"Expected {names} in [base] or [vary], got neither.")
+        ranges = {name: (value, value) for name, value in fixed.items()}
+        for axis in grid:
+            ranges[axis.name] = (float(axis.values.min()), float(axis.values.max()))
+        for draw in random:
+            ranges[draw.name] = (draw.low, draw.high)
+        self.check_ranges(ranges, varied)
+        self.check_triangle(ranges)
+
+        duration = self.si(base.duration, "time", ("base", "duration"))
+        dt = self.si(base.dt, "time", ("base", "dt"))
+        if not duration > 0:
+            raise self.fail(("base", "duration"), f"Expected `duration` > 0 s, got {duration!r}.")
+        if not dt > 0:
+            raise self.fail(("base", "dt"), f"Expected `dt` > 0 s, got {dt!r}.")
+        n_steps = max(1, math.ceil(duration / dt * (1 - 1e-12)))
+        self.warn_coarse(ranges, duration / n_steps)
+
+        maps = self.maps(tuple(spec.vary), tuple(spec.outputs.metrics))
+        scheduler = spec.dask.scheduler
+        if scheduler is not None and spec.dask.workers is not None:
+            raise self.fail(
+                ("dask",),
+                "Expected at most one of `scheduler` and `workers` in [dask], got both.",
+            )
+        if scheduler is not None:
+            with self.at("dask", "scheduler"):
+                check_address(scheduler)
+        plan = Plan(
+            name=spec.sweep.name,
+            description=spec.sweep.description,
+            fixed=fixed,
+            grid=tuple(grid),
+            random=tuple(random),
+            samples=spec.sweep.samples,
+            seed=spec.sweep.seed,
+            chunk_size=spec.sweep.chunk_size,
+            duration=duration,
+            dt=duration / n_steps,
+            n_steps=n_steps,
+            method=base.method,
+            metrics=tuple(dict.fromkeys(spec.outputs.metrics)),
+            final_state=spec.outputs.final_state,
+            initial_state=spec.outputs.initial_state,
+            maps=maps,
+            scheduler=scheduler,
+            workers=spec.dask.workers,
+            text=self.text,
+        )
+        return plan
+
+    def axis(self, name: str, vary: Vary) -> GridAxis | RandomAxis:
+        kind = PARAMETERS[name][0]
+        path = ("vary", name)
+        given = [k for k in type(vary).model_fields if getattr(vary, k) is not None and k != "unit"]
+        forms = {
+            "values": {"values"},
+            "range": {"start", "stop", "num", "scale"},
+            "random": {"distribution", "min", "max"},
+        }
+        used = [form for form, keys in forms.items() if keys & set(given)]
+        if len(used) != 1:
+            raise self.fail(
+                path,
+                "Expected a grid (`values`, or `start`, `stop`, `num`) or a random draw "
+                "(`distribution`, `min`, `max`), got "
+                + (", ".join(f"`{k}`" for k in given) if given else "no keys")
+                + ".",
+            )
+        if vary.unit is not None and kind == "axis":
+            raise self.fail((*path, "unit"), f"Expected no `unit` for `{name}`, got {vary.unit!r}.")
+        form = used[0]
+        if form == "values":
+            assert vary.values is not None
+            if not vary.values:
+                raise self.fail((*path, "values"), "Expected at least one value, got none.")
+            values = np.array(
+                [
+                    self.si(v, kind, (*path, "values", k), vary.unit)
+                    for k, v in enumerate(vary.values)
+                ]
+            )
+            return GridAxis(name, values)
+        if kind == "axis":
+            raise self.fail(
+                path, f"Expected `values` for `{name}` (a list of axes 1, 2, 3), got {given[0]!r}."
+            )
+        if form == "range":
+            for key in ("start", "stop", "num"):
+                if getattr(vary, key) is None:
+                    raise self.fail(
+                        (*path, key),
+                        f"Expected `{key}` with `start`, `stop`, `num`, which is missing.",
+                    )
+            assert vary.num is not None
+            start = self.si(vary.start, kind, (*path, "start"), vary.unit)
+            stop = self.si(vary.stop, kind, (*path, "stop"), vary.unit)
+            if vary.scale == "log":
+                if not (start > 0 and stop > 0):
+                    raise self.fail(
+                        (*path, "start"),
+                        f"Expected `start` and `stop` > 0 for a log scale, got {start!r} and "
+                        f"{stop!r}.",
+                    )
+                values = np.geomspace(start, stop, vary.num)
+            else:
+                values = np.linspace(start, stop, vary.num)
+            return GridAxis(name, values)
+        for key in ("distribution", "min", "max"):
+            if getattr(vary, key) is None:
+                raise self.fail(
+                    (*path, key),
+                    f"Expected `{key}` with `distribution`, `min`, `max`, which is missing.",
+                )
+        assert vary.distribution in DISTRIBUTIONS
+        low = self.si(vary.min, kind, (*path, "min"), vary.unit)
+        high = self.si(vary.max, kind, (*path, "max"), vary.unit)
+        if not low <= high:
+            raise self.fail((*path, "max"), f"Expected `max` >= `min` ({low!r}), got {high!r}.")
+        if vary.distribution == "loguniform" and not low > 0:
+            raise self.fail(
+                (*path, "min"), f"Expected `min` > 0 for a loguniform draw, got {low!r}."
+            )
+        if vary.distribution == "spherical":
+            if kind != "angle":
+                raise self.fail(
+                    (*path, "distribution"),
+                    f"Expected a 'spherical' draw only for an angle, got it for `{name}` "
+                    f"({kind.replace('_', ' ')}).",
+                )
+            if not (low >= 0 and high <= math.pi):
+                raise self.fail(
+                    (*path, "min"),
+                    f"Expected polar angles in [0, π] for a 'spherical' draw, got [{low!r}, "
+                    f"{high!r}] rad.",
+                )
+        return RandomAxis(name, vary.distribution, low, high)
+
+    def check_ranges(self, ranges: dict[str, tuple[float, float]], varied: set[str]) -> None:
+        limits: dict[str, tuple[str, Any]] = {
+            "moment_1": ("> 0", lambda v: v > 0),
+            "moment_2": ("> 0", lambda v: v > 0),
+            "moment_3": ("> 0", lambda v: v > 0),
+            "ratio_2": ("> 0", lambda v: v > 0),
+            "ratio_3": ("> 0", lambda v: v > 0),
+            "spin_rate": (">= 0", lambda v: v >= 0),
+        }
+        for name, entry in torque_parameters().items():
+            least = entry.parameter.minimum
+            if least is not None:
+                limits[name] = (f">= {least:g}", lambda v, least=least: v >= least)
+        for name, (text, ok) in limits.items():
+            if name not in ranges:
+                continue
+            low = ranges[name][0]
+            if not ok(low):
+                path = ("vary", name) if name in varied else ("base", name)
+                kind = PARAMETERS[name][0]
+                from tumble.units import SI_UNITS
+
+                unit = f" {SI_UNITS[kind]}" if SI_UNITS[kind] else ""
+                raise self.fail(
+                    path, f"Expected `{name}` {text}{unit} for every body, got {low!r}."
+                )
+
+    def check_triangle(self, ranges: dict[str, tuple[float, float]]) -> None:
+        """Principal moments must satisfy I1 + I2 >= I3 (and cyclic) for every body.
+        Each condition is multilinear in the parameters, so it holds on the whole
+        box of parameter ranges when it holds at the box's corners."""
+        names = [
+            n for n in ("moment_1", "moment_2", "ratio_2", "moment_3", "ratio_3") if n in ranges
+        ]
+        for corner in product(*(ranges[n] for n in names)):
+            v = dict(zip(names, corner, strict=True))
+            i1 = v["moment_1"]
+            i2 = v["moment_2"] if "moment_2" in v else v["ratio_2"] * i1
+            i3 = v["moment_3"] if "moment_3" in v else v["ratio_3"] * i1
+            a, b, c = sorted((i1, i2, i3))
+            if a + b < c * (1 - 1e-9):
+                corner_values = ", ".join(f"{n} = {v[n]:.6g}" for n in names)
+                key = next((("vary", n) for n in names if n in self.spec.vary), ("base", names[-1]))
+                raise self.fail(
+                    key,
+                    "Expected principal moments satisfying the triangle inequality "
+                    "(I1 + I2 >= I3 and cyclic) for every body, got "
+                    f"I1, I2, I3 = {i1:.6g}, {i2:.6g}, {i3:.6g} kg·m² at {corner_values}.",
+                )
+
+    def warn_coarse(self, ranges: dict[str, tuple[float, float]], dt: float) -> None:
+        from tumble.simulation import MIN_STEPS_PER_TURN, CoarseStepWarning
+
+        fastest = ranges["spin_rate"][1]
+        if fastest > 0 and 2 * math.pi / (fastest * dt) < MIN_STEPS_PER_TURN:
+            warnings.warn(
+                f"dt = {dt:.3g} s gives {2 * math.pi / (fastest * dt):.1f} steps per turn at the "
+                f"fastest spin rate ({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the "
+                "results are inaccurate.",
+                CoarseStepWarning,
+                stacklevel=4,
+            )
+
+    def maps(self, varied: tuple[str, ...], metrics: tuple[str, ...]) -> tuple[MapSpec, ...]:
+        tables = self.spec.report.maps
+        if tables is None:
+            if not varied:
+                return ()
+            y = varied[1] if len(varied) > 1 else None
+            return tuple(MapSpec(varied[0], y, m) for m in dict.fromkeys(metrics))
+        out = []
+        for k, table in enumerate(tables):
+            for key in ("x", "y"):
+                name = getattr(table, key)
+                if name is not None and name not in varied:
+                    raise self.fail(
+                        ("report", "maps", k, key),
+                        f"Expected a varied parameter ({', '.join(varied) or 'none'}), "
+                        f"got {name!r}.",
+                    )
+            if table.metric not in metrics:
+                raise self.fail(
+                    ("report", "maps", k, "metric"),
+                    f"Expected a metric listed in [outputs] ({', '.join(metrics)}), got "
+                    f"{table.metric!r}.",
+                )
+            out.append(MapSpec(table.x, table.y, table.metric, table.statistic, table.bins))
+        return tuple(out)

@@ -1,0 +1,64 @@
+"""Torque models for :func:`tumble.simulate` and :func:`tumble.simulate_batch`, and their registry.
+
+Each model is one class, registered under the name scenario files give it
+(``[[torques]] type = "constant-body"``). The class says everything the rest of
+tumble needs, so that nothing else names a torque: its parameters (units,
+shapes, limits, per-body sweep names), the fields it packs for its compiled
+function in :mod:`tumble.core.torques` (one shared signature), what it
+depends on, whether it is conservative (and its potential), whether batches
+may give it one value per body, and which quantities the motion keeps under it.
+
+* :class:`Gravity` — uniform gravity acting at the centre of mass; a torque only
+  about a pivot (a free body's centre of mass feels none).
+* :class:`ConstantBodyTorque` — fixed in body axes (a thruster, a motor).
+* :class:`ConstantSpaceTorque` — fixed in space axes.
+* :class:`LinearDamping` — ``τ = −c ω`` (bearing friction, air drag at low speed).
+* :class:`HoldRotation` — the body-fixed torque ``ω0 × (I ω0)`` that keeps the
+  initial rotation steady (a motor holding a shaft at a constant rate).
+* :class:`UserTorque` — any torque, from a function compiled with numba.
+
+Models add with ``+``. A new model is a subclass of :class:`TorqueModel`
+decorated with :func:`register_torque`, plus its compiled function: simulate,
+simulate_batch, sweeps and scenario files then accept it.
+
+A user torque function has the signature::
+
+    @numba.njit
+    def torque(t, omega, quaternion, params, out):
+        ...
+
+with ``t`` the time (s), ``omega`` (3,) the angular velocity in body axes
+(rad/s), ``quaternion`` (4,) the attitude ``[w, x, y, z]`` (body → space),
+``params`` the float64 array given to :class:`UserTorque`, and ``out`` (3,) a
+zeroed array to fill with the torque on the body in body axes (N·m). It must
+not keep references to its arguments (they are scratch buffers).
+"""
+
+from __future__ import annotations
+
+from tumble.torques.binding import BoundTorque, bind
+from tumble.torques.builtin import (
+    ConstantBodyTorque,
+    ConstantSpaceTorque,
+    Gravity,
+    HoldRotation,
+    LinearDamping,
+)
+from tumble.torques.model import TORQUES, Parameter, TorqueModel, TorqueSum, register_torque
+from tumble.torques.user import UserTorque
+
+__all__ = [
+    "TORQUES",
+    "BoundTorque",
+    "ConstantBodyTorque",
+    "ConstantSpaceTorque",
+    "Gravity",
+    "HoldRotation",
+    "LinearDamping",
+    "Parameter",
+    "TorqueModel",
+    "TorqueSum",
+    "UserTorque",
+    "bind",
+    "register_torque",
+]

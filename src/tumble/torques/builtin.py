@@ -1,0 +1,159 @@
+"""The torque models tumble brings: gravity, constant torques, damping, a held rotation.
+
+Each is one class, registered under its name in scenario files, with its
+compiled function in :mod:`tumble.core.torques`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.body import FREE_BODY_INVARIANTS
+from tumble.core import torques as kernels
+from tumble.torques.model import Parameter, TorqueModel, register_torque
+
+__all__ = ["ConstantBodyTorque", "ConstantSpaceTorque", "Gravity", "HoldRotation", "LinearDamping"]
+
+Array = NDArray[np.float64]
+
+
+def _vector_field(prefix: str) -> tuple[str, str, str]:
+    return (f"{prefix}_1", f"{prefix}_2", f"{prefix}_3")
+
+
+@register_torque
+@dataclass(frozen=True, eq=False, repr=False)
+class Gravity(TorqueModel):
+    """Uniform gravity of acceleration ``acceleration`` (space axes, m/s², default
+    −9.81 ẑ) acting at the centre of mass: a torque about a pivot only."""
+
+    acceleration: Any = (0.0, 0.0, -9.81)
+
+    name = "gravity"
+    summary = "uniform gravity at the centre of mass (a torque about a pivot only)"
+    parameters = (
+        Parameter("acceleration", "acceleration", (3,), "gravitational acceleration, space axes"),
+    )
+    fields = (*_vector_field("lever"), "weight_x", "weight_y", "weight_z")
+    kernel = staticmethod(kernels.gravity_about_pivot)
+    depends_on = frozenset({"attitude"})
+    conservative = True
+
+    def acts_on(self, body: Any) -> bool:
+        return getattr(body, "pivot", None) is not None and bool(np.any(self.acceleration))
+
+    def pack(self, body: Any, omega0: Array | None) -> Array:
+        weight = body.mass_properties.mass * np.asarray(self.acceleration)
+        return np.concatenate([body.to_principal(body.lever), weight])
+
+    def potential_energy(self, body: Any, matrices: Array) -> Array:
+        """``−m g · (A r)``, r from the pivot to the centre of mass (J; zero for a
+        free body, whose energy is about its centre of mass)."""
+        if getattr(body, "pivot", None) is None:
+            return np.zeros(len(matrices))
+        height = np.einsum("nij,j->ni", matrices, body.lever)
+        return np.asarray(-body.mass_properties.mass * (height @ np.asarray(self.acceleration)))
+
+    def conserves(self, body: Any) -> frozenset[str]:
+        if not self.acts_on(body):
+            return FREE_BODY_INVARIANTS
+        kept = {"energy", "angular_momentum_vertical"}
+        if body.is_symmetric_top():
+            kept.add("angular_momentum_axial")
+        return frozenset(kept)
+
+
+@register_torque
+@dataclass(frozen=True, eq=False, repr=False)
+class ConstantBodyTorque(TorqueModel):
+    """A constant torque in body axes (N·m): (3,), or (N, 3) one per body of a batch."""
+
+    torque: Any
+
+    name = "constant-body"
+    summary = "a constant torque fixed in the body (a thruster, a motor)"
+    parameters = (
+        Parameter(
+            "torque", "torque", (3,), "torque in body axes", sweep=_vector_field("body_torque")
+        ),
+    )
+    fields = _vector_field("torque")
+    kernel = staticmethod(kernels.constant_body_torque)
+    in_batches = True
+
+    def pack(self, body: Any, omega0: Array | None) -> Array:
+        return np.asarray(body.to_principal(self.torque)).T
+
+
+@register_torque
+@dataclass(frozen=True, eq=False, repr=False)
+class ConstantSpaceTorque(TorqueModel):
+    """A constant torque in space axes (N·m): (3,), or (N, 3) one per body of a batch."""
+
+    torque: Any
+
+    name = "constant-space"
+    summary = "a constant torque fixed in space"
+    parameters = (
+        Parameter(
+            "torque",
+            "torque",
+            (3,),
+            "torque in space axes",
+            sweep=("space_torque_x", "space_torque_y", "space_torque_z"),
+        ),
+    )
+    fields = ("torque_x", "torque_y", "torque_z")
+    kernel = staticmethod(kernels.constant_space_torque)
+    depends_on = frozenset({"attitude"})
+    in_batches = True
+
+    def pack(self, body: Any, omega0: Array | None) -> Array:
+        return np.asarray(self.torque, dtype=float).T
+
+
+@register_torque
+@dataclass(frozen=True, eq=False, repr=False)
+class LinearDamping(TorqueModel):
+    """Viscous damping ``τ = −c ω`` with ``c`` >= 0 in N·m·s: a number, or (N,) one
+    per body of a batch."""
+
+    coefficient: Any
+
+    name = "damping"
+    summary = "viscous damping τ = −c ω"
+    parameters = (
+        Parameter("coefficient", "damping", (), "damping coefficient c", 0.0, sweep=("damping",)),
+    )
+    fields = ("coefficient",)
+    kernel = staticmethod(kernels.linear_damping)
+    depends_on = frozenset({"omega"})
+    in_batches = True
+
+    def pack(self, body: Any, omega0: Array | None) -> Array:
+        return np.asarray(self.coefficient, dtype=float)[None, ...]
+
+
+@register_torque
+@dataclass(frozen=True, eq=False, repr=False)
+class HoldRotation(TorqueModel):
+    """The body-fixed torque ``ω0 × (I ω0)`` about the reference point that keeps
+    the initial rotation ω0 steady: what a motor supplies to hold a shaft at a
+    constant rate (the rotating skew rod, an unbalanced rotor). It does no work
+    (it is perpendicular to ω) and turns L rigidly: energy and |L| stay."""
+
+    name = "hold-rotation"
+    summary = "the torque ω0 × (I ω0) that keeps the initial rotation steady"
+    fields = _vector_field("torque")
+    kernel = staticmethod(kernels.constant_body_torque)
+
+    def pack(self, body: Any, omega0: Array | None) -> Array:
+        w = body.to_principal(np.zeros(3) if omega0 is None else omega0)
+        return np.asarray(np.cross(w, body.moments * w))
+
+    def conserves(self, body: Any) -> frozenset[str]:
+        return frozenset({"energy", "angular_momentum_norm"})

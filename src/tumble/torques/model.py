@@ -1,0 +1,212 @@
+"""The base of the torque models, their sums, their parameters and their registry."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.errors import InputError
+from tumble.units import SI_UNITS, to_si, vector_to_si
+
+__all__ = ["TORQUES", "Parameter", "TorqueModel", "TorqueSum", "register_torque"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A parameter of a torque model.
+
+    Attributes
+    ----------
+    name : its keyword, and its key in scenario files.
+    kind : the kind of quantity (a key of :data:`tumble.units.SI_UNITS`).
+    shape : ``()`` for a number, ``(3,)`` for a vector.
+    description : what it is, with its frame.
+    minimum : the smallest value allowed, or None.
+    sweep : the names of its per-body parameters in sweep files, one per
+        component (empty: not sweepable).
+    """
+
+    name: str
+    kind: str
+    shape: tuple[int, ...] = ()
+    description: str = ""
+    minimum: float | None = None
+    sweep: tuple[str, ...] = ()
+
+    def convert(self, value: Any, per_body: bool) -> Any:
+        """The value in SI: a float or (3,) array, or with ``per_body`` also (N,) or
+        (N, 3), one per body of a batch."""
+        many = per_body and np.ndim(value) == len(self.shape) + 1 and not isinstance(value, str)
+        if not self.shape and not many:
+            result: Any = to_si(value, self.kind, self.name)
+        else:
+            shape = ((-1, *self.shape) if many else self.shape) or (-1,)
+            result = vector_to_si(value, self.kind, self.name, shape)
+        if self.minimum is not None and np.any(np.asarray(result) < self.minimum):
+            unit = SI_UNITS[self.kind].replace("*", "·")
+            if np.ndim(result):
+                k = int(np.argmin(result))
+                shown = f"{self.name}[{k}] = {float(np.ravel(result)[k])!r}"
+            else:
+                shown = repr(result)
+            raise InputError(f"Expected `{self.name}` >= {self.minimum:g} {unit}, got {shown}.")
+        if isinstance(result, np.ndarray):
+            result.flags.writeable = False
+        return result
+
+
+#: Every registered torque model by its name in scenario files, in registration order.
+TORQUES: dict[str, type[TorqueModel]] = {}
+
+
+def register_torque(cls: type[TorqueModel]) -> type[TorqueModel]:
+    """Class decorator: add a torque model to :data:`TORQUES` under ``cls.name``."""
+    if not cls.name:
+        raise InputError(f"Expected a torque model with a `name`, got {cls.__name__}.")
+    TORQUES[cls.name] = cls
+    return cls
+
+
+class TorqueModel:
+    """Base of the torque models, and of their sums (:class:`TorqueSum`).
+
+    A model class sets the class attributes below and implements :meth:`pack`
+    (and, as needed, :meth:`acts_on`, :meth:`potential_energy`,
+    :meth:`conserves`, :meth:`context`). Its parameters are dataclass fields of
+    the same names, converted to SI on construction.
+    """
+
+    #: Its ``type`` in scenario files ("" for a sum).
+    name: ClassVar[str] = ""
+    #: What it is, one line.
+    summary: ClassVar[str] = ""
+    parameters: ClassVar[tuple[Parameter, ...]] = ()
+    #: The rows it packs for its compiled function, in the order the function reads them.
+    fields: ClassVar[tuple[str, ...]] = ()
+    #: Its compiled function (signature of :mod:`tumble.core.torques`), as a staticmethod.
+    kernel: ClassVar[Any] = None
+    #: What the torque depends on besides its parameters: "attitude", "time", "omega".
+    depends_on: ClassVar[frozenset[str]] = frozenset()
+    #: True when it derives from a potential (:meth:`potential_energy`).
+    conservative: ClassVar[bool] = False
+    #: True when scenario files may use it (its parameters are numbers).
+    in_files: ClassVar[bool] = True
+    #: True when simulate_batch and sweeps accept it (parameters may be per body).
+    in_batches: ClassVar[bool] = False
+    #: None, or why a sum may hold only one model of this class (what to do instead).
+    one_per_sum: ClassVar[str | None] = None
+
+    def __post_init__(self) -> None:
+        for parameter in self.parameters:
+            value = parameter.convert(getattr(self, parameter.name), self.in_batches)
+            object.__setattr__(self, parameter.name, value)
+
+    # ------------------------------------------------------------ algebra
+    @property
+    def terms(self) -> tuple[TorqueModel, ...]:
+        """The models this one sums (itself for a single model)."""
+        return (self,)
+
+    def __add__(self, other: object) -> TorqueModel:
+        if not isinstance(other, TorqueModel):
+            return NotImplemented
+        return TorqueSum((*self.terms, *other.terms))
+
+    def __radd__(self, other: object) -> TorqueModel:
+        if isinstance(other, int) and other == 0:  # sum() starts from 0
+            return self
+        return NotImplemented
+
+    # ------------------------------------------------------------ what it is
+    def values(self) -> dict[str, Any]:
+        """The parameter values by name, SI."""
+        return {p.name: getattr(self, p.name) for p in self.parameters}
+
+    @property
+    def per_body(self) -> int | None:
+        """The number of bodies its per-body values are for, or None."""
+        counts = {
+            int(np.shape(value)[0])
+            for parameter, value in zip(self.parameters, self.values().values(), strict=True)
+            if np.ndim(value) == len(parameter.shape) + 1
+        }
+        return counts.pop() if counts else None
+
+    def __repr__(self) -> str:
+        shown = []
+        for parameter, value in zip(self.parameters, self.values().values(), strict=True):
+            if np.ndim(value) == len(parameter.shape) + 1:
+                what = "vectors" if parameter.shape else "values"
+                shown.append(f"per body, {len(value)} {what}")
+            else:
+                unit = SI_UNITS[parameter.kind].replace("*", "·")
+                number = np.asarray(value).tolist()
+                shown.append(f"{number} {unit}".rstrip())
+        return f"{type(self).__name__}({', '.join(shown)})"
+
+    # ------------------------------------------------------------ on a body
+    def acts_on(self, body: Any) -> bool:
+        """False when the model exerts no torque on this body (then it is left out)."""
+        return True
+
+    def pack(self, body: Any, omega0: Array | None) -> Array:
+        """The values of :attr:`fields` for this body (its principal axes), as
+        (len(fields),) or (len(fields), N) per body; ``omega0`` the initial
+        angular velocity in body axes, rad/s (None for batches)."""
+        raise NotImplementedError
+
+    def context(self, body: Any) -> Any:
+        """Non-numeric data the compiled function needs (see :class:`UserTorque`), or None."""
+        return None
+
+    def potential_energy(self, body: Any, gravity_matrices: Array) -> Array:
+        """Potential energy (J) at the attitudes (n, 3, 3) (body → space), for a
+        conservative model."""
+        return np.zeros(len(gravity_matrices))
+
+    def conserves(self, body: Any) -> frozenset[str]:
+        """Which of :data:`tumble.body.INVARIANTS` the motion of this body keeps
+        under this torque (with every other quantity a torque-free body keeps
+        that this torque does not change)."""
+        return frozenset()
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class TorqueSum(TorqueModel):
+    """A sum of torque models (build with ``+``)."""
+
+    models: tuple[TorqueModel, ...] = ()
+
+    def __post_init__(self) -> None:
+        counted = [term for term in self.models if term.per_body is not None]
+        for term in counted[1:]:
+            if term.per_body != counted[0].per_body:
+                raise InputError(
+                    "Expected per-body torque terms for the same number of bodies, got "
+                    f"{counted[0]!r} and {term!r}."
+                )
+        for term in self.models:
+            hint = type(term).one_per_sum
+            if hint is not None and sum(type(t) is type(term) for t in self.models) > 1:
+                name = type(term).__name__
+                raise InputError(f"Expected at most one {name} in a sum, got two ({hint}).")
+
+    @property
+    def terms(self) -> tuple[TorqueModel, ...]:
+        return self.models
+
+    @property
+    def conservative(self) -> bool:  # type: ignore[override]
+        return all(term.conservative for term in self.models)
+
+    @property
+    def per_body(self) -> int | None:
+        return next((term.per_body for term in self.models if term.per_body is not None), None)
+
+    def __repr__(self) -> str:
+        return " + ".join(repr(term) for term in self.models) if self.models else "no torque"
