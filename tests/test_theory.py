@@ -457,6 +457,10 @@ def test_flip_period_of_extreme_angular_velocities() -> None:
     other = theory.flip_period([1.0, 2.0, 3.0], [1e-200, 1.0, 0.0])
     assert other == pytest.approx(4 * (math.log(4) + 200 * math.log(10)) * math.sqrt(3), rel=1e-14)
     assert theory.flip_period([1.0, 2.0, 3.0], [0.0, 1e300, 1e-300]) < 1e-290
+    # A prolate top turning about a transverse axis with a subnormal spin about its
+    # symmetry axis: Ω = (Is − I⊥) ωs / I⊥ ≈ 1.6e-324 rad/s, a period 2π/|Ω| beyond
+    # the float range: inf, not a division by an underflowed λ.
+    assert theory.flip_period([2.0, 3.0, 3.0], [5e-324, 0.0, 1.0]) == math.inf
 
 
 @given(principal_moments(), rotations(), st.tuples(*(st.floats(-3, 3) for _ in range(3))))

@@ -22,7 +22,13 @@ from numpy.typing import ArrayLike, NDArray
 from tumble.errors import InputError
 from tumble.units import to_si, vector_to_si
 
-__all__ = ["PHYSICAL_TOLERANCE", "MassProperties", "point_masses"]
+__all__ = [
+    "PHYSICAL_TOLERANCE",
+    "MassProperties",
+    "as_mass_properties",
+    "axisymmetric_moments",
+    "point_masses",
+]
 
 #: Relative tolerance of the physical checks, as a fraction of the trace of the
 #: inertia tensor (or of its largest entry for symmetry): a principal moment may
@@ -355,3 +361,45 @@ def point_masses(masses: Any, positions: Any) -> MassProperties:
         "k,ki,kj->ij", m, d, d
     )
     return MassProperties(total, com, inertia)
+
+
+def as_mass_properties(value: Any, name: str = "mp") -> MassProperties:
+    """``value`` if it is a :class:`MassProperties`.
+
+    Raises
+    ------
+    InputError
+        Anything else; the message names ``name`` and the type received.
+    """
+    if not isinstance(value, MassProperties):
+        raise InputError(f"Expected `{name}` to be a MassProperties, got {type(value).__name__}.")
+    return value
+
+
+def axisymmetric_moments(mp: MassProperties) -> tuple[float, float]:
+    """``(I_s, I_⊥)``, kg·m²: the moments about the centre of mass along and across
+    body z of a body symmetric about body z (inertia ``diag(I⊥, I⊥, Is)``).
+
+    Raises
+    ------
+    InputError
+        A body not symmetric about z (I_xx ≠ I_yy or products of inertia, beyond
+        ``PHYSICAL_TOLERANCE`` of the trace), or with no moment about z.
+    """
+    inertia = mp.inertia
+    scale = max(float(np.trace(inertia)), np.finfo(float).tiny)
+    tol = PHYSICAL_TOLERANCE * scale
+    off = max(abs(inertia[0, 1]), abs(inertia[0, 2]), abs(inertia[1, 2]))
+    if off > tol or abs(inertia[0, 0] - inertia[1, 1]) > tol:
+        raise InputError(
+            "Expected `mp` to be symmetric about body z (inertia about the centre of mass "
+            "diag(I⊥, I⊥, Is): I_xx = I_yy and no products of inertia), got inertia rows "
+            f"{_format(inertia[0])}, {_format(inertia[1])}, {_format(inertia[2])} kg·m²."
+        )
+    axial = float(inertia[2, 2])
+    if axial <= tol:
+        raise InputError(
+            "Expected `mp` to have a moment about its symmetry axis z > 0 kg·m² (a spin about "
+            f"the axis needs one), got I_zz = {axial!r} (a thin rod along z?)."
+        )
+    return axial, 0.5 * float(inertia[0, 0] + inertia[1, 1])

@@ -35,8 +35,7 @@ from tumble.integrators.drivers import (
     step_in_chunks,
     warn_if_coarse,
 )
-from tumble.massprops import MassProperties
-from tumble.theory import _axial_and_transverse, _mass_properties
+from tumble.massprops import MassProperties, as_mass_properties, axisymmetric_moments
 from tumble.trajectory import Trajectory
 from tumble.units import to_si
 
@@ -254,8 +253,8 @@ def gyrocompass(
     (the gyrocompass); Goldstein, Classical Mechanics, §2.7 (the Jacobi
     integral ``h = Σ q̇ ∂L/∂q̇ − L``, which here is ``T − Ω_P · L``).
     """
-    mp = _mass_properties(mp)
-    axial, transverse = _axial_and_transverse(mp)
+    mp = as_mass_properties(mp)
+    axial, transverse = axisymmetric_moments(mp)
     spin = to_si(spin_rate, "angular_velocity", "spin_rate")
     rate = to_si(platform_rate, "angular_velocity", "platform_rate")
     theta0 = to_si(angle0, "angle", "angle0")

@@ -29,14 +29,11 @@ from tumble.integrators.drivers import (
     Schedule,
     warn_if_coarse,
 )
-from tumble.integrators.exact import exact_solution
 from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties
 from tumble.torques import BoundTorque, Gravity, TorqueModel, bind
 from tumble.trajectory import Trajectory
 from tumble.units import to_si, vector_to_si
-
-_attitude = as_attitude  # TEMPORARY until theory imports it from tumble.kinematics
 
 Array = NDArray[np.float64]
 
@@ -47,7 +44,6 @@ __all__ = [
     "IntegrationError",
     "Setup",
     "Trajectory",
-    "exact_solution",
     "prepare",
     "simulate",
 ]

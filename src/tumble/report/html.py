@@ -19,7 +19,7 @@ import numpy as np
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
     from tumble.scenario.execute import RunResult
-    from tumble.simulation import Trajectory
+    from tumble.trajectory import Trajectory
 
 __all__ = ["mass_properties_html", "report_html", "stylesheet", "trajectory_html"]
 

@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from tumble.checks import Panel
-    from tumble.simulation import Trajectory
+    from tumble.trajectory import Trajectory
 
 __all__ = [
     "angular_momentum_figure",

@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 if TYPE_CHECKING:
     from tumble.report.geometry import Geometry
-    from tumble.simulation import Trajectory
+    from tumble.trajectory import Trajectory
 
 __all__ = ["Viewer", "viewer_html"]
 

@@ -33,7 +33,7 @@ from tumble.scenario.sampling import decimate, record_every
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
     from tumble.scenario.files import LoadedScenario
-    from tumble.simulation import Trajectory
+    from tumble.trajectory import Trajectory
 
 __all__ = ["RunResult", "execute"]
 

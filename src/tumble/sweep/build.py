@@ -8,7 +8,6 @@ line and the key path.
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from itertools import product
@@ -324,17 +323,10 @@ class PlanBuilder:
                 )
 
     def warn_coarse(self, ranges: dict[str, tuple[float, float]], dt: float) -> None:
-        from tumble.simulation import MIN_STEPS_PER_TURN, CoarseStepWarning
+        from tumble.integrators.drivers import warn_if_coarse
 
-        fastest = ranges["spin_rate"][1]
-        if fastest > 0 and 2 * math.pi / (fastest * dt) < MIN_STEPS_PER_TURN:
-            warnings.warn(
-                f"dt = {dt:.3g} s gives {2 * math.pi / (fastest * dt):.1f} steps per turn at the "
-                f"fastest spin rate ({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the "
-                "results are inaccurate.",
-                CoarseStepWarning,
-                stacklevel=4,
-            )
+        # Warned from parse_sweep's caller: this method, plan(), parse_sweep, caller.
+        warn_if_coarse(dt, ranges["spin_rate"][1], "the fastest spin", stacklevel=5)
 
     def maps(self, varied: tuple[str, ...], metrics: tuple[str, ...]) -> tuple[MapSpec, ...]:
         tables = self.spec.report.maps

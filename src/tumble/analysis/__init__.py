@@ -1,0 +1,52 @@
+"""Measurements on a simulated :class:`~tumble.simulation.Trajectory`.
+
+Each function measures one physical quantity from the samples, in a way that
+depends as little as possible on the sampling interval, and says how:
+
+* :func:`precession` — the azimuth φ(t) of a body axis about a vertical; its mean
+  rate over whole nutation periods (between maxima of the tilt), or a
+  least-squares slope when the tilt does not nutate.
+* :func:`nutation` — the tilt θ(t) of a body axis from the vertical; turning
+  points by parabolic refinement of the sampled extrema, the frequency from the
+  times between successive maxima (the spectrum when there are fewer than 3).
+* :func:`flips` — the sign changes of ω along the intermediate principal axis
+  (the tennis-racket flips), by linear interpolation between samples.
+* :func:`polhode` — L in the principal axes with the energy ellipsoid and the
+  momentum sphere it lies on.
+* :func:`body_precession_rate` — the rate at which ω turns about a body axis.
+* :func:`drift` — the relative drift of the conserved quantities.
+
+These measurements side by side with a closed form of :mod:`tumble.theory` are
+the theory checks of :mod:`tumble.checks`.
+
+Conventions as in the rest of tumble: SI units (s, rad, rad/s), body axes for
+``axis``, space axes for ``vertical``, quaternions ``[w, x, y, z]`` body → space.
+Angles are unwrapped, so a sample must not be more than half a turn of the
+azimuth away from the next (sample at least twice per turn).
+"""
+
+from __future__ import annotations
+
+from tumble.analysis.angles import (
+    Nutation,
+    Precession,
+    body_precession_rate,
+    nutation,
+    precession,
+)
+from tumble.analysis.common import STEADY_SWING
+from tumble.analysis.motion import Flips, Polhode, drift, flips, polhode
+
+__all__ = [
+    "STEADY_SWING",
+    "Flips",
+    "Nutation",
+    "Polhode",
+    "Precession",
+    "body_precession_rate",
+    "drift",
+    "flips",
+    "nutation",
+    "polhode",
+    "precession",
+]

@@ -1,0 +1,139 @@
+"""Flips of a tumbling body, its polhode, the drift of what its motion conserves."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.analysis.common import as_trajectory
+from tumble.errors import InputError
+from tumble.trajectory import Trajectory
+
+__all__ = ["Flips", "Polhode", "drift", "flips", "polhode"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class Flips:
+    """Sign changes of ω along the intermediate principal axis (see :func:`flips`).
+
+    Attributes
+    ----------
+    times : the times of the sign changes, s, each linearly interpolated
+        between the two samples around it.
+    period : twice the mean interval between successive flips, s: the full
+        period of ω(t), comparable to :func:`tumble.theory.flip_period`.
+    count : the number of flips.
+    axis : (3,) the intermediate principal axis, body coordinates.
+    """
+
+    times: Array
+    period: float
+    count: int
+    axis: Array
+
+
+@dataclass(frozen=True, eq=False)
+class Polhode:
+    """The polhode: L in the principal axes (see :func:`polhode`). SI units.
+
+    Attributes
+    ----------
+    angular_momentum_body : (n, 3) L in the principal axes, kg·m²/s (about the
+        centre of mass, or about the pivot).
+    moments : (3,) principal moments, ascending, kg·m².
+    axes : (3, 3) principal axes as columns, body coordinates.
+    energy_ellipsoid : (3,) semi-axes √(2 E I_k) of the ellipsoid
+        ``Σ L_k² / (2 E I_k) = 1`` on which L lies, E the kinetic energy at t = 0, kg·m²/s.
+    momentum_sphere : |L| at t = 0, kg·m²/s: the radius of the sphere on which
+        L lies; the polhode is the intersection of the two (torque-free motion).
+    """
+
+    angular_momentum_body: Array
+    moments: Array
+    axes: Array
+    energy_ellipsoid: Array
+    momentum_sphere: float
+
+
+def _principal(trajectory: Trajectory) -> tuple[Array, Array]:
+    """Principal moments (ascending) and axes of the inertia the dynamics used."""
+    from tumble.massprops import principal_decomposition
+
+    mp = trajectory.mass_properties
+    inertia = mp.inertia if trajectory.pivot is None else mp.inertia_about(trajectory.pivot)
+    return principal_decomposition(inertia)
+
+
+def flips(trajectory: Trajectory) -> Flips:
+    """The flips of a torque-free body: sign changes of ω along its intermediate axis.
+
+    The component of ω (body coordinates) along the intermediate principal axis
+    (of the inertia about the centre of mass, or about the pivot) is sampled;
+    each sign change between two successive samples is located by linear
+    interpolation (its error is third order in the sampling interval where the
+    component crosses zero with no curvature, as the Jacobi sn and cn do).
+    Samples within 1e-12 of the largest |ω| of zero are skipped, so round-off
+    about an exact zero makes no flips. The period is twice the mean interval
+    between successive flips: ω(t) changes sign twice in each of its periods,
+    the period given by :func:`tumble.theory.flip_period`.
+
+    Raises
+    ------
+    InputError
+        Fewer than 3 samples, or fewer than two sign changes (no period can be
+        measured: a record too short, or a body that does not flip).
+    """
+    traj = as_trajectory(trajectory)
+    _, axes = _principal(traj)
+    middle = axes[:, 1]
+    component = traj.omega @ middle
+    scale = float(np.max(np.abs(traj.omega)))
+    keep = np.flatnonzero(np.abs(component) > 1e-12 * scale)
+    t, w = traj.t[keep], component[keep]
+    change = np.flatnonzero(np.signbit(w[1:]) != np.signbit(w[:-1]))
+    times = t[change] - w[change] * (t[change + 1] - t[change]) / (w[change + 1] - w[change])
+    if times.size < 2:
+        raise InputError(
+            "Expected ω to change sign along the intermediate principal axis at least twice "
+            f"to measure the flip period, got {times.size} sign changes over "
+            f"{traj.t[-1] - traj.t[0]:.6g} s."
+        )
+    period = 2.0 * (times[-1] - times[0]) / (times.size - 1)
+    return Flips(times=times, period=float(period), count=int(times.size), axis=middle)
+
+
+def polhode(trajectory: Trajectory) -> Polhode:
+    """The angular momentum in the principal axes, with the surfaces that hold it.
+
+    ``L_k = I_k ω_k`` in the principal axes of the inertia about the centre of
+    mass (or about the pivot). For torque-free motion L stays on the sphere
+    ``|L| = const`` and on the energy ellipsoid ``Σ L_k² / (2 E I_k) = 1`` (semi-axes
+    √(2 E I_k)): their intersection is the polhode. Both are taken at t = 0.
+
+    Raises
+    ------
+    InputError
+        Fewer than 3 samples.
+    """
+    traj = as_trajectory(trajectory)
+    moments, axes = _principal(traj)
+    momentum = (traj.omega @ axes) * moments
+    energy = 0.5 * float(np.sum(momentum[0] ** 2 / moments))
+    return Polhode(
+        angular_momentum_body=momentum,
+        moments=moments,
+        axes=axes,
+        energy_ellipsoid=np.sqrt(2.0 * energy * moments),
+        momentum_sphere=float(np.linalg.norm(momentum[0])),
+    )
+
+
+def drift(trajectory: Trajectory) -> dict[str, float]:
+    """Largest relative drift of each quantity the motion conserves over the
+    trajectory (:attr:`tumble.Trajectory.drift`; a copy)."""
+    traj = as_trajectory(trajectory)
+    return dict(traj.drift)
