@@ -416,3 +416,15 @@ def test_inertia_about_a_point_that_overflows_is_an_error() -> None:
         match=r"Expected `point` within float range of the centre of mass, got \[0.0, 0.0, 0.0\] m",
     ):
         mp.inertia_about([0, 0, 0])
+
+
+def test_axisymmetric_moments_of_a_cylinder() -> None:
+    from tumble.massprops import as_mass_properties, axisymmetric_moments
+
+    # Solid cylinder about its axis z: Is = m r²/2, I⊥ = m (3 r² + h²)/12.
+    m, r, h = 2.0, 0.1, 0.3
+    axial, transverse = axisymmetric_moments(tb.shapes.solid_cylinder(m, r, h))
+    assert axial == pytest.approx(m * r**2 / 2, rel=1e-15)
+    assert transverse == pytest.approx(m * (3 * r**2 + h**2) / 12, rel=1e-15)
+    with pytest.raises(tb.InputError, match=r"Expected `body` to be a MassProperties, got int\."):
+        as_mass_properties(3, "body")
