@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -34,9 +35,9 @@ from tumble.checks import (
     comparison_row,
     register_check,
 )
-from tumble.core._jit import FINITE, njit, njit_vector, prange, specialise
-from tumble.core.dynamics import euler_coefficients, is_finite, normalised, rates, record
-from tumble.core.rk4 import BLOCK, load_block, store_block
+from tumble.core import stepping
+from tumble.core._jit import njit
+from tumble.core.dynamics import normalised, rates
 from tumble.integrators import INTEGRATORS, Integrator, drivers, register_integrator
 from tumble.torques import TORQUES, Parameter, TorqueModel, register_torque
 
@@ -320,52 +321,6 @@ def midpoint_step(torque, t, dt, state, coefficients, params, column, context): 
     )  # fmt: skip
 
 
-def midpoint_single(torque, identity):  # type: ignore[no-untyped-def]
-    @specialise(njit, f"test.midpoint.single|{identity}")
-    def run(w, q, inertia, params, context, dt, n_steps, first_step, record_every, out_w, out_q):  # type: ignore[no-untyped-def]
-        coefficients = euler_coefficients(inertia[0], inertia[1], inertia[2])
-        state = (w[0], w[1], w[2], q[0], q[1], q[2], q[3])
-        status = FINITE
-        for k in range(n_steps):
-            step = midpoint_step(
-                torque, (first_step + k) * dt, dt, state, coefficients, params, 0, context
-            )
-            if not is_finite(step):
-                status = first_step + k + 1
-                break
-            state = step
-            record(first_step + k + 1, record_every, out_w, out_q, state)
-        for i in range(3):
-            w[i] = state[i]
-        for i in range(4):
-            q[i] = state[3 + i]
-        return status
-
-    return run
-
-
-def midpoint_batch(torque, identity):  # type: ignore[no-untyped-def]
-    @specialise(njit_vector, f"test.midpoint.batch|{identity}")
-    def batch(w, q, inertia, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
-        n = w.shape[1]
-        for block in prange((n + BLOCK - 1) // BLOCK):
-            start = block * BLOCK
-            stop = min(start + BLOCK, n)
-            state, coefficients, block_params = load_block(w, q, inertia, params, start, stop)
-            w1, w2, w3, q0, q1, q2, q3 = state
-            c1, c2, c3, r1, r2, r3 = coefficients
-            for k in range(n_steps):
-                for j in range(stop - start):
-                    new = midpoint_step(
-                        torque, t0 + k * dt, dt, (w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j]),
-                        (c1[j], c2[j], c3[j], r1[j], r2[j], r3[j]), block_params, j, context,
-                    )  # fmt: skip
-                    w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j] = new
-            store_block(w, q, start, state)
-
-    return batch
-
-
 MIDPOINT = Integrator(
     name="midpoint",
     summary="explicit midpoint rule (a test integrator)",
@@ -373,8 +328,10 @@ MIDPOINT = Integrator(
     order=2,
     preserves="the unit quaternion",
     run=drivers.run_stepping,
-    single=midpoint_single,
-    batch=midpoint_batch,
+    # The stepping loops of the core run any one-step scheme: the step is all a
+    # new integrator of this kind writes.
+    single=partial(stepping.single_kernel, midpoint_step),
+    batch=partial(stepping.batch_kernel, midpoint_step),
 )
 
 

@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 
 from tumble.body import ZERO_MOMENT, BodyBatch
 from tumble.core._jit import FINITE
+from tumble.core.metrics import N_METRICS
 from tumble.errors import InputError, IntegrationError
 from tumble.integrators import Integrator, get_integrator
 from tumble.integrators.drivers import PROGRESS_CHUNK
@@ -26,7 +27,7 @@ from tumble.massprops import PHYSICAL_TOLERANCE
 from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
 from tumble.units import to_si, vector_to_si
 
-__all__ = ["BatchResult", "BatchRun", "measure_batch", "simulate_batch", "step_batch"]
+__all__ = ["Batch", "BatchResult", "BatchRun", "measure_batch", "simulate_batch", "step_batch"]
 
 Array = NDArray[np.float64]
 Progress = Callable[[int, int], object] | None
@@ -56,117 +57,132 @@ class BatchResult:
 
 
 @dataclass(frozen=True, eq=False)
+class Batch:
+    """N bodies ready for the batch kernels, in their principal frames (the arrays
+    C-contiguous; the state is advanced in place).
+
+    Attributes
+    ----------
+    inertia : (3, N) principal moments, kg·m².
+    w : (3, N) angular velocities, rad/s; ``q`` (4, N) quaternions, principal → space.
+    torque : the torque bound to the batch (:func:`tumble.torques.bind`).
+    """
+
+    inertia: Array
+    w: Array
+    q: Array
+    torque: BoundTorque
+
+    def __len__(self) -> int:
+        return int(self.w.shape[1])
+
+    def check_finite(self, status: NDArray[np.int64], dt: float, first: int, where: str) -> None:
+        """Raise IntegrationError when a body's state is not finite or its kernel
+        status says it stopped; ``first`` numbers the first body, ``where`` says
+        where the bodies are (e.g. "of chunk 3")."""
+        w, q = self.w, self.q
+        diverged = ~(np.isfinite(w).all(axis=0) & np.isfinite(q).all(axis=0)) | (status != FINITE)
+        if np.any(diverged):
+            k = int(np.flatnonzero(diverged)[0])
+            place = f" {where}" if where else ""
+            raise IntegrationError(
+                f"Expected the integration to stay finite, got NaN or inf for "
+                f"{int(diverged.sum())} bodies{place} (first: body {first + k}) with "
+                f"dt = {dt:.3g} s: reduce dt."
+            )
+
+
+@dataclass(frozen=True, eq=False)
 class BatchRun:
-    """What :func:`step_batch` did: the recorded times (s) and principal-frame
-    states (lists of (3, N) and (4, N) arrays, the initial state first), and the
-    per-body measures (``N_METRICS``, N) when asked for."""
+    """What :func:`step_batch` recorded: the times (s) and the principal-frame
+    states (lists of (3, N) and (4, N) arrays, the initial state first)."""
 
     times: list[float]
     omega_history: list[Array]
     quaternion_history: list[Array]
-    metrics: Array | None
 
 
 def step_batch(
     integrator: Integrator,
-    inertia: Array,
-    w: Array,
-    q: Array,
-    torque: BoundTorque,
+    batch: Batch,
     dt: float,
     n_steps: int,
     *,
     record_every: int | None = None,
-    axis: Array | None = None,
     progress: Progress = None,
     first_body: int = 0,
     where: str = "",
 ) -> BatchRun:
-    """Advance N bodies in place by ``n_steps`` steps of ``dt`` s with the
-    integrator's batch kernels.
+    """Advance a batch in place by ``n_steps`` steps of ``dt`` s with the
+    integrator's batch kernel, in chunks (of ``record_every`` steps, or of
+    ``PROGRESS_CHUNK``).
 
     Parameters
     ----------
-    inertia : (3, N) principal moments, kg·m²; ``w`` (3, N) angular velocities
-        (rad/s) and ``q`` (4, N) quaternions (principal → space), C-contiguous.
-    torque : bound to the batch (:func:`tumble.torques.bind`).
     record_every : None, or k to keep the state every k steps.
-    axis : None, or (3, N) unit nominal axes (principal frame): measure each
-        body while stepping (:mod:`tumble.core.metrics`); not with ``record_every``.
     progress : None or ``progress(done, n_steps)`` after each chunk of steps.
-    first_body, where : the number of the first body and where the bodies
-        are (e.g. "of chunk 3"), for the error message.
+    first_body, where : see :meth:`Batch.check_finite`.
 
     Raises
     ------
     IntegrationError
         A body's state became NaN or infinite (the message names the first).
     """
-    n = w.shape[1]
-    status = np.full(n, FINITE, dtype=np.int64)
-    metrics = None
-    times, omega_history, quaternion_history = [0.0], [], []
+    status = np.full(len(batch), FINITE, dtype=np.int64)
+    run = BatchRun([0.0], [], [])
     if record_every is not None:
-        omega_history.append(w.copy())
-        quaternion_history.append(q.copy())
-    if axis is not None:
-        from tumble.core.metrics import N_METRICS
-
-        # The measures run over the whole span in one call: they keep running
-        # extremes and the first flip in registers, not in the arrays.
-        metrics = np.empty((N_METRICS, n))
-        kernel = integrator.kernel("metrics", torque)
-        kernel(
-            w, q, inertia, torque.params, torque.context, axis, 0.0, dt, n_steps, metrics, status
-        )
-        chunk = n_steps
-        done = n_steps
+        run.omega_history.append(batch.w.copy())
+        run.quaternion_history.append(batch.q.copy())
+    kernel = integrator.kernel("batch", batch.torque)
+    torque = batch.torque
+    chunk = record_every or PROGRESS_CHUNK
+    done = 0
+    while done < n_steps:
+        count = min(chunk, n_steps - done)
+        kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, done * dt, dt,
+               count, status)  # fmt: skip
+        done += count
+        if np.any(status != FINITE):
+            break
+        if record_every is not None:
+            run.times.append(done * dt)
+            run.omega_history.append(batch.w.copy())
+            run.quaternion_history.append(batch.q.copy())
         if progress is not None:
             progress(done, n_steps)
-    else:
-        kernel = integrator.kernel("batch", torque)
-        chunk = record_every or PROGRESS_CHUNK
-        done = 0
-        while done < n_steps:
-            count = min(chunk, n_steps - done)
-            kernel(w, q, inertia, torque.params, torque.context, done * dt, dt, count, status)
-            done += count
-            if np.any(status != FINITE):
-                break
-            if record_every is not None:
-                times.append(done * dt)
-                omega_history.append(w.copy())
-                quaternion_history.append(q.copy())
-            if progress is not None:
-                progress(done, n_steps)
-    diverged = ~(np.isfinite(w).all(axis=0) & np.isfinite(q).all(axis=0)) | (status != FINITE)
-    if np.any(diverged):
-        k = int(np.flatnonzero(diverged)[0])
-        place = f" {where}" if where else ""
-        raise IntegrationError(
-            f"Expected the integration to stay finite, got NaN or inf for {int(diverged.sum())} "
-            f"bodies{place} (first: body {first_body + k}) with dt = {dt:.3g} s: reduce dt."
-        )
-    return BatchRun(times, omega_history, quaternion_history, metrics)
+    batch.check_finite(status, dt, first_body, where)
+    return run
 
 
 def measure_batch(
     integrator: Integrator,
-    inertia: Array,
-    w: Array,
-    q: Array,
-    torque: BoundTorque,
+    batch: Batch,
     dt: float,
     n_steps: int,
     axis: Array,
-    **options: Any,
+    *,
+    first_body: int = 0,
+    where: str = "",
 ) -> Array:
-    """:func:`step_batch` measuring each body about its nominal axis ``axis`` (3, N):
-    the measures (``N_METRICS``, N) of :mod:`tumble.core.metrics`."""
-    run = step_batch(integrator, inertia, w, q, torque, dt, n_steps, axis=axis, **options)
-    if run.metrics is None:  # pragma: no cover - step_batch measures whenever axis is given
-        raise InputError("Expected measures from a batch with nominal axes, got none.")
-    return run.metrics
+    """Advance a batch in place by ``n_steps`` steps of ``dt`` s, measuring each
+    body about its nominal axis ``axis`` (3, N) after every step: the measures
+    (``N_METRICS``, N) of :mod:`tumble.core.metrics`. One call of the
+    integrator's metrics kernel: the measures keep running extremes and the
+    first flip in registers, not in arrays.
+
+    Raises
+    ------
+    IntegrationError
+        As :func:`step_batch`.
+    """
+    status = np.full(len(batch), FINITE, dtype=np.int64)
+    metrics = np.empty((N_METRICS, len(batch)))
+    kernel = integrator.kernel("metrics", batch.torque)
+    torque = batch.torque
+    kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, axis, 0.0, dt, n_steps,
+           metrics, status)  # fmt: skip
+    batch.check_finite(status, dt, first_body, where)
+    return metrics
 
 
 def simulate_batch(
@@ -244,11 +260,8 @@ def simulate_batch(
 
     w = np.ascontiguousarray(bodies.to_principal(omega).T)
     q = np.ascontiguousarray(bodies.attitude_to_principal(q0).T)
-    inertia_soa = np.ascontiguousarray(bodies.moments.T)
-    run = step_batch(
-        integrator, inertia_soa, w, q, bound, step, n_steps, record_every=record_every,
-        progress=progress,
-    )  # fmt: skip
+    batch = Batch(np.ascontiguousarray(bodies.moments.T), w, q, bound)
+    run = step_batch(integrator, batch, step, n_steps, record_every=record_every, progress=progress)
 
     def to_body(ws: Array, qs: Array) -> tuple[Array, Array]:
         return bodies.from_principal(ws.T.copy()), bodies.attitude_from_principal(qs.T.copy())

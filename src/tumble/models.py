@@ -29,12 +29,7 @@ from scipy.spatial.transform import Rotation
 
 from tumble.core import gimbal
 from tumble.errors import InputError
-from tumble.integrators.drivers import (
-    DEFAULT_STEPS_PER_TURN,
-    Schedule,
-    step_in_chunks,
-    warn_if_coarse,
-)
+from tumble.integrators.drivers import Schedule, step_in_chunks, time_step, warn_if_coarse
 from tumble.massprops import MassProperties, as_mass_properties, axisymmetric_moments
 from tumble.trajectory import Trajectory
 from tumble.units import to_si
@@ -292,12 +287,8 @@ def gyrocompass(
     fastest = params[2] + math.sqrt(
         theta_rate0 * theta_rate0 + 4.0 * abs(params[0] * big_omega) + big_omega * big_omega
     )
-    if dt is None:
-        step = 2 * math.pi / fastest / DEFAULT_STEPS_PER_TURN if fastest > 0 else total_time
-    else:
-        step = to_si(dt, "time", "dt")
-        if step <= 0:
-            raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
+    step = time_step(dt, fastest, total_time)
+    if dt is not None:
         warn_if_coarse(step, fastest, "the fastest rate of the gimbal angle")
     schedule = Schedule.build(total_time, step, record_every)
     times, n_steps, step = schedule.times, schedule.n_steps, schedule.step

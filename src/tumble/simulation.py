@@ -27,6 +27,7 @@ from tumble.integrators.drivers import (
     MIN_STEPS_PER_TURN,
     Problem,
     Schedule,
+    time_step,
     warn_if_coarse,
 )
 from tumble.kinematics import as_attitude
@@ -152,12 +153,7 @@ def simulate(
     g = setup.gravity
     weight = mp.mass * float(np.linalg.norm(g))
     fastest = body.fastest_rate(omega, weight, exact_spin=integrator.exact_symmetric_spin)
-    if dt is None:
-        step = 2 * math.pi / fastest / DEFAULT_STEPS_PER_TURN if fastest > 0 else total_time
-    else:
-        step = to_si(dt, "time", "dt")
-        if step <= 0:
-            raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
+    step = time_step(dt, fastest, total_time)
     schedule = Schedule.build(total_time, step, record_every, rtol=rtol, atol=atol)
     if dt is not None and integrator.kind == "stepping":
         warn_if_coarse(schedule.step, fastest, "the fastest rotation")

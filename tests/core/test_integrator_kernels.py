@@ -9,9 +9,10 @@ import numba
 import numpy as np
 from numpy.testing import assert_allclose
 
-from tumble.core import adaptive, rk4, splitting
+from tumble.core import adaptive, splitting, stepping
 from tumble.core._jit import FINITE
 from tumble.core.adaptive import ACCEPTED, STEP_UNDERFLOW
+from tumble.core.rk4 import rk4_step
 from tumble.core.splitting import YOSHIDA_INNER, YOSHIDA_OUTER
 from tumble.core.torques import (
     combine,
@@ -145,7 +146,7 @@ def test_the_user_torque_turns_a_body_torque_into_the_principal_frame() -> None:
     inertia = np.full(3, 0.5)
     w = np.zeros(3)
     q = np.array([1.0, 0.0, 0.0, 0.0])
-    rk4_run = rk4.single_kernel(USER, "test.user")
+    rk4_run = stepping.single_kernel(rk4_step, USER, "test.user")
     status = rk4_run(
         w, q, inertia, np.zeros((1, 1)), context, 0.1, 10, 0, 100, np.zeros((1, 3)),
         np.zeros((1, 4)),

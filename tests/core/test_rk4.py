@@ -1,4 +1,4 @@
-"""The RK4 kernels and the equations of motion on small cases (also run with
+"""The RK4 step in the stepping kernels, and the equations of motion on small cases (also run with
 NUMBA_DISABLE_JIT=1)."""
 
 from __future__ import annotations
@@ -7,9 +7,10 @@ import numpy as np
 from numpy.testing import assert_allclose
 from scipy.spatial.transform import Rotation
 
-from tumble.core import rk4
+from tumble.core import stepping
 from tumble.core._jit import FINITE
 from tumble.core.dynamics import rotate_to_body
+from tumble.core.rk4 import rk4_step
 from tumble.core.torques import combine, constant_body_torque, constant_space_torque
 
 FREE = combine(())
@@ -27,7 +28,7 @@ def test_rotate_to_body_is_the_inverse_attitude() -> None:
 def test_spin_up_of_a_sphere_under_a_body_torque() -> None:
     # I ω̇ = τ about a fixed axis: ω(t) = ω0 + τ t / I, exact for RK4 (linear in t),
     # and the attitude turns by ω0 t + τ t² / (2 I) about z.
-    run = rk4.single_kernel(BODY_TORQUE, "test.body")
+    run = stepping.single_kernel(rk4_step, BODY_TORQUE, "test.body")
     inertia = np.full(3, 0.4)
     params = np.array([[0.0], [0.0], [0.2]])
     w = np.array([0.0, 0.0, 1.0])
@@ -51,9 +52,9 @@ def test_batch_kernel_equals_the_single_body_kernel() -> None:
     q = Rotation.random(n, random_state=5).as_quat(scalar_first=True).T.copy()
     params = np.array([[0.1], [-0.2], [0.05]])  # a space torque: the attitude-dependent path
     w_batch, q_batch = w.copy(), q.copy()
-    batch = rk4.batch_kernel(SPACE_TORQUE, "test.space")
+    batch = stepping.batch_kernel(rk4_step, SPACE_TORQUE, "test.space")
     batch(w_batch, q_batch, inertia, params, 0.0, 0.0, 1e-2, 50, np.zeros(n, dtype=np.int64))
-    single = rk4.single_kernel(SPACE_TORQUE, "test.space")
+    single = stepping.single_kernel(rk4_step, SPACE_TORQUE, "test.space")
     for k in (0, 77, 129):
         wk, qk = w[:, k].copy(), q[:, k].copy()
         single(
@@ -67,7 +68,7 @@ def test_batch_kernel_equals_the_single_body_kernel() -> None:
 
 
 def test_a_diverging_step_is_reported_and_not_taken() -> None:
-    run = rk4.single_kernel(FREE, "test.free")
+    run = stepping.single_kernel(rk4_step, FREE, "test.free")
     w = np.array([0.0, 1e200, 1e200])
     q = np.array([1.0, 0.0, 0.0, 0.0])
     status = run(

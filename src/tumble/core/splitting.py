@@ -225,7 +225,7 @@ def single_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
     """``run(w, q, inertia, params, context, dt, n_steps, first_step, record_every,
     out_w, out_q) -> status``: ``n_steps`` steps of ``order`` 2 (Strang) or 4
     (Yoshida), arguments, recording and status as
-    :func:`tumble.core.rk4.single_kernel`."""
+    :func:`tumble.core.stepping.single_kernel`."""
 
     @specialise(njit, f"splitting.single.{order}|{identity}")
     def run(w, q, inertia, params, context, dt, n_steps, first_step, record_every, out_w, out_q):  # type: ignore[no-untyped-def]
@@ -239,7 +239,7 @@ def single_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
 
 def batch_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
     """``batch(w, q, inertia, params, context, t0, dt, n_steps, status)``: N bodies
-    (arrays as :func:`tumble.core.rk4.batch_kernel`) advanced in place, one body
+    (arrays as :func:`tumble.core.stepping.batch_kernel`) advanced in place, one body
     per thread at a time (the rotations' sines and cosines do not vectorise
     across bodies as RK4's products do); ``status`` (N,) int64 receives each
     body's status (the body then keeps its last finite state)."""

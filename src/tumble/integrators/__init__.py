@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 from functools import partial
 from typing import Any, Literal
 
-from tumble.core import adaptive, rk4, splitting
+from tumble.core import adaptive, splitting, stepping
+from tumble.core.rk4 import rk4_step
 from tumble.errors import InputError
 from tumble.integrators import drivers
 from tumble.torques import BoundTorque
@@ -166,36 +167,34 @@ register_integrator(
         auto=_exact_when,
     )
 )
-register_integrator(
-    Integrator(
-        name="splitting",
-        summary="fourth-order symplectic splitting (Yoshida's composition of strang)",
+def _splitting(name: str, order: int, summary: str, auto: Any = None) -> Integrator:
+    """An entry for the splitting of order 2 (Strang) or 4 (Yoshida's composition)."""
+    return Integrator(
+        name=name,
+        summary=summary,
         kind="stepping",
-        order=4,
+        order=order,
         preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
         "a symmetric body's free motion exactly",
         run=drivers.run_stepping,
         exact_symmetric_spin=True,
-        auto=_splitting_when,
-        single=partial(splitting.single_kernel, order=4),
-        batch=partial(splitting.batch_kernel, order=4),
-        metrics=partial(splitting.metrics_kernel, order=4),
+        auto=auto,
+        single=partial(splitting.single_kernel, order=order),
+        batch=partial(splitting.batch_kernel, order=order),
+        metrics=partial(splitting.metrics_kernel, order=order),
+    )
+
+
+register_integrator(
+    _splitting(
+        "splitting",
+        4,
+        "fourth-order symplectic splitting (Yoshida's composition of strang)",
+        _splitting_when,
     )
 )
 register_integrator(
-    Integrator(
-        name="strang",
-        summary="second-order symplectic splitting: exact rotations and torque kicks",
-        kind="stepping",
-        order=2,
-        preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
-        "a symmetric body's free motion exactly",
-        run=drivers.run_stepping,
-        exact_symmetric_spin=True,
-        single=partial(splitting.single_kernel, order=2),
-        batch=partial(splitting.batch_kernel, order=2),
-        metrics=partial(splitting.metrics_kernel, order=2),
-    )
+    _splitting("strang", 2, "second-order symplectic splitting: exact rotations and torque kicks")
 )
 register_integrator(
     Integrator(
@@ -205,9 +204,9 @@ register_integrator(
         order=4,
         preserves="the unit quaternion",
         run=drivers.run_stepping,
-        single=rk4.single_kernel,
-        batch=rk4.batch_kernel,
-        metrics=rk4.metrics_kernel,
+        single=partial(stepping.single_kernel, rk4_step),
+        batch=partial(stepping.batch_kernel, rk4_step),
+        metrics=partial(stepping.metrics_kernel, rk4_step),
     )
 )
 register_integrator(

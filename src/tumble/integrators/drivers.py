@@ -21,9 +21,10 @@ from numpy.typing import NDArray
 
 from tumble.body import RigidBody
 from tumble.core._jit import FINITE
-from tumble.errors import CoarseStepWarning, IntegrationError
+from tumble.errors import CoarseStepWarning, InputError, IntegrationError
 from tumble.integrators.exact import exact_principal
 from tumble.torques import BoundTorque
+from tumble.units import to_si
 
 __all__ = [
     "ADAPTIVE_CHUNK",
@@ -36,6 +37,7 @@ __all__ = [
     "run_exact",
     "run_stepping",
     "step_in_chunks",
+    "time_step",
     "warn_if_coarse",
 ]
 
@@ -195,6 +197,24 @@ MIN_STEPS_PER_TURN = 20
 #: Steps per turn of the fastest rotation when ``dt`` is not given: RK4 then
 #: keeps ω to about 1e-10 relative per turn.
 DEFAULT_STEPS_PER_TURN = 200
+
+
+def time_step(dt: Any, fastest: float, duration: float) -> float:
+    """The time step, s: ``dt`` (any time quantity, > 0), or when it is None
+    1/``DEFAULT_STEPS_PER_TURN`` of a turn at ``fastest`` rad/s (``duration``
+    when nothing turns).
+
+    Raises
+    ------
+    InputError
+        A ``dt`` that is not a positive time.
+    """
+    if dt is None:
+        return 2 * math.pi / fastest / DEFAULT_STEPS_PER_TURN if fastest > 0 else duration
+    step = to_si(dt, "time", "dt")
+    if step <= 0:
+        raise InputError(f"Expected `dt` > 0 s, got {step!r}.")
+    return step
 
 
 def warn_if_coarse(step: float, fastest: float, what: str, stacklevel: int = 3) -> None:

@@ -67,7 +67,7 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
     tumble.simulation.IntegrationError
         If a body's state became NaN or infinite (the message names the body).
     """
-    from tumble.batch import measure_batch
+    from tumble.batch import Batch, measure_batch
     from tumble.body import BodyBatch
     from tumble.core.metrics import (
         ENERGY_DEVIATION,
@@ -86,13 +86,13 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
     w = np.ascontiguousarray(bodies.omega.T)
     q = np.zeros((4, n))
     q[0] = 1.0
-    inertia = np.ascontiguousarray(bodies.moments.T)
     torque = bind(bodies.torque, BodyBatch(bodies.moments), bodies=n)
+    batch = Batch(np.ascontiguousarray(bodies.moments.T), w, q, torque)
     integrator = get_integrator(plan.method, batch=True)
     with _KERNEL_LOCK:
         out = measure_batch(
-            integrator, inertia, w, q, torque, plan.dt, plan.n_steps, bodies.axis,
-            first_body=start, where=f"of chunk {index}",
+            integrator, batch, plan.dt, plan.n_steps, bodies.axis, first_body=start,
+            where=f"of chunk {index}",
         )  # fmt: skip
 
     result: dict[str, NDArray[np.generic]] = {}
