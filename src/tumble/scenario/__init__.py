@@ -36,25 +36,12 @@ __all__ = [
 ]
 
 
-def builtin_names() -> list[str]:
-    """Names of the built-in scenarios, in the order `tumble list` shows them."""
-    return BUILTINS.names()
-
-
-def builtin_text(name: str) -> str:
-    """The TOML text of a built-in scenario.
-
-    Raises
-    ------
-    ScenarioError
-        If there is no built-in scenario of that name (the message lists them).
-    """
-    return BUILTINS.text(name)
-
-
-def builtin_description(name: str) -> str:
-    """The one-line title of a built-in scenario."""
-    return BUILTINS.description(name)
+#: Names of the built-in scenarios, in the order `tumble list` shows them.
+builtin_names = BUILTINS.names
+#: The TOML text of a built-in scenario (ScenarioError for an unknown name).
+builtin_text = BUILTINS.text
+#: The one-line title of a built-in scenario.
+builtin_description = BUILTINS.description
 
 
 def load(scenario: str | Path | None = None) -> LoadedScenario:

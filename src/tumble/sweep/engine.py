@@ -111,15 +111,8 @@ def builtin_sweeps() -> dict[str, str]:
     return {name: BUILTINS.description(name) for name in BUILTINS.names()}
 
 
-def show_sweep(name: str) -> str:
-    """The TOML text of a built-in sweep, to copy and edit.
-
-    Raises
-    ------
-    SweepError
-        If there is no built-in sweep of that name (the message lists them).
-    """
-    return BUILTINS.text(name)
+#: The TOML text of a built-in sweep, to copy and edit (SweepError for an unknown name).
+show_sweep = BUILTINS.text
 
 
 def load_sweep(sweep: str | os.PathLike[str]) -> Plan:
