@@ -53,7 +53,10 @@ bench: setup
 	$(BIN)/python -m pip install --quiet -e '.[dev,bench]'
 	$(BIN)/python bench/mass_properties.py
 	$(BIN)/python bench/free_body.py
+	$(BIN)/python bench/heavy_top.py
 	$(BIN)/python bench/batch.py
+	$(BIN)/python bench/sweep.py
+	$(BIN)/python bench/accuracy.py
 	$(BIN)/python bench/end_to_end.py
 
 clean:

@@ -353,3 +353,23 @@ def test_the_exact_solution_needs_a_body_with_thickness() -> None:
         tb.InputError, match=r"Expected a body with no zero principal moment, got moments \[0\.0, "
     ):
         rod.at(1.0)
+
+
+def test_the_reason_says_when_kicks_are_first_order_in_the_torque() -> None:
+    # A user torque may depend on ω: the splitting's kicks hold it, so the method is
+    # first order in it (the damping test above measures it); linear damping is
+    # integrated exactly by the kicks and gets no such note.
+    kwargs = {"duration": 0.1, "dt": 1e-2, "method": "splitting"}
+    user = tb.simulate(
+        TUMBLER, OMEGA0, torque=tb.torques.UserTorque(body_torque_function, [0, 0, 0, 0.02]),
+        **kwargs,
+    )  # fmt: skip
+    assert user.reason == (
+        "requested (its kicks hold the torque, which depends on ω here: splitting is first "
+        "order in it)"
+    )
+    damped = tb.simulate(TUMBLER, OMEGA0, torque=tb.torques.LinearDamping(0.02), **kwargs)
+    assert damped.reason == "requested"
+    assert tb.simulate(TUMBLER, OMEGA0, torque=FORCING, **{**kwargs, "method": "rk4"}).reason == (
+        "requested"
+    )

@@ -239,6 +239,11 @@ def prepare(
         chosen, reason = auto_choice(bound)
     else:
         reason = "requested"
+    if chosen.kicks and "omega" in bound.depends_on:
+        reason += (
+            f" (its kicks hold the torque, which depends on ω here: {chosen.name} is first "
+            "order in it)"
+        )
     if chosen.torque_free_only and not bound.torque_free:
         raise InputError(
             f"Expected a torque-free body for method {chosen.name!r} (no torque model other "

@@ -58,6 +58,10 @@ class Integrator:
     torque_free_only : True when it solves torque-free motion only.
     exact_symmetric_spin : True when its free flow turns a symmetric body
         exactly (a step need not resolve the spin about the symmetry axis).
+    kicks : True when it applies the torque in kicks that hold the attitude and
+        the torque: exact for torques whose τ depends on the attitude and time
+        only (:attr:`tumble.torques.TorqueModel.depends_on`), first order in
+        one whose τ depends on ω.
     auto : None, or ``auto(torque) -> reason or None``: why ``method="auto"``
         picks it for this bound torque (the first entry with a reason wins).
     single, batch, metrics : kernel factories (see the module's docstring), or None.
@@ -72,6 +76,7 @@ class Integrator:
     run: Callable[..., Any]
     torque_free_only: bool = False
     exact_symmetric_spin: bool = False
+    kicks: bool = False
     auto: Callable[[BoundTorque], str | None] | None = None
     single: KernelFactory | None = None
     batch: KernelFactory | None = None
@@ -178,6 +183,7 @@ def _splitting(name: str, order: int, summary: str, auto: Any = None) -> Integra
         "a symmetric body's free motion exactly",
         run=drivers.run_stepping,
         exact_symmetric_spin=True,
+        kicks=True,
         auto=auto,
         single=partial(splitting.single_kernel, order=order),
         batch=partial(splitting.batch_kernel, order=order),

@@ -131,7 +131,6 @@ class LinearDamping(TorqueModel):
     )
     fields = ("coefficient",)
     kernel = staticmethod(kernels.linear_damping)
-    depends_on = frozenset({"omega"})
     in_batches = True
 
     def pack(self, body: Any, omega0: Array | None) -> Array:

@@ -90,7 +90,9 @@ class TorqueModel:
     fields: ClassVar[tuple[str, ...]] = ()
     #: Its compiled function (signature of :mod:`tumble.core.torques`), as a staticmethod.
     kernel: ClassVar[Any] = None
-    #: What the torque depends on besides its parameters: "attitude", "time", "omega".
+    #: What the torque τ its compiled function returns depends on besides the
+    #: parameters: "attitude", "time", "omega" (the linear damping c it returns
+    #: beside τ multiplies ω by construction and is not counted).
     depends_on: ClassVar[frozenset[str]] = frozenset()
     #: True when it derives from a potential (:meth:`potential_energy`).
     conservative: ClassVar[bool] = False
@@ -164,10 +166,10 @@ class TorqueModel:
         """Non-numeric data the compiled function needs (see :class:`UserTorque`), or None."""
         return None
 
-    def potential_energy(self, body: Any, gravity_matrices: Array) -> Array:
+    def potential_energy(self, body: Any, matrices: Array) -> Array:
         """Potential energy (J) at the attitudes (n, 3, 3) (body → space), for a
         conservative model."""
-        return np.zeros(len(gravity_matrices))
+        return np.zeros(len(matrices))
 
     def conserves(self, body: Any) -> frozenset[str]:
         """Which of :data:`tumble.body.INVARIANTS` the motion of this body keeps
