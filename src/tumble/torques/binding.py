@@ -84,7 +84,7 @@ def bind(
         _check_bodies(term, bodies)
         packed = np.asarray(term.pack(body, omega0), dtype=float)
         packed = packed.reshape(len(term.fields), -1) if term.fields else np.zeros((0, 1))
-        blocks.append(np.broadcast_to(packed, (len(term.fields), packed.shape[1])))
+        blocks.append(packed)
         kernels_rows.append((type(term).kernel, row))
         row += len(term.fields)
         context = term.context(body)
