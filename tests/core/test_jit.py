@@ -1,0 +1,47 @@
+"""Kernels specialised for a torque are cached on disk and found by a new process.
+
+numba keys its cache of a closure by pickling the closure's cells, which for
+compiled functions differ in every process; tumble.core._jit.specialise keys
+it by a stable identity instead (through numba's cache class). This checks the
+behaviour end to end, so a numba release that changes that class is noticed.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numba
+import pytest
+
+SCRIPT = """
+import numpy as np
+from tumble.body import BodyBatch
+from tumble.integrators import INTEGRATORS
+from tumble.torques import LinearDamping, bind
+
+bound = bind(LinearDamping(0.1), BodyBatch(np.ones((1, 3))), bodies=1)
+kernel = INTEGRATORS["rk4"].kernel("single", bound)
+w, q = np.array([1.0, 0.0, 0.0]), np.array([1.0, 0.0, 0.0, 0.0])
+kernel(w, q, np.ones(3), bound.params, bound.context, 0.1, 10, 0, 100, np.zeros((1, 3)),
+       np.zeros((1, 4)))
+# Spin-down under damping c = 0.1 N·m·s of a sphere of moment 1: ω = exp(−0.1 t).
+assert abs(w[0] - np.exp(-0.1)) < 1e-8, w
+print(sum(kernel.stats.cache_hits.values()), sum(kernel.stats.cache_misses.values()))
+"""
+
+
+@pytest.mark.skipif(numba.config.DISABLE_JIT, reason="nothing is compiled without the JIT")
+def test_a_second_process_loads_the_specialised_kernel_from_the_cache(tmp_path: Path) -> None:
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), TUMBLE_NUMBA_CACHE="1")
+
+    def run() -> tuple[int, int]:
+        out = subprocess.run(
+            [sys.executable, "-c", SCRIPT], env=env, capture_output=True, text=True, check=True
+        ).stdout.split()
+        return int(out[0]), int(out[1])
+
+    assert run() == (0, 1)  # compiled, and saved
+    assert run() == (1, 0)  # loaded
