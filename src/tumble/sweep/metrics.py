@@ -1,10 +1,9 @@
 """One chunk of a sweep: its bodies stepped and measured by the compiled kernels.
 
 :func:`compute_chunk` is all a worker runs: it needs the plan and a chunk
-index, imports only numpy and the kernels, and returns plain arrays keyed by
-their name in the Zarr store. No history is kept: the measures are
-accumulated step by step inside the kernels
-(:mod:`tumble.core.sweep_metrics`).
+index, and returns plain arrays keyed by their name in the Zarr store. No
+history is kept: the measures are accumulated step by step inside the kernels
+(:mod:`tumble.core.metrics`, run by :func:`tumble.batch.measure_batch`).
 """
 
 from __future__ import annotations
