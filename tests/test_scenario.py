@@ -578,12 +578,12 @@ duration = "2 s"
         (
             'type = "damping"',
             'type = "dampng"',
-            r"spun\.toml, line 13, `torques\[0\]\.type`: Expected `type` to be one of gravity, constant-body, constant-space, damping, hold-rotation, got 'dampng'\. Did you mean 'damping'\?",
+            r"spun\.toml, line 13, `torques\[0\]\.type`: Expected `type` to be one of gravity, constant-body, constant-space, damping, hold-rotation, gravity-gradient, got 'dampng'\. Did you mean 'damping'\?",
         ),
         (
             'type = "damping"',
             "",
-            r"`torques\[0\]\.type`: Expected `type` \(gravity, .*hold-rotation\), which is missing\.",
+            r"`torques\[0\]\.type`: Expected `type` \(gravity, .*gravity-gradient\), which is missing\.",
         ),
         (
             'coefficient = "0.001 N*m*s"',

@@ -29,6 +29,8 @@ the same signature without ``row``, which the integrator factories close over.
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
@@ -73,6 +75,29 @@ def gravity_about_pivot(t, w, q, params, row, column, context):  # type: ignore[
 def linear_damping(t, w, q, params, row, column, context):  # type: ignore[no-untyped-def]
     """Viscous damping ``−c ω``; field c (N·m·s)."""
     return 0.0, 0.0, 0.0, params[row, column]
+
+
+@njit(inline="always")
+def gravity_gradient(t, w, q, params, row, column, context):  # type: ignore[no-untyped-def]
+    """The gravity-gradient torque of a circular orbit, ``3 n² r × (I r)`` about the
+    centre of mass, r the unit vector from the planet's centre to the body in
+    principal axes (Hughes, *Spacecraft Attitude Dynamics*, §8.1); fields n
+    (rad/s), e1 and e2 (space axes: r = e1 cos n t + e2 sin n t) and I1, I2, I3
+    (kg·m², principal moments)."""
+    n = params[row, column]
+    c = math.cos(n * t)
+    s = math.sin(n * t)
+    space = (
+        c * params[row + 1, column] + s * params[row + 4, column],
+        c * params[row + 2, column] + s * params[row + 5, column],
+        c * params[row + 3, column] + s * params[row + 6, column],
+    )
+    r1, r2, r3 = rotate_to_body(q, space)
+    i1 = params[row + 7, column]
+    i2 = params[row + 8, column]
+    i3 = params[row + 9, column]
+    k = 3.0 * n * n
+    return k * r2 * r3 * (i3 - i2), k * r3 * r1 * (i1 - i3), k * r1 * r2 * (i2 - i1), 0.0
 
 
 # ------------------------------------------------------------------ user functions

@@ -13,6 +13,7 @@ may give it one value per body, and which quantities the motion keeps under it.
 * :class:`ConstantBodyTorque` — fixed in body axes (a thruster, a motor).
 * :class:`ConstantSpaceTorque` — fixed in space axes.
 * :class:`LinearDamping` — ``τ = −c ω`` (bearing friction, air drag at low speed).
+* :class:`GravityGradient` — the torque of a circular orbit, ``3 n² r × (I r)``.
 * :class:`HoldRotation` — the body-fixed torque ``ω0 × (I ω0)`` that keeps the
   initial rotation steady (a motor holding a shaft at a constant rate).
 * :class:`UserTorque` — any torque, from a function compiled with numba.
@@ -44,6 +45,7 @@ from tumble.torques.builtin import (
     HoldRotation,
     LinearDamping,
 )
+from tumble.torques.environment import GravityGradient
 from tumble.torques.model import TORQUES, Parameter, TorqueModel, TorqueSum, register_torque
 from tumble.torques.user import UserTorque
 
@@ -53,6 +55,7 @@ __all__ = [
     "ConstantBodyTorque",
     "ConstantSpaceTorque",
     "Gravity",
+    "GravityGradient",
     "HoldRotation",
     "LinearDamping",
     "Parameter",

@@ -26,7 +26,8 @@ class Parameter:
     kind : the kind of quantity (a key of :data:`tumble.units.SI_UNITS`).
     shape : ``()`` for a number, ``(3,)`` for a vector.
     description : what it is, with its frame.
-    minimum : the smallest value allowed, or None.
+    minimum : the smallest value allowed, or None; ``strict``: the minimum
+        itself is not allowed (a value must exceed it).
     sweep : the names of its per-body parameters in sweep files, one per
         component (empty: not sweepable).
     """
@@ -37,6 +38,7 @@ class Parameter:
     description: str = ""
     minimum: float | None = None
     sweep: tuple[str, ...] = ()
+    strict: bool = False
 
     def convert(self, value: Any, per_body: bool) -> Any:
         """The value in SI: a float or (3,) array, or with ``per_body`` also (N,) or
@@ -47,14 +49,20 @@ class Parameter:
         else:
             shape = ((-1, *self.shape) if many else self.shape) or (-1,)
             result = vector_to_si(value, self.kind, self.name, shape)
-        if self.minimum is not None and np.any(np.asarray(result) < self.minimum):
+        low = np.asarray(result)
+        if self.minimum is not None and np.any(
+            low <= self.minimum if self.strict else low < self.minimum
+        ):
             unit = SI_UNITS[self.kind].replace("*", "·")
+            relation = ">" if self.strict else ">="
             if np.ndim(result):
                 k = int(np.argmin(result))
                 shown = f"{self.name}[{k}] = {float(np.ravel(result)[k])!r}"
             else:
                 shown = repr(result)
-            raise InputError(f"Expected `{self.name}` >= {self.minimum:g} {unit}, got {shown}.")
+            raise InputError(
+                f"Expected `{self.name}` {relation} {self.minimum:g} {unit}, got {shown}."
+            )
         if isinstance(result, np.ndarray):
             result.flags.writeable = False
         return result

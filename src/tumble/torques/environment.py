@@ -1,0 +1,90 @@
+"""Torques of a body's surroundings in space: :class:`GravityGradient`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.core import torques as kernels
+from tumble.errors import InputError
+from tumble.torques.model import Parameter, TorqueModel, register_torque
+
+__all__ = ["GravityGradient"]
+
+Array = NDArray[np.float64]
+
+
+@register_torque
+@dataclass(frozen=True, eq=False, repr=False)
+class GravityGradient(TorqueModel):
+    """The gravity-gradient torque on a body in a circular orbit of rate ``orbit_rate``
+    n (rad/s, > 0; n² = μ / a³), about its centre of mass: ``3 n² r × (I r)``, r the
+    unit vector from the planet's centre to the body in body axes (Hughes,
+    *Spacecraft Attitude Dynamics*, §8.1; Schaub & Junkins §4.6).
+
+    In space axes r starts at ``radial0`` and turns about ``orbit_normal`` at n
+    (``radial0`` is taken perpendicular to the normal: its component along the
+    normal is dropped). The body's centre of mass stays where the simulation
+    puts it: the orbit's translation does not enter the rotation. A body in a
+    circular orbit keeps no energy or L in space axes (the torque depends on
+    time); it keeps a Jacobi integral in the orbiting frame.
+    """
+
+    orbit_rate: Any
+    orbit_normal: Any = (0.0, 0.0, 1.0)
+    radial0: Any = (1.0, 0.0, 0.0)
+
+    name = "gravity-gradient"
+    summary = "the gravity-gradient torque of a circular orbit, 3 n² r × (I r)"
+    parameters = (
+        Parameter("orbit_rate", "angular_velocity", (), "orbit rate n", 0.0, strict=True),
+        Parameter("orbit_normal", "dimensionless", (3,), "normal of the orbit plane, space axes"),
+        Parameter("radial0", "dimensionless", (3,), "unit vector to the body at t = 0, space"),
+    )
+    fields = (
+        "orbit_rate", "radial_x", "radial_y", "radial_z", "along_x", "along_y", "along_z",
+        "moment_1", "moment_2", "moment_3",
+    )  # fmt: skip
+    kernel = staticmethod(kernels.gravity_gradient)
+    depends_on = frozenset({"attitude", "time"})
+    in_batches = True
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not np.linalg.norm(self.orbit_normal) > 0:
+            raise InputError(
+                "Expected `orbit_normal` to be a non-zero vector, got "
+                f"{np.asarray(self.orbit_normal).tolist()}."
+            )
+
+    def plane(self) -> tuple[Array, Array]:
+        """(e1, e2): r = e1 cos n t + e2 sin n t, space axes."""
+        normal = np.asarray(self.orbit_normal, dtype=float)
+        normal = normal / np.linalg.norm(normal)
+        radial = np.asarray(self.radial0, dtype=float)
+        radial = radial - (radial @ normal) * normal
+        size = float(np.linalg.norm(radial))
+        if not size > 1e-12 * max(float(np.linalg.norm(self.radial0)), 1e-300):
+            raise InputError(
+                "Expected `radial0` off the orbit's normal (the direction to the body in the "
+                f"orbit plane), got {np.asarray(self.radial0).tolist()} along "
+                f"{normal.tolist()}."
+            )
+        e1 = radial / size
+        return e1, np.cross(normal, e1)
+
+    def pack(self, body: Any, omega0: Array | None) -> Array:
+        if getattr(body, "pivot", None) is not None:
+            raise InputError(
+                "Expected a free body for GravityGradient (the torque is about the centre of "
+                "mass), got a pivot."
+            )
+        e1, e2 = self.plane()
+        moments = np.atleast_2d(np.asarray(body.moments, dtype=float))  # (1 or N, 3)
+        columns = moments.shape[0]
+        rate = np.broadcast_to(np.asarray(self.orbit_rate, dtype=float), (columns,))
+        plane = np.broadcast_to(np.concatenate([e1, e2])[:, None], (6, columns))
+        return np.vstack([rate[None, :], plane, moments.T])
