@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
-from tumble.massprops import MassProperties
+from tumble.massprops import MassProperties, as_mass_properties
 from tumble.units import vector_to_si
 
 __all__ = ["angular_momentum", "as_attitude", "kinetic_energy", "required_torque"]
@@ -31,8 +31,7 @@ def _vectors(value: Any, kind: str, name: str) -> Array:
 
 
 def _inertia(mp: Any, about: Any) -> Array:
-    if not isinstance(mp, MassProperties):
-        raise InputError(f"Expected `mp` to be a MassProperties, got {type(mp).__name__}.")
+    mp = as_mass_properties(mp)
     if about is None:
         return mp.inertia
     return mp.inertia_about(vector_to_si(about, "length", "about", (3,)))

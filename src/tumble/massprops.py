@@ -28,6 +28,7 @@ __all__ = [
     "as_mass_properties",
     "axisymmetric_moments",
     "point_masses",
+    "readonly",
 ]
 
 #: Relative tolerance of the physical checks, as a fraction of the trace of the
@@ -44,8 +45,9 @@ REPEATED_MOMENT_TOLERANCE = 1e-9
 Array = NDArray[np.float64]
 
 
-def _readonly(array: Array) -> Array:
-    array = np.array(array, dtype=float)
+def readonly(values: Any) -> Array:
+    """A read-only float64 copy (results are immutable)."""
+    array = np.array(values, dtype=float)
     array.setflags(write=False)
     return array
 
@@ -106,8 +108,8 @@ class MassProperties:
                 f"I3 = {moments[2]:.6g} kg·m² (no distribution of mass has these moments)."
             )
         object.__setattr__(self, "mass", mass_si)
-        object.__setattr__(self, "center_of_mass", _readonly(com))
-        object.__setattr__(self, "inertia", _readonly(tensor))
+        object.__setattr__(self, "center_of_mass", readonly(com))
+        object.__setattr__(self, "inertia", readonly(tensor))
 
     # ------------------------------------------------------------------ derived
     def inertia_about(self, point: ArrayLike | str) -> Array:
@@ -160,7 +162,7 @@ class MassProperties:
     @cached_property
     def _principal_cached(self) -> tuple[Array, Array]:
         moments, axes = principal_decomposition(self.inertia)
-        return _readonly(moments), _readonly(axes)
+        return readonly(moments), readonly(axes)
 
     # ------------------------------------------------------------ operations
     def transformed(self, rotation: Any = None, translation: Any = None) -> MassProperties:

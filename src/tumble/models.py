@@ -30,7 +30,7 @@ from scipy.spatial.transform import Rotation
 from tumble.core import gimbal
 from tumble.errors import InputError
 from tumble.integrators.drivers import Schedule, step_in_chunks, time_step, warn_if_coarse
-from tumble.massprops import MassProperties, as_mass_properties, axisymmetric_moments
+from tumble.massprops import MassProperties, as_mass_properties, axisymmetric_moments, readonly
 from tumble.trajectory import Trajectory
 from tumble.units import to_si
 
@@ -47,12 +47,6 @@ EARTH_ROTATION_RATE = 7.292115e-5
 #: are east, north, up at t = 0: AB points down, θ = 0 is north, so θ turns
 #: the spin axis from north toward east (a heading, clockwise seen from above).
 _EARTH_MOUNT = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]])
-
-
-def _readonly(values: Any) -> Array:
-    array = np.array(values, dtype=float)
-    array.setflags(write=False)
-    return array
 
 
 @dataclass(frozen=True, eq=False)
@@ -349,18 +343,18 @@ def gyrocompass(
         # The platform does work on the disk: of what a free disk conserves, only
         # the Jacobi integral survives, and only without damping.
         conserved=(),
-        invariant_values={} if c else {"jacobi_integral": _readonly(jacobi)},
+        invariant_values={} if c else {"jacobi_integral": readonly(jacobi)},
     )
     return GyrocompassRun(
         trajectory=trajectory,
-        angle=_readonly(theta),
-        angle_rate=_readonly(theta_rate),
-        jacobi_integral=_readonly(jacobi),
+        angle=readonly(theta),
+        angle_rate=readonly(theta_rate),
+        jacobi_integral=readonly(jacobi),
         spin_rate=spin,
-        platform_angular_velocity=_readonly(omega_space),
+        platform_angular_velocity=readonly(omega_space),
         effective_platform_rate=big_omega,
-        gimbal_axis=_readonly(mount[:, 0]),
-        reference_direction=_readonly(mount[:, 2]),
+        gimbal_axis=readonly(mount[:, 0]),
+        reference_direction=readonly(mount[:, 2]),
         axial_moment=axial,
         gimbal_moment=transverse,
         damping=c,

@@ -31,7 +31,7 @@ from tumble.integrators.drivers import (
     warn_if_coarse,
 )
 from tumble.kinematics import as_attitude
-from tumble.massprops import MassProperties
+from tumble.massprops import MassProperties, as_mass_properties
 from tumble.torques import BoundTorque, Gravity, TorqueModel, bind
 from tumble.trajectory import Trajectory
 from tumble.units import to_si, vector_to_si
@@ -212,8 +212,7 @@ def prepare(
     InputError
         As :func:`simulate`.
     """
-    if not isinstance(mp, MassProperties):
-        raise InputError(f"Expected `mp` to be a MassProperties, got {type(mp).__name__}.")
+    mp = as_mass_properties(mp)
     if torque is not None and not isinstance(torque, TorqueModel):
         raise InputError(
             f"Expected `torque` to be a model from tumble.torques, got {type(torque).__name__}."

@@ -25,6 +25,7 @@ fast-spin approximation: it drops ``−I_AB Ω² sin θ cos θ``, which
 
 from __future__ import annotations
 
+from tumble.theory.compass import Gyrocompass, gyrocompass
 from tumble.theory.free import (
     AxisStability,
     FreeMotion,
@@ -34,7 +35,6 @@ from tumble.theory.free import (
     free_motion,
     free_symmetric_top,
 )
-from tumble.theory.gyrocompass import Gyrocompass, gyrocompass
 from tumble.theory.rotors import RotorLoads, SkewRod, rotor_loads, skew_rod
 from tumble.theory.tops import Gyroscope, gyroscope
 

@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
-from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties
+from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, readonly
 from tumble.units import to_si, vector_to_si
 
 __all__ = [
@@ -24,13 +24,6 @@ __all__ = [
 ]
 
 Array = NDArray[np.float64]
-
-
-def readonly(values: Any) -> Array:
-    """A read-only float64 copy (the results are immutable)."""
-    array = np.array(values, dtype=float)
-    array.setflags(write=False)
-    return array
 
 
 def positive(value: Any, kind: str, name: str) -> float:
