@@ -70,3 +70,80 @@ def attitude_error(q, matrix) -> float:
             ).magnitude()
         )
     )
+
+
+def gyrostat_reference(
+    mp,
+    omega0,
+    q0,
+    duration,
+    rotors=(),
+    dampers=(),
+    torque: Callable | None = None,
+    times=None,
+    rtol=1e-13,
+):
+    """A free body carrying rotors and Kane dampers, written from the balance of
+    angular momentum with *velocities* as the state, in body axes with the full
+    tensor (no principal frame, no momenta, no quaternion).
+
+    ``rotors``: tuples ``(axis, J, speed0, motor(t))``; ``dampers``: ``(J, D)``;
+    ``mp`` holds every part as if locked. With ω the body rate, Ω_r the rotors'
+    relative rates and ω_d the spheres' absolute rates (body axes)::
+
+        H = (I − Σ J_r a aᵀ − Σ J_d 1) ω + Σ J_r (a·ω + Ω_r) a + Σ J_d ω_d
+        dH/dt (inertial) = τ          J_r (a·ω̇ + Ω̇_r) = u_r
+        J_d (ω̇_d + ω × ω_d) = D (ω − ω_d)
+
+    Returns ω (n, 3), the attitude matrices (n, 3, 3), the rotor rates (n, k)
+    and the sphere rates (n, 3 d) at ``times`` (or at ``duration`` alone).
+    """
+    inertia = np.asarray(mp.inertia, dtype=float)
+    axes = [np.asarray(a, dtype=float) / np.linalg.norm(a) for a, *_ in rotors]
+    platform = inertia.copy()
+    for a, (_, j, *_) in zip(axes, rotors, strict=True):
+        platform -= j * np.outer(a, a)
+    for j, _ in dampers:
+        platform -= j * np.eye(3)
+    solve = np.linalg.inv(platform)
+    k = len(rotors)
+
+    def rhs(t, y):
+        w = y[:3]
+        a_matrix = y[3:12].reshape(3, 3)
+        speeds = y[12 : 12 + k]
+        spheres = y[12 + k :].reshape(-1, 3)
+        h = platform @ w
+        for a, (_, j, *_), speed in zip(axes, rotors, speeds, strict=True):
+            h = h + j * (a @ w + speed) * a
+        for (j, _), sphere in zip(dampers, spheres, strict=True):
+            h = h + j * sphere
+        tau = np.zeros(3) if torque is None else torque(t, w, a_matrix)
+        # The body's own balance: I_p ω̇ = τ − ω × H − Σ u a − Σ J_d (ω̇_d + ω × ω_d).
+        rhs_w = tau - np.cross(w, h)
+        motors = [motor(t) for _, _, _, motor in rotors]
+        for a, u in zip(axes, motors, strict=True):
+            rhs_w = rhs_w - u * a
+        sphere_rates = []
+        for (j, d), sphere in zip(dampers, spheres, strict=True):
+            coupling = d * (w - sphere)
+            sphere_dot = coupling / j - np.cross(w, sphere)
+            rhs_w = rhs_w - j * sphere_dot
+            sphere_rates.append(sphere_dot)
+        w_dot = solve @ rhs_w
+        speed_rates = [
+            u / j - a @ w_dot for a, (_, j, *_), u in zip(axes, rotors, motors, strict=True)
+        ]
+        skew = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+        return np.concatenate([w_dot, (a_matrix @ skew).ravel(), speed_rates, *sphere_rates])
+
+    a0 = Rotation.from_quat(q0, scalar_first=True).as_matrix()
+    start = np.concatenate(
+        [omega0, a0.ravel(), [speed for _, _, speed, _ in rotors], *([omega0] * len(dampers))]
+    )
+    sol = solve_ivp(
+        rhs, (0, duration), start, method="DOP853", rtol=rtol, atol=1e-14, t_eval=times,
+        max_step=duration / 50,
+    )  # fmt: skip
+    y = sol.y.T if times is not None else sol.y[:, -1:].T
+    return y[:, :3], y[:, 3:12].reshape(-1, 3, 3), y[:, 12 : 12 + k], y[:, 12 + k :]

@@ -25,6 +25,7 @@ if TYPE_CHECKING:
     from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
     from tumble.massprops import MassProperties, point_masses
     from tumble.mesh import MeshOrientationWarning, from_mesh
+    from tumble.parts import KaneDamper, Rotor
     from tumble.simulation import simulate
     from tumble.trajectory import Trajectory
 
@@ -46,6 +47,8 @@ _WHERE = {
     "simulate": "tumble.simulation",
     "Trajectory": "tumble.trajectory",
     "simulate_batch": "tumble.batch",
+    "Rotor": "tumble.parts",
+    "KaneDamper": "tumble.parts",
 }
 _SUBMODULES = {
     "analysis",
@@ -60,9 +63,11 @@ _SUBMODULES = {
 
 __all__ = [
     "InputError",
+    "KaneDamper",
     "MassProperties",
     "MeshError",
     "MeshOrientationWarning",
+    "Rotor",
     "Trajectory",
     "__version__",
     "analysis",

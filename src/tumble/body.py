@@ -2,12 +2,15 @@
 
 A :class:`RigidBody` is a body's mass properties turning about a reference
 point: its centre of mass (a free body) or a pivot, a body point held fixed in
-space. Everything the integrators and the trajectories need of the body is
-computed here, once: the inertia about the reference point and its principal
-frame (the kernels work in it), the changes of axes between the user's body
-axes and that frame, the angular momentum and kinetic energy, the fastest rate
-a time step must resolve, and the quantities its motion conserves
-(:data:`INVARIANTS`).
+space, with the parts it carries inside (:mod:`tumble.parts`: rotors,
+dampers; held in the mass properties as if locked). Everything the
+integrators and the trajectories need of the body is computed here, once: the
+inertia about the reference point, the *platform inertia* that turns at the
+body's own rate (the inertia less the parts' spin inertia; the whole inertia
+for a body without parts) and its principal frame (the kernels work in it),
+the changes of axes between the user's body axes and that frame, the state of
+the parts, the angular momentum and kinetic energy, the fastest rate a time
+step must resolve, and the quantities its motion conserves (:data:`INVARIANTS`).
 
 :class:`BodyBatch` is the same for N free bodies at once (:func:`tumble.simulate_batch`).
 
@@ -17,6 +20,7 @@ quaternions ``[w, x, y, z]`` turning body coordinates into space coordinates.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -28,6 +32,7 @@ from scipy.spatial.transform import Rotation
 
 from tumble.errors import InputError
 from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, principal_decomposition
+from tumble.parts import InternalPart, Rotor
 
 __all__ = [
     "INVARIANTS",
@@ -126,16 +131,40 @@ def reduce_invariants(names: frozenset[str] | set[str]) -> tuple[str, ...]:
 @dataclass(frozen=True, eq=False)
 class RigidBody:
     """A rigid body turning about its reference point: the centre of mass
-    (``pivot`` None) or a body point held fixed in space.
+    (``pivot`` None) or a body point held fixed in space, possibly carrying parts.
 
     Attributes
     ----------
-    mass_properties : the body (its inertia about the centre of mass, body axes).
+    mass_properties : the body, its parts included as if locked (its inertia about
+        the centre of mass, body axes).
     pivot : None, or (3,) body coordinates of the fixed point, m.
+    parts : the parts it carries (:class:`tumble.parts.Rotor`,
+        :class:`tumble.parts.KaneDamper`), in the order given.
+
+    Raises
+    ------
+    InputError
+        Parts whose spin inertia the body cannot hold (the platform inertia
+        would not be positive definite).
     """
 
     mass_properties: MassProperties
     pivot: Array | None = None
+    parts: tuple[InternalPart, ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.parts:
+            moments = np.linalg.eigvalsh(0.5 * (self.platform_inertia + self.platform_inertia.T))
+            if not moments[0] > ZERO_MOMENT * max(float(moments[2]), 0.0):
+                locked = np.linalg.eigvalsh(self.inertia)
+                left = np.round(moments, 12).tolist()
+                raise InputError(
+                    "Expected internal parts whose spin inertia the body can hold (each "
+                    "rotor's J a aᵀ and each damper's J 1 taken from the body's inertia must "
+                    f"leave positive principal moments), got {left} kg·m² left of the body's "
+                    f"{np.round(locked, 12).tolist()} kg·m²: is a part's inertia missing from "
+                    "the body's mass properties, or too large?"
+                )
 
     @cached_property
     def reference_point(self) -> Array:
@@ -145,23 +174,40 @@ class RigidBody:
 
     @cached_property
     def inertia(self) -> Array:
-        """(3, 3) inertia about the reference point, body axes, kg·m²."""
+        """(3, 3) inertia about the reference point, body axes, kg·m² (the parts locked)."""
         mp = self.mass_properties
         return mp.inertia if self.pivot is None else mp.inertia_about(self.reference_point)
 
     @cached_property
+    def platform_inertia(self) -> Array:
+        """(3, 3) the inertia that turns at the body's own rate ω (kg·m², body axes,
+        about the reference point): :attr:`inertia` less each part's spin inertia."""
+        tensor = np.array(self.inertia, dtype=float)
+        for part in self.parts:
+            tensor -= part.spin_inertia()
+        return tensor
+
+    @cached_property
     def _principal(self) -> tuple[Array, Array]:
-        return principal_decomposition(self.inertia)
+        return principal_decomposition(self.platform_inertia)
 
     @property
     def moments(self) -> Array:
-        """(3,) principal moments about the reference point, ascending, kg·m²."""
+        """(3,) principal moments of the platform inertia (the inertia about the
+        reference point for a body without parts), ascending, kg·m²."""
         return self._principal[0]
 
     @property
     def axes(self) -> Array:
-        """(3, 3) principal axes as columns in body coordinates (a proper rotation)."""
+        """(3, 3) their principal axes as columns in body coordinates (a proper
+        rotation): the frame the kernels work in."""
         return self._principal[1]
+
+    @cached_property
+    def inertia_principal(self) -> Array:
+        """(3, 3) the whole inertia (parts locked) about the reference point in the
+        principal axes of :attr:`moments`, kg·m² (diagonal without parts)."""
+        return np.asarray(self.axes.T @ self.inertia @ self.axes)
 
     @cached_property
     def principal_rotation(self) -> Rotation:
@@ -200,15 +246,84 @@ class RigidBody:
         """Quaternions principal → space (..., 4) as body → space."""
         return compose(quaternions, self.principal_rotation.inv())
 
-    # ------------------------------------------------------------ physics
-    def angular_momentum(self, omega: Array) -> Array:
-        """``I ω`` about the reference point, body axes, kg·m²/s, for ω (..., 3) rad/s."""
-        return np.asarray(np.asarray(omega, dtype=float) @ self.inertia.T)
+    # ------------------------------------------------------------ parts
+    @property
+    def state_size(self) -> int:
+        """Entries of the parts' values (and of their momenta in the kernels' state)."""
+        return sum(part.size for part in self.parts)
 
-    def kinetic_energy(self, omega: Array) -> Array:
-        """``½ ω · I ω``, J, for ω (..., 3) rad/s in body axes."""
+    def initial_values(self, omega0: Array) -> Array:
+        """(..., state_size) the parts' values at t = 0 for the body's ω0 (..., 3)
+        (:meth:`tumble.parts.InternalPart.initial_values`)."""
+        omega0 = np.asarray(omega0, dtype=float)
+        pieces = [part.initial_values(omega0) for part in self.parts]
+        return np.concatenate(pieces, axis=-1) if pieces else np.zeros((*omega0.shape[:-1], 0))
+
+    def split_values(self, values: Array | None, omega: Array | None = None) -> list[Array]:
+        """The parts' values (..., state_size), cut per part; None: their initial
+        values for ω (..., 3) (a damper turning with the body)."""
+        if values is None:
+            start = np.zeros(3) if omega is None else omega
+            return [part.initial_values(start) for part in self.parts]
+        cuts = np.cumsum([0, *(part.size for part in self.parts)])
+        return [values[..., a:b] for a, b in itertools.pairwise(cuts)]
+
+    def kernel_state(self, omega0: Array, attitude0: Array) -> Array:
+        """(7 + state_size,) the state the parts' kernels integrate
+        (:mod:`tumble.core.parts`): H, q (principal-platform frame), then the parts'
+        momenta, from ω0 (rad/s, body axes) and the attitude (body → space)."""
+        omega0 = np.asarray(omega0, dtype=float)
+        momenta = [part.momenta(omega0, part.initial_values(omega0)) for part in self.parts]
+        pieces = [
+            m if isinstance(part, Rotor) else self.to_principal(m)
+            for part, m in zip(self.parts, momenta, strict=True)
+        ]
+        momentum = self.to_principal(self.angular_momentum(omega0))
+        return np.concatenate(
+            [momentum, self.attitude_to_principal(np.asarray(attitude0, dtype=float)), *pieces]
+        )
+
+    def from_kernel_state(self, states: Array) -> tuple[Array, Array, Array]:
+        """ω (n, 3) and the attitude (n, 4), body axes, and the parts' values
+        (n, state_size), from kernel states (n, 7 + state_size)."""
+        states = np.asarray(states, dtype=float)
+        inside = states[:, :3].copy()
+        k = 7
+        momenta = []
+        for part in self.parts:
+            block = states[:, k : k + part.size]
+            if isinstance(part, Rotor):  # its axial momentum h, along its axis
+                inside -= block * self.to_principal(part.axis)
+            else:  # a damper sphere's momentum vector
+                inside -= block
+                block = self.from_principal(block)
+            momenta.append(block)
+            k += part.size
+        omega = self.from_principal(inside / self.moments)
+        values = [part.values_from(omega, m) for part, m in zip(self.parts, momenta, strict=True)]
+        parts = np.concatenate(values, axis=1) if values else np.zeros((len(states), 0))
+        return omega, self.attitude_from_principal(states[:, 3:7]), parts
+
+    # ------------------------------------------------------------ physics
+    def angular_momentum(self, omega: Array, values: Array | None = None) -> Array:
+        """Angular momentum about the reference point, body axes, kg·m²/s, for ω
+        (..., 3) rad/s: ``I ω`` without parts; with parts ``I_p ω`` plus each
+        part's own (``values`` (..., state_size) the parts' values, None: their
+        initial values, a damper turning with the body)."""
         omega = np.asarray(omega, dtype=float)
-        return np.asarray(0.5 * np.einsum("...i,...i->...", omega, self.angular_momentum(omega)))
+        momentum = omega @ self.platform_inertia.T
+        for part, own in zip(self.parts, self.split_values(values, omega), strict=True):
+            momentum = momentum + part.momentum(omega, own)
+        return np.asarray(momentum)
+
+    def kinetic_energy(self, omega: Array, values: Array | None = None) -> Array:
+        """Kinetic energy, J, for ω (..., 3) rad/s in body axes: ``½ ω · I ω``, with
+        the parts' own (``values`` as in :meth:`angular_momentum`)."""
+        omega = np.asarray(omega, dtype=float)
+        energy = 0.5 * np.einsum("...i,...i->...", omega, omega @ self.platform_inertia.T)
+        for part, own in zip(self.parts, self.split_values(values, omega), strict=True):
+            energy = energy + part.kinetic_energy(omega, own)
+        return np.asarray(energy)
 
     def is_symmetric_top(self) -> bool:
         """True for a body on a pivot with two equal principal moments about the
@@ -231,10 +346,16 @@ class RigidBody:
         """The quantities (keys of :data:`INVARIANTS`) the motion of this body conserves
         under the torque models ``torques`` (those that act on it; see
         :meth:`tumble.torques.TorqueModel.conserves`): what a torque-free body
-        conserves, less what each model changes."""
+        conserves, less what each model changes. Internal parts keep L (their
+        torques are internal); a motor or a damper changes the energy."""
         kept = set(FREE_BODY_INVARIANTS)
+        if any(part.driven or part.dissipative for part in self.parts):
+            kept.discard("energy")
         for torque in torques:
-            kept &= torque.conserves(self)
+            if getattr(torque, "actuator", "external") == "rotors":
+                kept.discard("energy")  # the motors do work; L moves between body and rotors
+            else:
+                kept &= torque.conserves(self)
         return reduce_invariants(kept)
 
     def fastest_rate(self, omega: Array, weight: float, exact_spin: bool = False) -> float:
@@ -245,14 +366,22 @@ class RigidBody:
         √(m g l / I1). With ``exact_spin`` (integrators whose free flow turns a
         symmetric body exactly), a symmetric body's spin about its symmetry
         axis needs no resolving: the rate is |L| / I⊥, that of the precession of
-        the axis about L (and of nutation).
+        the axis about L (and of nutation). With parts, ω = I_p⁻¹ (L − the parts'
+        momenta) stays below (|L| + |the parts' momenta|) / I1 (platform moments;
+        their momenta at t = 0: a motor changes them).
         """
         moments = self.moments
         momentum = float(np.linalg.norm(moments * self.to_principal(omega)))
+        if self.parts:
+            omega = np.asarray(omega, dtype=float)
+            momentum = float(np.linalg.norm(self.angular_momentum(omega))) + sum(
+                float(np.linalg.norm(part.momenta(omega, part.initial_values(omega))))
+                for part in self.parts
+            )
         rate = momentum / moments[0]
         # principal_decomposition makes repeated moments exactly equal; an oblate
         # body (I1 = I2) keeps |L| / I1.
-        if exact_spin and moments[2] == moments[1]:  # prolate: symmetry axis 1
+        if exact_spin and not self.parts and moments[2] == moments[1]:  # prolate: axis 1
             rate = momentum / moments[1]
         if self.pivot is not None:
             rate += math.sqrt(weight * float(np.linalg.norm(self.lever)) / moments[0])
@@ -285,6 +414,11 @@ class BodyBatch:
 
     def __len__(self) -> int:
         return len(self.moments)
+
+    @property
+    def inertia_principal(self) -> Array:
+        """(N, 3, 3) each body's inertia in its principal axes (diagonal), kg·m²."""
+        return np.asarray(np.einsum("ni,ij->nij", self.moments, np.eye(3)))
 
     @cached_property
     def principal_rotation(self) -> Rotation | None:

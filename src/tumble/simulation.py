@@ -2,8 +2,9 @@
 
 The body turns freely about its centre of mass, or about a ``pivot`` (a body
 point held fixed in space) under ``gravity``, with optional torque models from
-:mod:`tumble.torques`. The body model (:class:`tumble.body.RigidBody`) gives
-the principal frame the kernels work in; the torque is bound to the body
+:mod:`tumble.torques` and parts inside it (:mod:`tumble.parts`: rotors,
+dampers). The body model (:class:`tumble.body.RigidBody`) gives the principal
+frame the kernels work in; the torque is bound to the body
 (:func:`tumble.torques.bind`); the integrator comes from the registry
 (:mod:`tumble.integrators`), which also decides ``method="auto"``; results are
 reported in the user's body axes as a :class:`~tumble.trajectory.Trajectory`.
@@ -21,7 +22,7 @@ from numpy.typing import NDArray
 
 from tumble.body import RigidBody
 from tumble.errors import CoarseStepWarning, InputError, IntegrationError
-from tumble.integrators import Integrator, auto_choice, get_integrator
+from tumble.integrators import INTEGRATORS, Integrator, auto_choice, get_integrator
 from tumble.integrators.drivers import (
     DEFAULT_STEPS_PER_TURN,
     MIN_STEPS_PER_TURN,
@@ -32,6 +33,7 @@ from tumble.integrators.drivers import (
 )
 from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties, as_mass_properties
+from tumble.parts import check_parts
 from tumble.torques import BoundTorque, Gravity, TorqueModel, bind
 from tumble.trajectory import Trajectory
 from tumble.units import to_si, vector_to_si
@@ -65,6 +67,7 @@ def simulate(
     progress: Callable[[int, int], object] | None = None,
     rtol: float = 1e-10,
     atol: float = 1e-12,
+    internal: Any = None,
 ) -> Trajectory:
     """Simulate the rotation of a rigid body under Euler's equations.
 
@@ -106,8 +109,17 @@ def simulate(
     progress : None or a callable ``progress(done, total)`` (steps, or samples
         for the adaptive method).
     rtol, atol : tolerances of the adaptive method: each step's local error in
-        each component of ω (rad/s) and of the quaternion is kept below
-        ``atol + rtol · |value|`` (root-mean-square over the components).
+        each component of the state (ω in rad/s, or the momenta of a body carrying
+        parts in kg·m²/s, and the quaternion) is kept below ``atol + rtol ·
+        |value|`` (root-mean-square over the components).
+    internal : the parts the body carries (:class:`tumble.Rotor`,
+        :class:`tumble.KaneDamper`), in order; ``mp`` holds each of them as if
+        locked to the body (its mass and all its inertia). The trajectory's
+        angular momentum and energy include theirs, ``rotor_speed`` gives the
+        rotors' relative spin rates. Methods: ``rk4`` and ``adaptive`` for any
+        parts, the splittings for rotors; ``"auto"`` picks the splitting for
+        rotors without torques that act from outside or depend on ω, else the
+        adaptive method.
 
     Returns
     -------
@@ -134,8 +146,9 @@ def simulate(
     ):
         raise InputError(f"Expected `record_every` to be an integer >= 1, got {record_every!r}.")
     setup = prepare(
-        mp, omega0, attitude0=attitude0, pivot=pivot, gravity=gravity, torque=torque, method=method
-    )
+        mp, omega0, attitude0=attitude0, pivot=pivot, gravity=gravity, torque=torque,
+        method=method, internal=internal,
+    )  # fmt: skip
     body, bound, integrator, omega = setup.body, setup.torque, setup.integrator, setup.omega0
     reason = setup.reason
     total_time = to_si(duration, "time", "duration")
@@ -158,22 +171,22 @@ def simulate(
     if dt is not None and integrator.kind == "stepping":
         warn_if_coarse(schedule.step, fastest, "the fastest rotation")
 
-    problem = Problem(
-        body, bound, body.to_principal(omega), body.attitude_to_principal(setup.attitude0)
-    )
-    out_w, out_q, steps = integrator.run(integrator, problem, schedule, progress)
+    problem = Problem(body, bound, omega, setup.attitude0)
+    samples = integrator.run(integrator, problem, schedule, progress)
     return Trajectory(
         t=schedule.times,
-        omega=body.from_principal(out_w),
-        quaternion=body.attitude_from_principal(out_q),
+        omega=samples.omega,
+        quaternion=samples.quaternion,
         mass_properties=mp,
         pivot=None if pivot is None else body.reference_point,
         gravity=g,
         method=integrator.name,
         reason=reason,
         dt=schedule.step,
-        steps=steps,
+        steps=samples.steps,
         conserved=body.conserved(bound.terms),
+        internal=body.parts,
+        internal_values=samples.values,
     )
 
 
@@ -201,6 +214,7 @@ def prepare(
     gravity: Any = None,
     torque: TorqueModel | None = None,
     method: str = "auto",
+    internal: Any = None,
 ) -> Setup:
     """Validate :func:`simulate`'s description of a motion and choose its
     integrator (arguments as there), without integrating: what a caller needs
@@ -231,13 +245,21 @@ def prepare(
             "Expected `gravity` with `pivot`, got none (a pivot without gravity is a free "
             "rotation about that point: pass gravity=[0, 0, 0] to mean it)."
         )
-    body = RigidBody(mp, None if pivot is None else vector_to_si(pivot, "length", "pivot"))
+    parts = check_parts(internal)
+    body = RigidBody(mp, None if pivot is None else vector_to_si(pivot, "length", "pivot"), parts)
     body.check_simulable()
     bound = bind(model, body, omega)
+    kinds = frozenset(part.kind for part in parts)
     if chosen is None:
-        chosen, reason = auto_choice(bound)
+        chosen, reason = auto_choice(bound, kinds)
     else:
         reason = "requested"
+        if not chosen.handles(kinds):
+            able = [name for name, entry in INTEGRATORS.items() if entry.handles(kinds)]
+            raise InputError(
+                f"Expected a method that integrates a body carrying {', '.join(sorted(kinds))} "
+                f"parts ({', '.join(['auto', *able])}), got {chosen.name!r}."
+            )
     if chosen.kicks and "omega" in bound.depends_on:
         reason += (
             f" (its kicks hold the torque, which depends on ω here: {chosen.name} is first "

@@ -1,9 +1,9 @@
 """A simulated rotation: :class:`Trajectory`, its physical quantities, its Parquet files.
 
 The angular momentum, the energy and the conserved quantities of a trajectory
-come from its body model (:class:`tumble.body.RigidBody`) and its gravity
-(:class:`tumble.torques.Gravity`); its drift report lists exactly the
-quantities its motion conserves (:data:`tumble.body.INVARIANTS`).
+come from its body model (:class:`tumble.body.RigidBody`, with the parts it
+carries) and its gravity (:class:`tumble.torques.Gravity`); its drift report
+lists exactly the quantities its motion conserves (:data:`tumble.body.INVARIANTS`).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,6 +24,7 @@ from tumble.body import INVARIANTS, RigidBody, label
 from tumble.errors import InputError
 from tumble.files import replaced
 from tumble.massprops import MassProperties
+from tumble.parts import InternalPart, Rotor, from_description, value_columns
 from tumble.torques import Gravity
 
 __all__ = ["Trajectory"]
@@ -54,6 +55,11 @@ class Trajectory:
         gravity alone.
     invariant_values : quantities a model computed itself, by name (n,) (e.g.
         the gyrocompass's ``jacobi_integral``); they count as conserved.
+    internal : the parts the body carries (:mod:`tumble.parts`), in order; the
+        mass properties hold them as if locked.
+    internal_values : (n, k) their values over time, in the order of ``internal``:
+        a rotor's spin rate relative to the body (rad/s), a damper sphere's
+        angular velocity (rad/s, body axes, three columns).
     """
 
     t: Array
@@ -68,6 +74,12 @@ class Trajectory:
     steps: int = 0
     conserved: tuple[str, ...] | None = None
     invariant_values: Mapping[str, Array] = field(default_factory=dict)
+    internal: tuple[InternalPart, ...] = ()
+    internal_values: Array | None = None
+
+    def __post_init__(self) -> None:
+        if self.internal_values is None:
+            object.__setattr__(self, "internal_values", np.zeros((len(self.t), 0)))
 
     def samples(self, index: Any) -> Trajectory:
         """The trajectory at some of its samples (an index or slice into ``t``)."""
@@ -77,12 +89,30 @@ class Trajectory:
             omega=self.omega[index],
             quaternion=self.quaternion[index],
             invariant_values={k: np.asarray(v)[index] for k, v in self.invariant_values.items()},
+            internal_values=self._part_values[index],
         )
+
+    @property
+    def _part_values(self) -> Array:
+        """(n, k) :attr:`internal_values` (an empty (n, 0) without parts)."""
+        return cast(Array, self.internal_values)
 
     @cached_property
     def body(self) -> RigidBody:
-        """The body model: the body turning about its centre of mass or the pivot."""
-        return RigidBody(self.mass_properties, self.pivot)
+        """The body model: the body turning about its centre of mass or the pivot,
+        with its parts."""
+        return RigidBody(self.mass_properties, self.pivot, self.internal)
+
+    @cached_property
+    def rotor_speed(self) -> Array:
+        """(n, k) the spin rates of the rotors relative to the body, rad/s, in the
+        order given (``(n, 0)`` without rotors)."""
+        columns, k = [], 0
+        for part in self.internal:
+            if isinstance(part, Rotor):
+                columns.append(k)
+            k += part.size
+        return np.asarray(self._part_values[:, columns])
 
     @cached_property
     def rotation(self) -> Any:
@@ -101,14 +131,20 @@ class Trajectory:
     @cached_property
     def angular_momentum(self) -> Array:
         """(n, 3) angular momentum in space coordinates, kg·m²/s, about the centre
-        of mass (free body) or about the pivot."""
-        return np.einsum("nij,nj->ni", self._matrices, self.body.angular_momentum(self.omega))
+        of mass (free body) or about the pivot; the parts' included."""
+        return np.einsum("nij,nj->ni", self._matrices, self.body_momentum)
+
+    @cached_property
+    def body_momentum(self) -> Array:
+        """(n, 3) the same angular momentum in body coordinates, kg·m²/s."""
+        return self.body.angular_momentum(self.omega, self._part_values)
 
     @cached_property
     def energy(self) -> Array:
         """(n,) total energy, J: rotational kinetic energy (about the centre of mass,
-        or about the pivot), plus the potential energy of gravity about the pivot."""
-        kinetic = self.body.kinetic_energy(self.omega)
+        or about the pivot; the parts' included), plus the potential energy of
+        gravity about the pivot."""
+        kinetic = self.body.kinetic_energy(self.omega, self._part_values)
         potential = Gravity(self.gravity).potential_energy(self.body, self._matrices)
         return np.asarray(kinetic + potential)
 
@@ -142,7 +178,7 @@ class Trajectory:
         if name == "angular_momentum_axial":
             lever = self.body.lever
             axis = lever / max(float(np.linalg.norm(lever)), np.finfo(float).tiny)
-            return np.asarray(self.body.angular_momentum(self.omega) @ axis)
+            return np.asarray(self.body_momentum @ axis)
         raise InputError(
             f"Expected one of {', '.join(INVARIANTS)} or a model's own quantity, got {name!r}."
         )
@@ -150,16 +186,30 @@ class Trajectory:
     def relative_change(self, name: str) -> Array:
         """(n,) the change of a conserved quantity from its initial value, relative:
         energies to their largest magnitude, components of L to |L(0)|, and the
-        vector L as the length of its change over |L(0)|."""
+        vector L as the length of its change over |L(0)| (with parts, over the
+        largest momentum the body or a part carries, when that is larger)."""
         values = self.invariant(name)
         tiny = np.finfo(float).tiny
         if name.startswith("angular_momentum"):
-            size = max(float(np.linalg.norm(self.angular_momentum[0])), tiny)
+            size = max(float(np.linalg.norm(self.angular_momentum[0])), self._momentum_scale, tiny)
             if values.ndim == 2:
                 return np.asarray(np.linalg.norm(values - values[0], axis=1) / size)
             return np.asarray((values - values[0]) / size)
         scale = max(abs(float(values[0])), float(np.max(np.abs(values))), tiny)
         return np.asarray((values - values[0]) / scale)
+
+    @cached_property
+    def _momentum_scale(self) -> float:
+        """With parts, the largest angular momentum the body or one of its parts
+        carries over the run (kg·m²/s): the scale of L's drift when the total is
+        small (a rest-to-rest slew by reaction wheels keeps L = 0); 0 without."""
+        if not self.internal:
+            return 0.0
+        body = self.body
+        sizes = [np.linalg.norm(self.omega @ body.platform_inertia.T, axis=1)]
+        for part, values in zip(self.internal, body.split_values(self._part_values), strict=True):
+            sizes.append(np.linalg.norm(part.momentum(self.omega, values), axis=1))
+        return float(np.max(sizes))
 
     @cached_property
     def drift(self) -> dict[str, float]:
@@ -172,6 +222,8 @@ class Trajectory:
 
     def __repr__(self) -> str:
         kind = "free body" if self.pivot is None else f"pivot at {self.pivot.tolist()} m"
+        if self.internal:
+            kind += f", {len(self.internal)} internal part{'s' if len(self.internal) > 1 else ''}"
         drift = ", ".join(f"{label(name)} {value:.2e}" for name, value in self.drift.items())
         return (
             f"Trajectory({len(self.t)} samples over {self.t[-1]:.6g} s, {kind}, "
@@ -199,6 +251,8 @@ class Trajectory:
             columns[f"omega_{axis}"] = self.omega[:, k]
         for k, part in enumerate("wxyz"):
             columns[f"q_{part}"] = self.quaternion[:, k]
+        for name, values in zip(value_columns(self.internal), self._part_values.T, strict=True):
+            columns[name] = values
         for name, values in self.invariant_values.items():
             columns[f"invariant_{name}"] = np.asarray(values, dtype=float)
         mp = self.mass_properties
@@ -214,6 +268,7 @@ class Trajectory:
             "dt": self.dt,
             "steps": self.steps,
             "conserved": list(self.conserved_quantities),
+            "internal": [part.describe() for part in self.internal],
             "units": "SI: s, rad/s, kg, m, kg*m^2; quaternion [w, x, y, z] body -> space",
         }
         table = pa.table(columns).replace_schema_metadata({"tumble": json.dumps(meta)})
@@ -245,6 +300,8 @@ class Trajectory:
             if name.startswith("invariant_")
         }
         conserved = meta.get("conserved")
+        internal = tuple(from_description(entry) for entry in meta.get("internal", []))
+        names = value_columns(internal)
         return cls(
             t=data["t"],
             omega=np.column_stack([data[f"omega_{a}"] for a in "xyz"]),
@@ -258,6 +315,10 @@ class Trajectory:
             steps=int(meta.get("steps", 0)),
             conserved=None if conserved is None else tuple(n for n in conserved if n not in own),
             invariant_values=own,
+            internal=internal,
+            internal_values=np.column_stack([data[name] for name in names])
+            if names
+            else None,
         )
 
     # ------------------------------------------------------------ notebooks

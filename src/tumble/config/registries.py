@@ -98,6 +98,8 @@ def torque_entry(data: Any) -> Any:
             raise unknown_key(str(key), known)
     values = {}
     for parameter in model.parameters:
+        if parameter.name not in data and parameter.optional:
+            continue
         if parameter.name not in data:
             raise key_error(
                 parameter.name,

@@ -3,11 +3,14 @@
 The method of Dormand & Prince (J. Comput. Appl. Math. 6 (1980) 19) with the
 step-size control and the fourth-order continuous extension of Hairer,
 Nørsett & Wanner, *Solving Ordinary Differential Equations I* (2nd ed.,
-§II.4–II.6; the coefficients as in their code ``DOPRI5``). The state is
-ω (principal-body, rad/s) and the attitude quaternion (principal → space),
-seven numbers; the local error is measured, component by component, against
-``atol + rtol · max(|y_old|, |y_new|)`` in the root-mean-square norm. The
-quaternion is renormalised after each accepted step and at each sample.
+§II.4–II.6; the coefficients as in their code ``DOPRI5``). :func:`adaptive_loop`
+integrates any state whose entries 3 … 6 are the attitude quaternion: a rigid
+body's ω (principal-body, rad/s) and quaternion (principal → space), seven
+numbers (:func:`single_kernel`), or a body carrying parts
+(:mod:`tumble.core.parts`). The local error is measured, component by
+component, against ``atol + rtol · max(|y_old|, |y_new|)`` in the
+root-mean-square norm. The quaternion is renormalised after each accepted step
+and at each sample.
 """
 
 from __future__ import annotations
@@ -68,15 +71,6 @@ STEP_UNDERFLOW = -2
 STEP, RTOL, ATOL, ACCEPTED, REJECTED, FAILED_AT = 0, 1, 2, 3, 4, 5
 
 
-@njit(inline="always")
-def _f(torque, t, y, out, coefficients, params, context):  # type: ignore[no-untyped-def]
-    r = rates(
-        torque, t, (y[0], y[1], y[2], y[3], y[4], y[5], y[6]), coefficients, params, 0, context
-    )
-    for i in range(7):
-        out[i] = r[i]
-
-
 def single_kernel(torque, identity):  # type: ignore[no-untyped-def]
     """``run(w, q, inertia, params, context, t_start, t_stop, control, sample_times,
     out_w, out_q) -> status``: integrate (w, q) in place from ``t_start`` to
@@ -101,38 +95,57 @@ def single_kernel(torque, identity):  # type: ignore[no-untyped-def]
     singular); the state is then left at the last accepted step.
     """
 
+    @njit(inline="always", cache=False)
+    def rigid_rates(t, y, dy, args):  # type: ignore[no-untyped-def]
+        coefficients, params, context = args
+        state = (y[0], y[1], y[2], y[3], y[4], y[5], y[6])
+        r = rates(torque, t, state, coefficients, params, 0, context)
+        for i in range(7):
+            dy[i] = r[i]
+
     @specialise(njit, f"adaptive.single|{identity}")
     def run(w, q, inertia, params, context, t_start, t_stop, control, sample_times, out_w, out_q):  # type: ignore[no-untyped-def]
-        return _adaptive_loop(
-            torque, w, q, inertia, params, context, t_start, t_stop, control, sample_times,
-            out_w, out_q,
+        coefficients = euler_coefficients(inertia[0], inertia[1], inertia[2])
+        y = np.empty(7)
+        y[0:3] = w
+        y[3:7] = q
+        out = np.empty((sample_times.shape[0], 7))
+        status = adaptive_loop(
+            rigid_rates, (coefficients, params, context), y, t_start, t_stop, control,
+            sample_times, out,
         )  # fmt: skip
+        out_w[:, :] = out[:, 0:3]
+        out_q[:, :] = out[:, 3:7]
+        w[:] = y[0:3]
+        q[:] = y[3:7]
+        return status
 
     return run
 
 
 @njit
 def _error_norm(y, y_new, err, rtol, atol):  # type: ignore[no-untyped-def]
+    n = y.shape[0]
     total = 0.0
-    for i in range(7):
+    for i in range(n):
         scale = atol + rtol * max(abs(y[i]), abs(y_new[i]))
         total += (err[i] / scale) ** 2
-    return math.sqrt(total / 7.0)
+    return math.sqrt(total / n)
 
 
 @njit(inline="always")
-def _adaptive_loop(  # type: ignore[no-untyped-def]
-    torque, w, q, inertia, params, context, t_start, t_stop, control, sample_times, out_w, out_q
-):
-    coefficients = euler_coefficients(inertia[0], inertia[1], inertia[2])
+def adaptive_loop(f, args, y, t_start, t_stop, control, sample_times, out):  # type: ignore[no-untyped-def]
+    """Dormand–Prince 5(4) for any state ``y`` (n,) whose entries 3 … 6 are a unit
+    quaternion, in place from ``t_start`` to ``t_stop``: ``f(t, y, dy, args)``
+    writes ẏ at time t into ``dy``; the state at each of ``sample_times`` is
+    written to the rows of ``out`` (m, n). ``control`` and the status as in
+    :func:`single_kernel`."""
+    n = y.shape[0]
     rtol = control[RTOL]
     atol = control[ATOL]
-    y = np.empty(7)
-    y[0:3] = w
-    y[3:7] = q
-    k = np.empty((7, 7))  # stage derivatives k[s, :]
-    stage = np.empty(7)
-    err = np.empty(7)
+    k = np.empty((7, n))  # stage derivatives k[s, :]
+    stage = np.empty(n)
+    err = np.empty(n)
     t = t_start
     h = control[STEP]
     first = 0  # the first stage to evaluate: 0 on the first step, then 1 (k[0] = last k[6])
@@ -147,23 +160,21 @@ def _adaptive_loop(  # type: ignore[no-untyped-def]
         valid = step > 1e-14 * max(abs(t), abs(t_stop)) and math.isfinite(step)
         if not valid and not (first == 0 and h <= 0.0):  # no proposal yet: chosen below
             control[FAILED_AT] = t
-            w[:] = y[0:3]
-            q[:] = y[3:7]
             return STEP_UNDERFLOW
         for s in range(first, 7):
-            for i in range(7):
+            for i in range(n):
                 total = 0.0
                 for j in range(s):
                     total += TABLEAU[s, j] * k[j, i]
                 stage[i] = y[i] + step * total
-            _f(torque, t + NODES[s] * step, stage, k[s], coefficients, params, context)
+            f(t + NODES[s] * step, stage, k[s], args)
             if s == 0 and h <= 0.0:
                 # No step proposed: the first from the sizes of y and ẏ (HNW §II.4).
                 h = min(_initial_step(y, k[0], rtol, atol), t_stop - t)
                 step = t_stop - t if t + 1.01 * h >= t_stop else h
                 clipped = t + 1.01 * h >= t_stop
         first = 1
-        for i in range(7):
+        for i in range(n):
             total = 0.0
             for j in range(7):
                 total += WEIGHTS_ERROR[j] * k[j, i]
@@ -185,7 +196,7 @@ def _adaptive_loop(  # type: ignore[no-untyped-def]
         while next_sample < n_samples and sample_times[next_sample] <= t_new:
             theta = (sample_times[next_sample] - t) / step
             theta1 = 1.0 - theta
-            for i in range(7):
+            for i in range(n):
                 difference = stage[i] - y[i]
                 slope = step * k[0, i] - difference
                 curve = difference - step * k[6, i] - slope
@@ -196,15 +207,15 @@ def _adaptive_loop(  # type: ignore[no-untyped-def]
                     difference + theta1 * (slope + theta * (curve + theta1 * step * total))
                 )
             scale = 1.0 / math.sqrt(err[3] ** 2 + err[4] ** 2 + err[5] ** 2 + err[6] ** 2)
-            for i in range(3):
-                out_w[next_sample, i] = err[i]
-            for i in range(4):
-                out_q[next_sample, i] = err[3 + i] * scale
+            for i in range(n):
+                out[next_sample, i] = err[i]
+            for i in range(3, 7):
+                out[next_sample, i] = err[i] * scale
             next_sample += 1
         control[ACCEPTED] += 1
         t = t_new
         scale = 1.0 / math.sqrt(stage[3] ** 2 + stage[4] ** 2 + stage[5] ** 2 + stage[6] ** 2)
-        for i in range(3):
+        for i in range(n):
             y[i] = stage[i]
         for i in range(3, 7):
             y[i] = stage[i] * scale
@@ -217,8 +228,6 @@ def _adaptive_loop(  # type: ignore[no-untyped-def]
         rejected_last = False
         h = max(h, step * growth) if clipped else step * growth
         control[STEP] = h
-    w[:] = y[0:3]
-    q[:] = y[3:7]
     return FINITE
 
 
@@ -228,7 +237,7 @@ def _initial_step(y, dy, rtol, atol):  # type: ignore[no-untyped-def]
     step of HNW §II.4 (the controller corrects it within a few steps)."""
     size = 0.0
     rate = 0.0
-    for i in range(7):
+    for i in range(y.shape[0]):
         scale = atol + rtol * abs(y[i])
         size += (y[i] / scale) ** 2
         rate += (dy[i] / scale) ** 2

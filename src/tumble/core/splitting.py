@@ -61,7 +61,7 @@ YOSHIDA_INNER = 1.0 - 2.0 * YOSHIDA_OUTER
 
 
 @njit(inline="always")
-def _turn(q0, q1, q2, q3, c, s, a1, a2, a3):  # type: ignore[no-untyped-def]
+def turn(q0, q1, q2, q3, c, s, a1, a2, a3):  # type: ignore[no-untyped-def]
     """``q ⊗ (c, s a)``: q turned about the unit body axis a, with c and s the
     cosine and sine of half the angle."""
     b1 = s * a1
@@ -98,7 +98,7 @@ def _plane_rotation(x, y, c, s):  # type: ignore[no-untyped-def]
 
 
 @njit
-def _free(h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3):  # type: ignore[no-untyped-def]
+def free_flow(h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3):  # type: ignore[no-untyped-def]
     """The second-order free flow R1(h/2) R3(h) R1(h/2) R_L(h), exact for a
     symmetric body. Returns the new (L, q). One sine and cosine of each half
     angle serve both the quaternion and the rotation of L, so the two turn by
@@ -108,28 +108,28 @@ def _free(h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3):  # type: ignore[no-untyped
     half = 0.25 * h * l1 * (1.0 / i1 - 1.0 / i2)
     c, s = math.cos(half), math.sin(half)
     l3, l2 = _plane_rotation(l3, l2, c, s)
-    q0, q1, q2, q3 = _turn(q0, q1, q2, q3, c, s, 1.0, 0.0, 0.0)
+    q0, q1, q2, q3 = turn(q0, q1, q2, q3, c, s, 1.0, 0.0, 0.0)
     # R3(h)
     half = 0.5 * h * l3 * (1.0 / i3 - 1.0 / i2)
     c, s = math.cos(half), math.sin(half)
     l2, l1 = _plane_rotation(l2, l1, c, s)
-    q0, q1, q2, q3 = _turn(q0, q1, q2, q3, c, s, 0.0, 0.0, 1.0)
+    q0, q1, q2, q3 = turn(q0, q1, q2, q3, c, s, 0.0, 0.0, 1.0)
     # R1(h/2)
     half = 0.25 * h * l1 * (1.0 / i1 - 1.0 / i2)
     c, s = math.cos(half), math.sin(half)
     l3, l2 = _plane_rotation(l3, l2, c, s)
-    q0, q1, q2, q3 = _turn(q0, q1, q2, q3, c, s, 1.0, 0.0, 0.0)
+    q0, q1, q2, q3 = turn(q0, q1, q2, q3, c, s, 1.0, 0.0, 0.0)
     # R_L(h): about L (fixed in the body during this part) at |L|/I2.
     size = math.sqrt(l1 * l1 + l2 * l2 + l3 * l3)
     if size > 0.0:
         half = 0.5 * h * size / i2
         c, s = math.cos(half), math.sin(half)
-        q0, q1, q2, q3 = _turn(q0, q1, q2, q3, c, s, l1 / size, l2 / size, l3 / size)
+        q0, q1, q2, q3 = turn(q0, q1, q2, q3, c, s, l1 / size, l2 / size, l3 / size)
     return l1, l2, l3, q0, q1, q2, q3
 
 
 @njit(inline="always")
-def _decay(c, moment, h):  # type: ignore[no-untyped-def]
+def decay_integral(c, moment, h):  # type: ignore[no-untyped-def]
     """∫₀ʰ exp(−c s / I) ds = (1 − exp(−c h / I)) I / c, and h when c = 0."""
     rate = c / moment
     if rate == 0.0:
@@ -141,9 +141,9 @@ def _decay(c, moment, h):  # type: ignore[no-untyped-def]
 def _kick(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # type: ignore[no-untyped-def]
     """The exact flow of ``L̇ = τ − c L / I`` over h with the attitude and τ held."""
     t1, t2, t3, c = torque(t, (l1 / i1, l2 / i2, l3 / i3), q, params, column, context)
-    l1 += (t1 - c * l1 / i1) * _decay(c, i1, h)
-    l2 += (t2 - c * l2 / i2) * _decay(c, i2, h)
-    l3 += (t3 - c * l3 / i3) * _decay(c, i3, h)
+    l1 += (t1 - c * l1 / i1) * decay_integral(c, i1, h)
+    l2 += (t2 - c * l2 / i2) * decay_integral(c, i2, h)
+    l3 += (t3 - c * l3 / i3) * decay_integral(c, i3, h)
     return l1, l2, l3
 
 
@@ -151,7 +151,7 @@ def _kick(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # 
 def _strang(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # type: ignore[no-untyped-def]
     """One Strang step of length h (may be negative) from time t."""
     l1, l2, l3 = _kick(torque, t, 0.5 * h, l1, l2, l3, q, i1, i2, i3, params, column, context)
-    l1, l2, l3, q0, q1, q2, q3 = _free(h, l1, l2, l3, q[0], q[1], q[2], q[3], i1, i2, i3)
+    l1, l2, l3, q0, q1, q2, q3 = free_flow(h, l1, l2, l3, q[0], q[1], q[2], q[3], i1, i2, i3)
     q = (q0, q1, q2, q3)
     l1, l2, l3 = _kick(torque, t + h, 0.5 * h, l1, l2, l3, q, i1, i2, i3, params, column, context)
     return l1, l2, l3, q

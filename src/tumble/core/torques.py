@@ -82,8 +82,9 @@ def gravity_gradient(t, w, q, params, row, column, context):  # type: ignore[no-
     """The gravity-gradient torque of a circular orbit, ``3 n² r × (I r)`` about the
     centre of mass, r the unit vector from the planet's centre to the body in
     principal axes (Hughes, *Spacecraft Attitude Dynamics*, §8.1); fields n
-    (rad/s), e1 and e2 (space axes: r = e1 cos n t + e2 sin n t) and I1, I2, I3
-    (kg·m², principal moments)."""
+    (rad/s), e1 and e2 (space axes: r = e1 cos n t + e2 sin n t) and the whole
+    inertia I in the kernels' axes (kg·m²: I11, I22, I33, I12, I13, I23; diagonal
+    for a body without parts, whose kernels use its principal axes)."""
     n = params[row, column]
     c = math.cos(n * t)
     s = math.sin(n * t)
@@ -93,11 +94,14 @@ def gravity_gradient(t, w, q, params, row, column, context):  # type: ignore[no-
         c * params[row + 3, column] + s * params[row + 6, column],
     )
     r1, r2, r3 = rotate_to_body(q, space)
-    i1 = params[row + 7, column]
-    i2 = params[row + 8, column]
-    i3 = params[row + 9, column]
+    i12 = params[row + 10, column]
+    i13 = params[row + 11, column]
+    i23 = params[row + 12, column]
     k = 3.0 * n * n
-    return k * r2 * r3 * (i3 - i2), k * r3 * r1 * (i1 - i3), k * r1 * r2 * (i2 - i1), 0.0
+    m1 = params[row + 7, column] * r1 + i12 * r2 + i13 * r3
+    m2 = i12 * r1 + params[row + 8, column] * r2 + i23 * r3
+    m3 = i13 * r1 + i23 * r2 + params[row + 9, column] * r3
+    return k * (r2 * m3 - r3 * m2), k * (r3 * m1 - r1 * m3), k * (r1 * m2 - r2 * m1), 0.0
 
 
 # ------------------------------------------------------------------ user functions
@@ -215,3 +219,35 @@ def _sum(first, second):  # type: ignore[no-untyped-def]
         return a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]
 
     return both
+
+
+@njit(inline="always")
+def attitude_feedback(t, w, q, params, row, column, context):  # type: ignore[no-untyped-def]
+    """Quaternion feedback toward a target attitude, ``τ = −K ε − C ω``, its
+    magnitude clipped to a largest torque (Wie, Weiss & Arapostathis, J. Guid.
+    Control Dyn. 12 (1989) 375). ε is the vector part of the error quaternion
+    ``q_target⁻¹ ⊗ q`` (principal axes), its sign chosen so its scalar part is
+    >= 0 (the shorter way round). Fields: the target (q0, q1, q2, q3;
+    principal → space), K (N·m), C (N·m·s) and the largest torque (N·m)."""
+    a0 = params[row, column]
+    a1 = -params[row + 1, column]
+    a2 = -params[row + 2, column]
+    a3 = -params[row + 3, column]
+    q0, q1, q2, q3 = q
+    e0 = a0 * q0 - a1 * q1 - a2 * q2 - a3 * q3
+    e1 = a0 * q1 + a1 * q0 + a2 * q3 - a3 * q2
+    e2 = a0 * q2 - a1 * q3 + a2 * q0 + a3 * q1
+    e3 = a0 * q3 + a1 * q2 - a2 * q1 + a3 * q0
+    stiffness = params[row + 4, column] if e0 >= 0.0 else -params[row + 4, column]
+    damping = params[row + 5, column]
+    t1 = -stiffness * e1 - damping * w[0]
+    t2 = -stiffness * e2 - damping * w[1]
+    t3 = -stiffness * e3 - damping * w[2]
+    size = math.sqrt(t1 * t1 + t2 * t2 + t3 * t3)
+    largest = params[row + 6, column]
+    if size > largest:
+        scale = largest / size
+        t1 *= scale
+        t2 *= scale
+        t3 *= scale
+    return t1, t2, t3, 0.0

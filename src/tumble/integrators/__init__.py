@@ -1,11 +1,14 @@
 """The integrators, in one registry.
 
 Each entry of :data:`INTEGRATORS` says what an integrator is (kind, order,
-what it preserves, which torques it handles, when ``method="auto"`` picks it)
-and gives its compiled kernels: for one body (``single``), for batches
-(``batch``) and for batches measured as they step (``metrics``), each a
-factory ``factory(torque_function, identity) -> kernel`` that specialises the
-kernel for one simulation's torque (:mod:`tumble.core.torques`). Everything
+what it preserves, which torques and which internal parts it handles, when
+``method="auto"`` picks it) and gives its compiled kernels: for one body
+(``single``), for batches (``batch``) and for batches measured as they step
+(``metrics``), each a factory ``factory(torque_function, identity) -> kernel``
+that specialises the kernel for one simulation's torque
+(:mod:`tumble.core.torques`); and for bodies carrying parts (rotors, dampers:
+:mod:`tumble.core.parts`) ``parts_single`` and ``parts_batch``, factories
+``factory(torque_function, drive_function, layout, identity) -> kernel``. Everything
 that needs to know which methods exist — :func:`tumble.simulate` and its
 ``"auto"`` choice, :func:`tumble.simulate_batch`, the scenario and sweep files,
 the sweep engine, the tests — reads this registry.
@@ -22,6 +25,7 @@ from functools import partial
 from typing import Any, Literal
 
 from tumble.core import adaptive, splitting, stepping
+from tumble.core import parts as part_kernels
 from tumble.core.rk4 import rk4_step
 from tumble.errors import InputError
 from tumble.integrators import drivers
@@ -42,6 +46,11 @@ __all__ = [
 Kind = Literal["stepping", "sampling", "adaptive"]
 
 KernelFactory = Callable[[Any, str], Any]
+PartsKernelFactory = Callable[[Any, Any, Any, str], Any]
+
+#: The kinds of internal part (:attr:`tumble.parts.InternalPart.kind`).
+ROTORS = frozenset({"rotor"})
+ALL_PARTS = frozenset({"rotor", "kane-damper"})
 
 
 @dataclass(frozen=True, eq=False)
@@ -63,8 +72,11 @@ class Integrator:
         only (:attr:`tumble.torques.TorqueModel.depends_on`), first order in
         one whose τ depends on ω.
     auto : None, or ``auto(torque) -> reason or None``: why ``method="auto"``
-        picks it for this bound torque (the first entry with a reason wins).
+        picks it for this bound torque (the first entry with a reason wins, among
+        those that handle the body's parts).
     single, batch, metrics : kernel factories (see the module's docstring), or None.
+    parts : the kinds of internal part it handles (empty: bodies without parts).
+    parts_single, parts_batch : kernel factories for bodies carrying parts, or None.
     run : the single-body driver of its kind (:mod:`tumble.integrators.drivers`).
     """
 
@@ -81,24 +93,41 @@ class Integrator:
     single: KernelFactory | None = None
     batch: KernelFactory | None = None
     metrics: KernelFactory | None = None
-    _kernels: dict[tuple[str, str], Any] = field(default_factory=dict, repr=False)
+    parts: frozenset[str] = frozenset()
+    parts_single: PartsKernelFactory | None = None
+    parts_batch: PartsKernelFactory | None = None
+    _kernels: dict[tuple[str, str, Any], Any] = field(default_factory=dict, repr=False)
     _lock: Any = field(default_factory=threading.Lock, repr=False)
 
     @property
     def supports_batch(self) -> bool:
         return self.batch is not None
 
-    def kernel(self, role: Literal["single", "batch", "metrics"], torque: BoundTorque) -> Any:
-        """The compiled kernel ``role`` specialised for ``torque`` (built once per
-        process; compiled on first call, or loaded from the on-disk cache)."""
+    def handles(self, kinds: frozenset[str] | set[str]) -> bool:
+        """True when it integrates a body carrying parts of these kinds."""
+        return set(kinds) <= self.parts
+
+    def kernel(
+        self,
+        role: Literal["single", "batch", "metrics", "parts_single", "parts_batch"],
+        torque: BoundTorque,
+        layout: Any = None,
+    ) -> Any:
+        """The compiled kernel ``role`` specialised for ``torque`` (and, for bodies
+        carrying parts, their ``layout``: :func:`tumble.parts.layout_of`), built
+        once per process; compiled on first call, or loaded from the on-disk cache."""
         factory = getattr(self, role)
         if factory is None:
             raise InputError(f"Expected an integrator with a {role} kernel, got {self.name!r}.")
-        key = (role, torque.identity)
+        key = (role, torque.identity, layout)
         with self._lock:
             kernel = self._kernels.get(key)
             if kernel is None:
-                kernel = self._kernels[key] = factory(torque.function, torque.identity)
+                if role.startswith("parts"):
+                    kernel = factory(torque.function, torque.drive, layout, torque.identity)
+                else:
+                    kernel = factory(torque.function, torque.identity)
+                self._kernels[key] = kernel
         return kernel
 
 
@@ -133,9 +162,14 @@ def get_integrator(name: str, *, batch: bool = False) -> Integrator:
     return INTEGRATORS[name]
 
 
-def auto_choice(torque: BoundTorque) -> tuple[Integrator, str]:
-    """The integrator ``method="auto"`` picks for this bound torque, and why."""
+def auto_choice(
+    torque: BoundTorque, parts: frozenset[str] = frozenset()
+) -> tuple[Integrator, str]:
+    """The integrator ``method="auto"`` picks for this bound torque and a body
+    carrying parts of the kinds ``parts``, and why."""
     for entry in INTEGRATORS.values():
+        if not entry.handles(parts):
+            continue
         reason = entry.auto(torque) if entry.auto is not None else None
         if reason is not None:
             return entry, f"auto: {reason}"
@@ -153,7 +187,11 @@ def _exact_when(torque: BoundTorque) -> str | None:
 def _splitting_when(torque: BoundTorque) -> str | None:
     if not torque.conservative:
         return None
-    return "the torque is conservative, so the symplectic splitting (bounded energy error)"
+    return (
+        "the torque is conservative, so the symplectic splitting (bounded energy error)"
+        if torque.terms
+        else "torque-free with rotors, so the symplectic splitting of the gyrostat"
+    )
 
 
 def _adaptive_when(torque: BoundTorque) -> str | None:
@@ -174,13 +212,14 @@ register_integrator(
 )
 def _splitting(name: str, order: int, summary: str, auto: Any = None) -> Integrator:
     """An entry for the splitting of order 2 (Strang) or 4 (Yoshida's composition)."""
+    step = part_kernels.strang_step if order == 2 else part_kernels.yoshida_step
     return Integrator(
         name=name,
         summary=summary,
         kind="stepping",
         order=order,
         preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
-        "a symmetric body's free motion exactly",
+        "a symmetric body's free motion exactly; with rotors, L to round-off",
         run=drivers.run_stepping,
         exact_symmetric_spin=True,
         kicks=True,
@@ -188,6 +227,9 @@ def _splitting(name: str, order: int, summary: str, auto: Any = None) -> Integra
         single=partial(splitting.single_kernel, order=order),
         batch=partial(splitting.batch_kernel, order=order),
         metrics=partial(splitting.metrics_kernel, order=order),
+        parts=ROTORS,
+        parts_single=partial(part_kernels.single_kernel, step),
+        parts_batch=partial(part_kernels.batch_kernel, step),
     )
 
 
@@ -213,6 +255,9 @@ register_integrator(
         single=partial(stepping.single_kernel, rk4_step),
         batch=partial(stepping.batch_kernel, rk4_step),
         metrics=partial(stepping.metrics_kernel, rk4_step),
+        parts=ALL_PARTS,
+        parts_single=partial(part_kernels.single_kernel, part_kernels.parts_rk4_step),
+        parts_batch=partial(part_kernels.batch_kernel, part_kernels.parts_rk4_step),
     )
 )
 register_integrator(
@@ -225,5 +270,7 @@ register_integrator(
         run=drivers.run_adaptive,
         auto=_adaptive_when,
         single=adaptive.single_kernel,
+        parts=ALL_PARTS,
+        parts_single=part_kernels.adaptive_kernel,
     )
 )

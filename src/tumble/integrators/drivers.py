@@ -1,11 +1,12 @@
 """Drivers that run one body's integration with the registry's kernels.
 
 One driver per kind of integrator (:data:`tumble.integrators.Kind`), each
-``run(integrator, problem, schedule, progress) -> (omega, quaternion, steps)``
-in the principal frame: fixed steps in chunks between progress reports
-(:func:`run_stepping`), adaptive steps sampled by dense output
-(:func:`run_adaptive`), or the exact solution sampled directly
-(:func:`run_exact`).
+``run(integrator, problem, schedule, progress) -> Samples`` (body axes): fixed
+steps in chunks between progress reports (:func:`run_stepping`), adaptive steps
+sampled by dense output (:func:`run_adaptive`), or the exact solution sampled
+directly (:func:`run_exact`). A body carrying parts (rotors, dampers) runs on
+the integrator's kernels for parts (:mod:`tumble.core.parts`), whose state
+holds the parts' momenta besides the body's.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ __all__ = [
     "MIN_STEPS_PER_TURN",
     "PROGRESS_CHUNK",
     "Problem",
+    "Samples",
     "Schedule",
     "run_adaptive",
     "run_exact",
@@ -53,13 +55,39 @@ ADAPTIVE_CHUNK = 4096
 
 @dataclass(frozen=True, eq=False)
 class Problem:
-    """One body's integration: the body, its bound torque and the initial state in
-    its principal frame (ω0, rad/s; q0 principal → space)."""
+    """One body's integration: the body (with its parts), its bound torque and the
+    initial state in body axes (ω0, rad/s; the attitude body → space)."""
 
     body: RigidBody
     torque: BoundTorque
     omega0: Array
     attitude0: Array
+
+    @property
+    def layout(self) -> tuple[tuple[int, ...], int]:
+        """The parts' layout for their kernels (:func:`tumble.parts.layout_of`)."""
+        from tumble.parts import layout_of
+
+        return layout_of(self.body.parts)
+
+
+@dataclass(frozen=True, eq=False)
+class Samples:
+    """What a driver returns: ω (n, 3) rad/s and the attitude (n, 4) body → space in
+    body axes, the parts' values (n, state_size) (:attr:`tumble.body.RigidBody.state_size`)
+    and the number of steps taken."""
+
+    omega: Array
+    quaternion: Array
+    values: Array
+    steps: int
+
+
+def _rigid(problem: Problem, w: Array, q: Array, steps: int) -> Samples:
+    """Samples from principal-frame ω and attitudes of a body without parts."""
+    body = problem.body
+    values = np.zeros((len(w), 0))
+    return Samples(body.from_principal(w), body.attitude_from_principal(q), values, steps)
 
 
 @dataclass(frozen=True, eq=False)
@@ -120,17 +148,20 @@ def step_in_chunks(
 
 def run_stepping(
     integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
-) -> tuple[Array, Array, int]:
+) -> Samples:
     """Fixed steps with the integrator's single-body kernel."""
+    if problem.body.parts:
+        return _run_parts_stepping(integrator, problem, schedule, progress)
+    body = problem.body
     kernel = integrator.kernel("single", problem.torque)
     rows = len(schedule.times)
     out_w = np.empty((rows, 3))
     out_q = np.empty((rows, 4))
-    w = np.array(problem.omega0, dtype=float)
-    q = np.array(problem.attitude0, dtype=float)
+    w = np.array(body.to_principal(problem.omega0), dtype=float)
+    q = np.array(body.attitude_to_principal(problem.attitude0), dtype=float)
     out_w[0], out_q[0] = w, q
     torque = problem.torque
-    inertia = np.ascontiguousarray(problem.body.moments)
+    inertia = np.ascontiguousarray(body.moments)
 
     def run(done: int, count: int) -> int:
         status = kernel(
@@ -142,51 +173,139 @@ def run_stepping(
     step_in_chunks(run, schedule.n_steps, schedule.step, progress)
     if schedule.n_steps % schedule.record_every != 0:
         out_w[-1], out_q[-1] = w, q
-    return out_w, out_q, schedule.n_steps
+    return _rigid(problem, out_w, out_q, schedule.n_steps)
+
+
+def _run_parts_stepping(
+    integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
+) -> Samples:
+    """Fixed steps of a body carrying parts (:mod:`tumble.core.parts`)."""
+    from tumble.parts import pack_parts
+
+    body = problem.body
+    kernel = integrator.kernel("parts_single", problem.torque, problem.layout)
+    y = body.kernel_state(problem.omega0, problem.attitude0)
+    out = np.empty((len(schedule.times), y.size))
+    out[0] = y
+    torque = problem.torque
+    parts = pack_parts(body, problem.layout)
+    moments = np.ascontiguousarray(body.moments)
+
+    def run(done: int, count: int) -> int:
+        status = kernel(
+            y, moments, parts, torque.params, torque.context, schedule.step, count, done,
+            schedule.record_every, out,
+        )  # fmt: skip
+        return int(status)
+
+    step_in_chunks(run, schedule.n_steps, schedule.step, progress)
+    if schedule.n_steps % schedule.record_every != 0:
+        out[-1] = y
+    omega, quaternion, values = body.from_kernel_state(out)
+    return Samples(omega, quaternion, values, schedule.n_steps)
 
 
 def run_adaptive(
     integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
-) -> tuple[Array, Array, int]:
+) -> Samples:
     """Adaptive steps, sampled at ``schedule.times`` (times[0] = 0) by dense output."""
     from tumble.core.adaptive import ACCEPTED, FAILED_AT
 
-    kernel = integrator.kernel("single", problem.torque)
-    times = schedule.times
-    out_w = np.empty((times.size, 3))
-    out_q = np.empty((times.size, 4))
-    w = np.array(problem.omega0, dtype=float)
-    q = np.array(problem.attitude0, dtype=float)
-    out_w[0], out_q[0] = w, q
-    control = np.array([0.0, schedule.rtol, schedule.atol, 0.0, 0.0, 0.0])
+    body = problem.body
     torque = problem.torque
-    inertia = np.ascontiguousarray(problem.body.moments)
+    times = schedule.times
+    moments = np.ascontiguousarray(body.moments)
+    control = np.array([0.0, schedule.rtol, schedule.atol, 0.0, 0.0, 0.0])
+    if body.parts:
+        from tumble.parts import pack_parts, switch_times
+
+        kernel = integrator.kernel("parts_single", torque, problem.layout)
+        y = body.kernel_state(problem.omega0, problem.attitude0)
+        out = np.empty((times.size, y.size))
+        out[0] = y
+        parts = pack_parts(body, problem.layout)
+
+        def advance(start: float, stop: float, rows: slice) -> int:
+            status = kernel(
+                y, moments, parts, torque.params, torque.context, start, stop, control,
+                times[rows], out[rows],
+            )  # fmt: skip
+            return int(status)
+
+        stops = switch_times(body.parts, float(times[-1]))
+    else:
+        kernel = integrator.kernel("single", torque)
+        out_w = np.empty((times.size, 3))
+        out_q = np.empty((times.size, 4))
+        w = np.array(body.to_principal(problem.omega0), dtype=float)
+        q = np.array(body.attitude_to_principal(problem.attitude0), dtype=float)
+        out_w[0], out_q[0] = w, q
+
+        def advance(start: float, stop: float, rows: slice) -> int:
+            status = kernel(
+                w, q, moments, torque.params, torque.context, start, stop, control,
+                times[rows], out_w[rows], out_q[rows],
+            )  # fmt: skip
+            return int(status)
+
+        stops = np.zeros(0)
+    _adaptive_chunks(advance, times, stops, progress, control, FAILED_AT)
+    steps = int(control[ACCEPTED])
+    if body.parts:
+        omega, quaternion, values = body.from_kernel_state(out)
+        return Samples(omega, quaternion, values, steps)
+    return _rigid(problem, out_w, out_q, steps)
+
+
+def _adaptive_chunks(
+    advance: Callable[[float, float, slice], int],
+    times: Array,
+    stops: Array,
+    progress: Progress,
+    control: Array,
+    failed_at: int,
+) -> None:
+    """Call ``advance(start, stop, rows)`` over chunks of at most ``ADAPTIVE_CHUNK``
+    samples, each ending at a sample time or at one of ``stops`` (the switches
+    of the parts' schedules, where the solution has a kink the steps must not
+    straddle); ``rows`` are the samples in (start, stop]."""
     total = times.size - 1
-    for first in range(1, times.size, ADAPTIVE_CHUNK):
+    start = float(times[0])
+    first = 1
+    while first < times.size:
         last = min(first + ADAPTIVE_CHUNK, times.size)
-        status = kernel(
-            w, q, inertia, torque.params, torque.context, times[first - 1], times[last - 1],
-            control, times[first:last], out_w[first:last], out_q[first:last],
-        )  # fmt: skip
+        stop = float(times[last - 1])
+        inside = stops[(stops > start) & (stops < stop)]
+        if inside.size:
+            stop = float(inside[0])
+            last = first + int(np.searchsorted(times[first:last], stop, side="right"))
+        status = advance(start, stop, slice(first, last))
         if status != FINITE:
             raise IntegrationError(
                 "Expected the integration to stay finite, got a step size below round-off at "
-                f"t = {control[FAILED_AT]:.6g} s (the state became NaN or infinite, "
+                f"t = {control[failed_at]:.6g} s (the state became NaN or infinite, "
                 "or the torque is singular there)."
             )
+        start = stop
+        first = last
         if progress is not None:
             progress(last - 1, total)
-    return out_w, out_q, int(control[ACCEPTED])
 
 
 def run_exact(
     integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
-) -> tuple[Array, Array, int]:
+) -> Samples:
     """The exact torque-free solution at ``schedule.times``; no steps."""
-    w, q = exact_principal(problem.body.moments, problem.omega0, problem.attitude0, schedule.times)
+    body = problem.body
+    w, q = exact_principal(
+        body.moments,
+        body.to_principal(problem.omega0),
+        body.attitude_to_principal(problem.attitude0),
+        schedule.times,
+    )
     if progress is not None:
         progress(schedule.n_steps, schedule.n_steps)
-    return w, q, 0
+    return _rigid(problem, w, q, 0)
 
 
 #: Fewer integration steps than this per turn of the fastest rotation trigger a

@@ -16,7 +16,13 @@ may give it one value per body, and which quantities the motion keeps under it.
 * :class:`GravityGradient` — the torque of a circular orbit, ``3 n² r × (I r)``.
 * :class:`HoldRotation` — the body-fixed torque ``ω0 × (I ω0)`` that keeps the
   initial rotation steady (a motor holding a shaft at a constant rate).
+* :class:`AttitudeController` — quaternion feedback ``τ = −K ε − C ω`` toward a
+  target attitude, from outside or through the body's rotors (reaction wheels).
 * :class:`UserTorque` — any torque, from a function compiled with numba.
+
+Models whose class has ``drives_rotors`` take ``actuator="rotors"``: their
+torque is then produced by the body's rotors (:class:`tumble.Rotor`), whose
+motor torques share it out, and the body's total angular momentum stays.
 
 Models add with ``+``. A new model is a subclass of :class:`TorqueModel`
 decorated with :func:`register_torque`, plus its compiled function: simulate,
@@ -45,12 +51,14 @@ from tumble.torques.builtin import (
     HoldRotation,
     LinearDamping,
 )
+from tumble.torques.control import AttitudeController
 from tumble.torques.environment import GravityGradient
 from tumble.torques.model import TORQUES, Parameter, TorqueModel, TorqueSum, register_torque
 from tumble.torques.user import UserTorque
 
 __all__ = [
     "TORQUES",
+    "AttitudeController",
     "BoundTorque",
     "ConstantBodyTorque",
     "ConstantSpaceTorque",

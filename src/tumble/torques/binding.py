@@ -30,7 +30,10 @@ class BoundTorque:
     context : the one non-numeric argument of the kernels (0.0 when none).
     identity : names the terms' compiled functions, their sources and rows: the
         key under which kernels specialised for this torque are cached.
-    function : the combined compiled function (:func:`tumble.core.torques.combine`).
+    function : the combined compiled function (:func:`tumble.core.torques.combine`)
+        of the terms acting from outside.
+    drive : the same for the terms the body's rotors produce (``actuator="rotors"``):
+        the torque the rotors must exert on the body (:mod:`tumble.core.parts`).
     """
 
     terms: tuple[TorqueModel, ...]
@@ -38,15 +41,21 @@ class BoundTorque:
     context: Any
     identity: str
     function: Any = field(repr=False)
+    drive: Any = field(repr=False, default=None)
 
     @property
     def torque_free(self) -> bool:
         return not self.terms
 
     @property
+    def through_rotors(self) -> bool:
+        """True when some term acts through the body's rotors."""
+        return any(term.actuator == "rotors" for term in self.terms)
+
+    @property
     def conservative(self) -> bool:
-        """True when every term derives from a potential."""
-        return all(term.conservative for term in self.terms)
+        """True when every term derives from a potential (and acts from outside)."""
+        return all(term.conservative and term.actuator == "external" for term in self.terms)
 
     @property
     def depends_on(self) -> frozenset[str]:
@@ -79,13 +88,22 @@ def bind(
         key=lambda term: order.get(type(term), len(order)),
     )
     columns = 1 if bodies is None else bodies
-    blocks, kernels_rows, contexts, row = [], [], [], 0
+    blocks, contexts, row = [], [], 0
+    outside: list[tuple[Any, int]] = []
+    rotors: list[tuple[Any, int]] = []
     for term in acting:
         _check_bodies(term, bodies)
+        if term.actuator == "rotors" and not any(
+            getattr(part, "kind", "") == "rotor" for part in getattr(body, "parts", ())
+        ):
+            raise InputError(
+                f"Expected rotors in the body for {term!r}, which acts through them, got none "
+                "(give the body's rotors with `internal=[Rotor(...), ...]`)."
+            )
         packed = np.asarray(term.pack(body, omega0), dtype=float)
         packed = packed.reshape(len(term.fields), -1) if term.fields else np.zeros((0, 1))
         blocks.append(packed)
-        kernels_rows.append((type(term).kernel, row))
+        (rotors if term.actuator == "rotors" else outside).append((type(term).kernel, row))
         row += len(term.fields)
         context = term.context(body)
         if context is not None:
@@ -97,12 +115,31 @@ def bind(
         if blocks
         else np.zeros((1, width))
     )
-    identity = "+".join(f"{file_stamp(kernel)}@{at}" for kernel, at in kernels_rows) or "free"
+    identity = _identity(outside) or "free"
+    if rotors:
+        identity += f"|rotors:{_identity(rotors)}"
+    return BoundTorque(
+        tuple(acting),
+        params,
+        contexts[0] if contexts else 0.0,
+        identity,
+        _combined(outside),
+        _combined(rotors),
+    )
+
+
+def _identity(terms: list[tuple[Any, int]]) -> str:
+    return "+".join(f"{file_stamp(kernel)}@{at}" for kernel, at in terms)
+
+
+def _combined(terms: list[tuple[Any, int]]) -> Any:
+    """The compiled sum of ``terms`` (kernel, row), built once per process."""
+    key = _identity(terms) or "free"
     with _LOCK:
-        function = _COMBINED.get(identity)
+        function = _COMBINED.get(key)
         if function is None:
-            function = _COMBINED[identity] = kernels.combine(kernels_rows)
-    return BoundTorque(tuple(acting), params, contexts[0] if contexts else 0.0, identity, function)
+            function = _COMBINED[key] = kernels.combine(terms)
+    return function
 
 
 def _check_bodies(term: TorqueModel, bodies: int | None) -> None:

@@ -70,9 +70,12 @@ class Gravity(TorqueModel):
 @register_torque
 @dataclass(frozen=True, eq=False, repr=False)
 class ConstantBodyTorque(TorqueModel):
-    """A constant torque in body axes (N·m): (3,), or (N, 3) one per body of a batch."""
+    """A constant torque in body axes (N·m): (3,), or (N, 3) one per body of a batch.
+    With ``actuator="rotors"`` the body's rotors produce it (their motor torques
+    share it out, :mod:`tumble.core.parts`), so the total angular momentum stays."""
 
     torque: Any
+    actuator: str = "external"
 
     name = "constant-body"
     summary = "a constant torque fixed in the body (a thruster, a motor)"
@@ -84,6 +87,7 @@ class ConstantBodyTorque(TorqueModel):
     fields = _vector_field("torque")
     kernel = staticmethod(kernels.constant_body_torque)
     in_batches = True
+    drives_rotors = True
 
     def pack(self, body: Any, omega0: Array | None) -> Array:
         return np.asarray(body.to_principal(self.torque)).T

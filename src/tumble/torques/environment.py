@@ -46,7 +46,7 @@ class GravityGradient(TorqueModel):
     )
     fields = (
         "orbit_rate", "radial_x", "radial_y", "radial_z", "along_x", "along_y", "along_z",
-        "moment_1", "moment_2", "moment_3",
+        "inertia_11", "inertia_22", "inertia_33", "inertia_12", "inertia_13", "inertia_23",
     )  # fmt: skip
     kernel = staticmethod(kernels.gravity_gradient)
     depends_on = frozenset({"attitude", "time"})
@@ -83,8 +83,14 @@ class GravityGradient(TorqueModel):
                 "mass), got a pivot."
             )
         e1, e2 = self.plane()
-        moments = np.atleast_2d(np.asarray(body.moments, dtype=float))  # (1 or N, 3)
-        columns = moments.shape[0]
+        # The whole inertia (parts locked: a spinning wheel's mass distribution is
+        # the same) in the kernels' axes: (1 or N, 3, 3).
+        tensors = np.asarray(body.inertia_principal, dtype=float).reshape(-1, 3, 3)
+        columns = tensors.shape[0]
         rate = np.broadcast_to(np.asarray(self.orbit_rate, dtype=float), (columns,))
         plane = np.broadcast_to(np.concatenate([e1, e2])[:, None], (6, columns))
-        return np.vstack([rate[None, :], plane, moments.T])
+        inertia = np.stack(
+            [tensors[:, 0, 0], tensors[:, 1, 1], tensors[:, 2, 2], tensors[:, 0, 1],
+             tensors[:, 0, 2], tensors[:, 1, 2]]
+        )  # fmt: skip
+        return np.vstack([rate[None, :], plane, inertia])

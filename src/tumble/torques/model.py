@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 from tumble.errors import InputError
 from tumble.units import SI_UNITS, to_si, vector_to_si
 
-__all__ = ["TORQUES", "Parameter", "TorqueModel", "TorqueSum", "register_torque"]
+__all__ = ["ACTUATORS", "TORQUES", "Parameter", "TorqueModel", "TorqueSum", "register_torque"]
 
 Array = NDArray[np.float64]
 
@@ -30,6 +30,7 @@ class Parameter:
         itself is not allowed (a value must exceed it).
     sweep : the names of its per-body parameters in sweep files, one per
         component (empty: not sweepable).
+    optional : None is allowed (and kept): "none" (no limit, no value).
     """
 
     name: str
@@ -39,10 +40,13 @@ class Parameter:
     minimum: float | None = None
     sweep: tuple[str, ...] = ()
     strict: bool = False
+    optional: bool = False
 
     def convert(self, value: Any, per_body: bool) -> Any:
         """The value in SI: a float or (3,) array, or with ``per_body`` also (N,) or
-        (N, 3), one per body of a batch."""
+        (N, 3), one per body of a batch (None stays None when ``optional``)."""
+        if value is None and self.optional:
+            return None
         many = per_body and np.ndim(value) == len(self.shape) + 1 and not isinstance(value, str)
         if not self.shape and not many:
             result: Any = to_si(value, self.kind, self.name)
@@ -67,6 +71,9 @@ class Parameter:
             result.flags.writeable = False
         return result
 
+
+#: Where a torque model's torque comes from (see :attr:`TorqueModel.actuator`).
+ACTUATORS = ("external", "rotors")
 
 #: Every registered torque model by its name in scenario files, in registration order.
 TORQUES: dict[str, type[TorqueModel]] = {}
@@ -110,11 +117,26 @@ class TorqueModel:
     in_batches: ClassVar[bool] = False
     #: None, or why a sum may hold only one model of this class (what to do instead).
     one_per_sum: ClassVar[str | None] = None
+    #: True when its torque may be produced by the body's rotors instead of from
+    #: outside (the class then has a field ``actuator``).
+    drives_rotors: ClassVar[bool] = False
+    #: ``"external"``: the torque acts on the body from outside; ``"rotors"``: the
+    #: body's rotors produce it (their motor torques are its share-out, so the
+    #: body's total angular momentum is untouched: momentum exchange).
+    actuator: str = "external"
 
     def __post_init__(self) -> None:
         for parameter in self.parameters:
             value = parameter.convert(getattr(self, parameter.name), self.in_batches)
             object.__setattr__(self, parameter.name, value)
+        if self.actuator not in ACTUATORS or (
+            self.actuator != "external" and not self.drives_rotors
+        ):
+            allowed = ACTUATORS if self.drives_rotors else ("external",)
+            raise InputError(
+                f"Expected `actuator` of {type(self).__name__} to be one of "
+                f"{', '.join(repr(a) for a in allowed)}, got {self.actuator!r}."
+            )
 
     # ------------------------------------------------------------ algebra
     @property
@@ -150,13 +172,17 @@ class TorqueModel:
     def __repr__(self) -> str:
         shown = []
         for parameter, value in zip(self.parameters, self.values().values(), strict=True):
-            if np.ndim(value) == len(parameter.shape) + 1:
+            if value is None:
+                shown.append(f"no {parameter.name}")
+            elif np.ndim(value) == len(parameter.shape) + 1:
                 what = "vectors" if parameter.shape else "values"
                 shown.append(f"per body, {len(value)} {what}")
             else:
                 unit = SI_UNITS[parameter.kind].replace("*", "·")
                 number = np.asarray(value).tolist()
                 shown.append(f"{number} {unit}".rstrip())
+        if self.actuator != "external":
+            shown.append(f"actuator={self.actuator!r}")
         return f"{type(self).__name__}({', '.join(shown)})"
 
     # ------------------------------------------------------------ on a body

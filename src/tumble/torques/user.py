@@ -38,6 +38,7 @@ class UserTorque(TorqueModel):
 
     function: Any
     params: Any = ()
+    actuator: str = "external"
 
     name = "user"
     summary = "a torque from a function compiled with numba"
@@ -45,10 +46,12 @@ class UserTorque(TorqueModel):
     depends_on = frozenset({"attitude", "time", "omega"})
     in_files = False
     one_per_sum = "compute both torques in one function"
+    drives_rotors = True
 
     def __post_init__(self) -> None:
         from numba.core.dispatcher import Dispatcher
 
+        super().__post_init__()
         function = self.function
         if not isinstance(function, Dispatcher):
             raise InputError(
@@ -84,7 +87,8 @@ class UserTorque(TorqueModel):
 
     def __repr__(self) -> str:
         name = getattr(self.function, "__name__", "function")
-        return f"UserTorque({name}, params={np.asarray(self.params).tolist()})"
+        through = "" if self.actuator == "external" else f", actuator={self.actuator!r}"
+        return f"UserTorque({name}, params={np.asarray(self.params).tolist()}{through})"
 
 
 #: One C callback per user function, compiled on first use.
