@@ -42,6 +42,7 @@ SI_UNITS: dict[str, str] = {
     "time": "s",
     "density": "kg/m^3",
     "inertia": "kg*m^2",
+    "angular_momentum": "kg*m^2/s",
     "torque": "N*m",
     "damping": "N*m*s",
     "acceleration": "m/s^2",

@@ -10,6 +10,15 @@
 * :func:`gyroscope` — heavy symmetric top on a fixed pivot (Lagrange top):
   precession, nutation, the exact tilt θ(t) of a top released from rest.
 * :func:`gyrocompass` — the gimballed gyroscope carried round a vertical axis.
+* :func:`gyrostat_stability` — a body with rotors spinning about a principal
+  axis: when the rotors stabilise it (dual spin), its nutation.
+* :func:`kane_damper_decay` — the decay (or growth) of nutation by a damper:
+  the major-axis rule.
+* :func:`wheel_spin_up` — a wheel spun up by its motor in a body at rest.
+* :func:`gravity_gradient_libration` — pitch and roll–yaw librations in a
+  circular orbit, and their stability regions.
+* :func:`attitude_slew` — a slew under quaternion feedback: its natural
+  frequency and damping ratio.
 
 Conventions as in the rest of tumble: SI units inside (numbers, pint quantities
 or strings such as ``"3000 rpm"`` at the edge), angular velocity in body
@@ -25,6 +34,12 @@ fast-spin approximation: it drops ``−I_AB Ω² sin θ cos θ``, which
 
 from __future__ import annotations
 
+from tumble.theory.attitude import (
+    AttitudeSlew,
+    Libration,
+    attitude_slew,
+    gravity_gradient_libration,
+)
 from tumble.theory.compass import Gyrocompass, gyrocompass
 from tumble.theory.free import (
     AxisStability,
@@ -35,23 +50,41 @@ from tumble.theory.free import (
     free_motion,
     free_symmetric_top,
 )
+from tumble.theory.gyrostats import (
+    GyrostatStability,
+    KaneDamperDecay,
+    WheelSpinUp,
+    gyrostat_stability,
+    kane_damper_decay,
+    wheel_spin_up,
+)
 from tumble.theory.rotors import RotorLoads, SkewRod, rotor_loads, skew_rod
 from tumble.theory.tops import Gyroscope, gyroscope
 
 __all__ = [
+    "AttitudeSlew",
     "AxisStability",
     "FreeMotion",
     "FreeSymmetricTop",
     "Gyrocompass",
     "Gyroscope",
+    "GyrostatStability",
+    "KaneDamperDecay",
+    "Libration",
     "RotorLoads",
     "SkewRod",
+    "WheelSpinUp",
+    "attitude_slew",
     "axis_stability",
     "flip_period",
     "free_motion",
     "free_symmetric_top",
+    "gravity_gradient_libration",
     "gyrocompass",
     "gyroscope",
+    "gyrostat_stability",
+    "kane_damper_decay",
     "rotor_loads",
     "skew_rod",
+    "wheel_spin_up",
 ]

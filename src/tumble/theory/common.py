@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 
 from tumble.errors import InputError
 from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, readonly
-from tumble.units import to_si, vector_to_si
+from tumble.units import SI_UNITS, to_si, vector_to_si
 
 __all__ = [
     "UNITS",
@@ -30,7 +30,8 @@ def positive(value: Any, kind: str, name: str) -> float:
     """``value`` in SI, refused unless > 0."""
     result = to_si(value, kind, name)
     if result <= 0:
-        raise InputError(f"Expected `{name}` > 0 {UNITS[kind]}, got {result!r}.")
+        unit = UNITS.get(kind, SI_UNITS[kind].replace("*", "·").replace("^2", "²"))
+        raise InputError(f"Expected `{name}` > 0 {unit}, got {result!r}.")
     return result
 
 

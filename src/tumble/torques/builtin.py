@@ -144,8 +144,9 @@ class LinearDamping(TorqueModel):
 @register_torque
 @dataclass(frozen=True, eq=False, repr=False)
 class HoldRotation(TorqueModel):
-    """The body-fixed torque ``ω0 × (I ω0)`` about the reference point that keeps
-    the initial rotation ω0 steady: what a motor supplies to hold a shaft at a
+    """The body-fixed torque ``ω0 × (I ω0)`` (``ω0 × H0`` with the momentum of the
+    body's parts, its rotors keeping their speeds) about the reference point that
+    keeps the initial rotation ω0 steady: what a motor supplies to hold a shaft at a
     constant rate (the rotating skew rod, an unbalanced rotor). It does no work
     (it is perpendicular to ω) and turns L rigidly: energy and |L| stay."""
 
@@ -155,7 +156,10 @@ class HoldRotation(TorqueModel):
     kernel = staticmethod(kernels.constant_body_torque)
 
     def pack(self, body: Any, omega0: Array | None) -> Array:
-        w = body.to_principal(np.zeros(3) if omega0 is None else omega0)
+        omega = np.zeros(3) if omega0 is None else np.asarray(omega0, dtype=float)
+        w = body.to_principal(omega)
+        if getattr(body, "parts", ()):  # ω0 × H0, the parts' momentum in H0
+            return np.asarray(np.cross(w, body.to_principal(body.angular_momentum(omega))))
         return np.asarray(np.cross(w, body.moments * w))
 
     def conserves(self, body: Any) -> frozenset[str]:
