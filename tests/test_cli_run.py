@@ -68,7 +68,8 @@ def test_show_prints_the_toml_to_copy(tmp_path: Path) -> None:
     assert code == 2 and out == ""
     assert err.strip().splitlines() == [
         "error: Expected a built-in scenario (gyroscope, gyrocompass, skew-rod, tennis-racket, "
-        "heavy-top, free-symmetric-top, tumbling-satellite) or a .toml file, got 'skewrod'. "
+        "heavy-top, free-symmetric-top, tumbling-satellite, dual-spin, explorer-1, "
+        "gravity-gradient, reaction-wheel-slew) or a .toml file, got 'skewrod'. "
         "Did you mean skew-rod?"
     ]
 

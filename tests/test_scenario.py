@@ -159,7 +159,7 @@ def rows(result: object) -> dict[str, dict]:
         (
             'model = "gyroscope"',
             'model = "lagrange"',
-            r"line 36, `theory\.model`: Expected `model` to be one of auto, none, gyroscope, rotor-loads, free-symmetric-top, flip-period, gyrocompass, got 'lagrange'\.",
+            r"line 36, `theory\.model`: Expected `model` to be one of auto, none, dual-spin, energy-sink, libration, slew, gyroscope, rotor-loads, free-symmetric-top, flip-period, gyrocompass, got 'lagrange'\.",
         ),
         (
             "samples = 2500",

@@ -316,9 +316,7 @@ class Trajectory:
             conserved=None if conserved is None else tuple(n for n in conserved if n not in own),
             invariant_values=own,
             internal=internal,
-            internal_values=np.column_stack([data[name] for name in names])
-            if names
-            else None,
+            internal_values=np.column_stack([data[name] for name in names]) if names else None,
         )
 
     # ------------------------------------------------------------ notebooks

@@ -20,6 +20,7 @@ from tumble.errors import InputError
 
 __all__ = ["SI_UNITS", "length_scale", "to_si", "ureg", "vector_to_si"]
 
+
 def _registry() -> pint.UnitRegistry:
     """pint's default registry, its parsed definitions cached in the user's cache
     folder (0.06 s to build instead of 0.5 s); without a writable cache, uncached."""

@@ -15,6 +15,11 @@ depends as little as possible on the sampling interval, and says how:
   momentum sphere it lies on.
 * :func:`body_precession_rate` — the rate at which ω turns about a body axis.
 * :func:`drift` — the relative drift of the conserved quantities.
+* :func:`pointing_error` — the angle of the attitude from a target.
+* :func:`orbit_deviation` — yaw, roll and pitch from the gravity-gradient
+  equilibrium of a circular orbit.
+* :func:`exponential_rate`, :func:`oscillation_frequency` — the rate of an
+  exponential growth or decay, the frequency of an oscillation, of any signal.
 
 These measurements side by side with a closed form of :mod:`tumble.theory` are
 the theory checks of :mod:`tumble.checks`.
@@ -36,6 +41,12 @@ from tumble.analysis.angles import (
 )
 from tumble.analysis.common import STEADY_SWING
 from tumble.analysis.motion import Flips, Polhode, drift, flips, polhode
+from tumble.analysis.spacecraft import (
+    exponential_rate,
+    orbit_deviation,
+    oscillation_frequency,
+    pointing_error,
+)
 
 __all__ = [
     "STEADY_SWING",
@@ -45,8 +56,12 @@ __all__ = [
     "Precession",
     "body_precession_rate",
     "drift",
+    "exponential_rate",
     "flips",
     "nutation",
+    "orbit_deviation",
+    "oscillation_frequency",
+    "pointing_error",
     "polhode",
     "precession",
 ]

@@ -1,9 +1,11 @@
 """Theory checks: each closed form a simulation can be compared with, in one registry.
 
 * :data:`THEORY_CHECKS` — the checks by name, in the order ``auto`` tries them:
-  ``gyroscope`` (:mod:`~tumble.checks.tops`), ``rotor-loads``
-  (:mod:`~tumble.checks.rotors`), ``free-symmetric-top`` and ``flip-period``
-  (:mod:`~tumble.checks.free`), ``gyrocompass`` (:mod:`~tumble.checks.gyrocompass`).
+  ``dual-spin`` and ``energy-sink`` (:mod:`~tumble.checks.gyrostats`),
+  ``libration`` and ``slew`` (:mod:`~tumble.checks.attitude`), ``gyroscope``
+  (:mod:`~tumble.checks.tops`), ``rotor-loads`` (:mod:`~tumble.checks.rotors`),
+  ``free-symmetric-top`` and ``flip-period`` (:mod:`~tumble.checks.free`),
+  ``gyrocompass`` (:mod:`~tumble.checks.gyrocompass`).
 * :func:`choose_check` — the check a scenario's ``[theory] model`` names, or
   the first that fits its setup.
 * :func:`compare`, :func:`comparison_row`, :func:`comparison_table` — closed-form
@@ -15,6 +17,7 @@ call: scenario files can then name it.
 
 from __future__ import annotations
 
+from tumble.checks.attitude import LibrationCheck, SlewCheck
 from tumble.checks.base import (
     THEORY_CHECKS,
     Comparison,
@@ -30,11 +33,16 @@ from tumble.checks.base import (
 )
 from tumble.checks.free import FlipPeriodCheck, FreeSymmetricTopCheck
 from tumble.checks.gyrocompass import GyrocompassCheck
+from tumble.checks.gyrostats import DualSpinCheck, EnergySinkCheck
 from tumble.checks.rotors import RotorLoadsCheck
 from tumble.checks.tops import GyroscopeCheck
 
 # In the order `auto` tries them: the most specific setups first.
 for _check in (
+    DualSpinCheck(),
+    EnergySinkCheck(),
+    LibrationCheck(),
+    SlewCheck(),
     GyroscopeCheck(),
     RotorLoadsCheck(),
     FreeSymmetricTopCheck(),

@@ -58,13 +58,15 @@ class Curve:
 class Panel:
     """A plot of a comparison: a title, the y label with its unit, and curves;
     ``name`` names its figure file, ``until`` limits it to t <= until (a few
-    periods of a fast oscillation)."""
+    periods of a fast oscillation), ``log`` draws the y axis logarithmic (an
+    exponential growth or decay)."""
 
     title: str
     ylabel: str
     curves: list[Curve]
     name: str = "angles"
     until: float | None = None
+    log: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -80,6 +82,8 @@ class Setup:
     torque : the torque models besides gravity, or None.
     options : what a check takes besides (``bearings`` of a rotor, the
         gyrocompass's ``spin_rate`` and ``platform_rate``).
+    internal : the parts the body carries (:mod:`tumble.parts`), locked in
+        ``mass_properties``.
     """
 
     mass_properties: MassProperties
@@ -89,6 +93,16 @@ class Setup:
     gravity: Any = None
     torque: TorqueModel | None = None
     options: Mapping[str, Any] = field(default_factory=dict)
+    internal: tuple[Any, ...] = ()
+
+    @property
+    def rigid(self) -> bool:
+        """No internal parts: the closed forms of a rigid body apply."""
+        return not self.internal
+
+    def parts_of(self, kind: str) -> tuple[Any, ...]:
+        """The internal parts of one kind (``"rotor"``, ``"kane-damper"``)."""
+        return tuple(part for part in self.internal if part.kind == kind)
 
     @property
     def heavy(self) -> bool:
@@ -108,10 +122,13 @@ class Setup:
 
 @dataclass(frozen=True)
 class Comparison:
-    """The rows theory vs simulation (:func:`comparison_row`) and the panels to draw."""
+    """The rows theory vs simulation (:func:`comparison_row`) and the panels to draw;
+    ``runs``: trajectories the check simulated itself to compare with, by label
+    (e.g. the same body without its rotor), written beside the main one."""
 
     rows: list[dict[str, Any]]
     panels: list[Panel]
+    runs: Mapping[str, Trajectory] = field(default_factory=dict)
 
 
 class TheoryCheck:

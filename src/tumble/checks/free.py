@@ -38,13 +38,14 @@ class FreeSymmetricTopCheck(TheoryCheck):
     (:func:`tumble.theory.free_symmetric_top`)."""
 
     name = "free-symmetric-top"
-    needs = "a free body with two equal principal moments"
+    needs = "a free body with two equal principal moments and no internal parts"
     result_type = theory.FreeSymmetricTop
 
     def fits(self, setup: Setup) -> bool:
         moments, _ = setup.mass_properties.principal()
         steps = np.abs(np.diff(moments))
-        return setup.free and bool(np.any(steps <= SYMMETRY_TOLERANCE * moments.sum()))
+        symmetric = bool(np.any(steps <= SYMMETRY_TOLERANCE * moments.sum()))
+        return setup.free and setup.rigid and symmetric
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         """The rate at which ω turns about the symmetry axis in the body
@@ -127,11 +128,11 @@ class FlipPeriodCheck(TheoryCheck):
     flips (:func:`tumble.theory.flip_period`)."""
 
     name = "flip-period"
-    needs = "a free body (no pivot with gravity, no torques)"
+    needs = "a free body (no pivot with gravity, no torques, no internal parts)"
     result_type = (float, int)
 
     def fits(self, setup: Setup) -> bool:
-        return setup.free
+        return setup.free and setup.rigid
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         """The period from :func:`tumble.theory.flip_period` against the one

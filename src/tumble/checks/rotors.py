@@ -50,7 +50,8 @@ class RotorLoadsCheck(TheoryCheck):
 
     def fits(self, setup: Setup) -> bool:
         torques = setup.torques
-        return bool(torques) and all(isinstance(term, HoldRotation) for term in torques)
+        held = bool(torques) and all(isinstance(term, HoldRotation) for term in torques)
+        return held and setup.rigid
 
     def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
         mp = setup.mass_properties
@@ -118,4 +119,3 @@ class RotorLoadsCheck(TheoryCheck):
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         raise InputError("Expected a setup for the rotor loads (use compare), got a result.")
-

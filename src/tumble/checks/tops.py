@@ -35,7 +35,7 @@ class GyroscopeCheck(TheoryCheck):
     result_type = theory.Gyroscope
 
     def fits(self, setup: Setup) -> bool:
-        if not setup.heavy or setup.torques:
+        if not setup.heavy or setup.torques or not setup.rigid:
             return False
         try:  # symmetric about body z, the pivot on that axis
             theory.gyroscope(setup.mass_properties, setup.pivot, 1.0, 0.5, 1.0)
@@ -145,4 +145,3 @@ class GyroscopeCheck(TheoryCheck):
             ),
         ]
         return Comparison(rows, panels)
-

@@ -17,7 +17,7 @@ from typing import Any
 from tumble.config.errors import key_error, unknown_key
 from tumble.errors import InputError
 
-__all__ = ["method_choice", "theory_choice", "torque_entry", "torque_types"]
+__all__ = ["actuator_choice", "method_choice", "theory_choice", "torque_entry", "torque_types"]
 
 
 def method_choice(value: Any, *, batch: bool = False) -> str:
@@ -61,6 +61,22 @@ def theory_choice(value: Any) -> str:
     return str(value)
 
 
+def actuator_choice(value: Any) -> str:
+    """``value`` if it names where a torque comes from (:data:`tumble.torques.ACTUATORS`).
+
+    Raises
+    ------
+    pydantic error at ``actuator``
+        Another value; the message lists the choices.
+    """
+    from tumble.torques import ACTUATORS
+
+    if value not in ACTUATORS:
+        choices = ", ".join(repr(a) for a in ACTUATORS)
+        raise key_error("actuator", f"Expected `actuator` to be one of {choices}, got {value!r}.")
+    return str(value)
+
+
 def torque_types() -> list[str]:
     """The ``type`` names of the torque models files may use."""
     from tumble.torques import TORQUES
@@ -93,10 +109,14 @@ def torque_entry(data: Any) -> Any:
         )
     model = TORQUES[kind]
     known = ["type", *(parameter.name for parameter in model.parameters)]
+    if model.drives_rotors:
+        known.append("actuator")
     for key in data:
         if key not in known:
             raise unknown_key(str(key), known)
-    values = {}
+    values: dict[str, Any] = {}
+    if "actuator" in data:
+        values["actuator"] = actuator_choice(data["actuator"])
     for parameter in model.parameters:
         if parameter.name not in data and parameter.optional:
             continue

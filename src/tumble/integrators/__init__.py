@@ -162,9 +162,7 @@ def get_integrator(name: str, *, batch: bool = False) -> Integrator:
     return INTEGRATORS[name]
 
 
-def auto_choice(
-    torque: BoundTorque, parts: frozenset[str] = frozenset()
-) -> tuple[Integrator, str]:
+def auto_choice(torque: BoundTorque, parts: frozenset[str] = frozenset()) -> tuple[Integrator, str]:
     """The integrator ``method="auto"`` picks for this bound torque and a body
     carrying parts of the kinds ``parts``, and why."""
     for entry in INTEGRATORS.values():
@@ -210,6 +208,8 @@ register_integrator(
         auto=_exact_when,
     )
 )
+
+
 def _splitting(name: str, order: int, summary: str, auto: Any = None) -> Integrator:
     """An entry for the splitting of order 2 (Strang) or 4 (Yoshida's composition)."""
     step = part_kernels.strang_step if order == 2 else part_kernels.yoshida_step

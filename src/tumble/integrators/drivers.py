@@ -292,9 +292,7 @@ def _adaptive_chunks(
             progress(last - 1, total)
 
 
-def run_exact(
-    integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
-) -> Samples:
+def run_exact(integrator: Any, problem: Problem, schedule: Schedule, progress: Progress) -> Samples:
     """The exact torque-free solution at ``schedule.times``; no steps."""
     body = problem.body
     w, q = exact_principal(

@@ -148,16 +148,22 @@ def write_run(
         viewer = None
         if spec.output.viewer:
             step("viewer.html")
-            from tumble.report.scenario_geometry import body_geometry
+            from tumble.report.scenario_geometry import (
+                body_geometry,
+                rotor_drawings,
+                with_dampers,
+            )
             from tumble.report.viewer import viewer_html
             from tumble.scenario.build import at_key
 
             title = spec.scenario.title or name
             with at_key(result.scenario, "body"):
                 geometry = body_geometry(spec.body, result.scenario.folder)
+            rotors = rotor_drawings(spec.internal, geometry)
             page = viewer_html(
-                result.trajectory, geometry, frames=spec.output.viewer_frames, title=title
-            )
+                result.trajectory, with_dampers(spec.internal, geometry),
+                frames=spec.output.viewer_frames, title=title, rotors=rotors,
+            )  # fmt: skip
             write_text(staging / "viewer.html", page)
             viewer = "viewer.html"
         step("report.html")

@@ -20,10 +20,12 @@ from tumble.massprops import MassProperties
 __all__ = [
     "Geometry",
     "Mesh",
+    "RotorDrawing",
     "box",
     "cylinder",
     "equal_inertia_ellipsoid",
     "revolve",
+    "rotor_mesh",
     "sphere",
     "torus",
 ]
@@ -120,3 +122,29 @@ def equal_inertia_ellipsoid(mp: MassProperties) -> Geometry:
     semi = np.maximum(np.sqrt(np.maximum(squares, 0.0)), floor)
     vertices, faces = sphere()
     return Geometry((vertices * semi) @ axes.T + mp.center_of_mass, faces, exact=False)
+
+
+@dataclass(frozen=True)
+class RotorDrawing:
+    """Where to draw a rotor: its centre (m) and unit spin axis in body coordinates,
+    its radius and thickness (m)."""
+
+    position: Array
+    axis: Array
+    radius: float
+    thickness: float
+
+
+def rotor_mesh(drawing: RotorDrawing) -> tuple[Array, NDArray[np.int64], NDArray[np.bool_]]:
+    """A disc with a stripe along one radius (to see it turn), in body coordinates at
+    its place: vertices, faces, and which faces belong to the stripe."""
+    from scipy.spatial.transform import Rotation
+
+    disc, disc_faces = cylinder(drawing.radius, drawing.thickness, sections=32)
+    stripe, stripe_faces = box((drawing.radius, 0.15 * drawing.radius, 1.1 * drawing.thickness))
+    stripe = stripe + np.array([0.5 * drawing.radius, 0.0, 0.0])
+    vertices = np.vstack([disc, stripe])
+    faces = np.vstack([disc_faces, stripe_faces + len(disc)])
+    marked = np.concatenate([np.zeros(len(disc_faces), bool), np.ones(len(stripe_faces), bool)])
+    turn, _ = Rotation.align_vectors([drawing.axis], [[0.0, 0.0, 1.0]])
+    return turn.apply(vertices) + drawing.position, faces.astype(np.int64), marked

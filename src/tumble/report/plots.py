@@ -24,6 +24,7 @@ __all__ = [
     "omega_figure",
     "panel_figure",
     "polhode_figure",
+    "rotors_figure",
     "trajectory_figures",
 ]
 
@@ -113,17 +114,18 @@ def polhode_figure(traj: Trajectory) -> Figure:
     from tumble.massprops import principal_decomposition
 
     moments, frame = principal_decomposition(inertia)
-    momentum = (traj.omega @ frame) * moments  # L in principal axes
+    momentum = traj.body_momentum @ frame  # L in principal axes (the parts' included)
     kinetic = 0.5 * float(np.sum(momentum[0] ** 2 / moments))
     semi = np.sqrt(2.0 * kinetic * moments)
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 36), np.linspace(0, np.pi, 18))
-    axes.plot_wireframe(
-        semi[0] * np.cos(u) * np.sin(v),
-        semi[1] * np.sin(u) * np.sin(v),
-        semi[2] * np.cos(v),
-        color="0.75",
-        lw=0.4,
-    )
+    if not traj.internal:  # a gyrostat's energy surface is another ellipsoid, off centre
+        u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 36), np.linspace(0, np.pi, 18))
+        axes.plot_wireframe(
+            semi[0] * np.cos(u) * np.sin(v),
+            semi[1] * np.sin(u) * np.sin(v),
+            semi[2] * np.cos(v),
+            color="0.75",
+            lw=0.4,
+        )
     axes.plot(
         momentum[:, 0],
         momentum[:, 1],
@@ -134,7 +136,7 @@ def polhode_figure(traj: Trajectory) -> Figure:
     )
     axes.scatter(*momentum[0], color="k", s=12, label="t = 0")
     axes.set(xlabel="L₁", ylabel="L₂", zlabel="L₃")
-    axes.set_box_aspect(semi / semi.max())
+    axes.set_box_aspect(semi / semi.max() if semi.max() > 0 else np.ones(3))
     axes.set_title("Polhode: L in principal axes on the energy ellipsoid", fontsize="medium")
     axes.legend(loc="upper left", fontsize="small")
     return figure
@@ -164,6 +166,21 @@ def panel_figure(panel: Panel) -> Figure:
         axes.set_xlim(0.0, panel.until)
         title += f" (first {panel.until:.3g} s)"
     axes.set(xlabel="t (s)", ylabel=panel.ylabel, title=title)
+    if panel.log:
+        axes.set_yscale("log")
+    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    axes.grid(alpha=0.3)
+    return figure
+
+
+def rotors_figure(traj: Trajectory) -> Figure:
+    """The rotors' spin rates relative to the body, rad/s."""
+    figure = _figure()
+    axes = figure.add_subplot()
+    for k in range(traj.rotor_speed.shape[1]):
+        axes.plot(traj.t, traj.rotor_speed[:, k], lw=1.0, color=_COLOURS[k % len(_COLOURS)],
+                  label=f"rotor {k + 1}")  # fmt: skip
+    axes.set(xlabel="t (s)", ylabel="Ω (rad/s)", title="Rotor speeds relative to the body")
     axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
     axes.grid(alpha=0.3)
     return figure
@@ -178,6 +195,8 @@ def trajectory_figures(traj: Trajectory, panels: Sequence[Panel] = ()) -> dict[s
         "drift": drift_figure(traj),
         "polhode": polhode_figure(traj),
     }
+    if traj.rotor_speed.shape[1]:
+        figures["rotors"] = rotors_figure(traj)
     for panel in panels:
         figures[panel.name] = panel_figure(panel)
     return figures

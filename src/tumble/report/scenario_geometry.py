@@ -18,6 +18,7 @@ from tumble.massprops import MassProperties
 from tumble.report.geometry import (
     Geometry,
     Mesh,
+    RotorDrawing,
     box,
     cylinder,
     equal_inertia_ellipsoid,
@@ -28,7 +29,7 @@ from tumble.report.geometry import (
 from tumble.scenario.bodies import InertiaBody, MeshBody, PartsBody, PointsBody, ShapeBody
 from tumble.scenario.build import mesh_path, rotation
 
-__all__ = ["body_geometry", "shape_mesh"]
+__all__ = ["body_geometry", "rotor_drawings", "shape_mesh", "with_dampers"]
 
 Array = NDArray[np.float64]
 
@@ -134,3 +135,35 @@ def _concatenate(pieces: list[tuple[Array, NDArray[np.int64]]]) -> tuple[Array, 
         faces.append(f + offset)
         offset += len(v)
     return np.vstack(vertices), np.vstack(faces).astype(np.int64)
+
+
+def rotor_drawings(internal: Any, geometry: Geometry) -> list[RotorDrawing]:
+    """Where to draw the rotors of a scenario's ``[[internal]]`` tables: at their
+    ``position``, their own size (or one from the body's size when given by
+    their inertia)."""
+    vertices = geometry.vertices
+    reach = float(np.max(np.ptp(vertices, axis=0))) if len(vertices) else 1.0
+    drawings = []
+    for spec in internal:
+        if spec.type != "rotor":
+            continue
+        radius = spec.drawing_radius(reach)
+        thickness = spec.disc_thickness if spec.radius is not None else radius / 5.0
+        axis = np.asarray(spec.axis, dtype=float)
+        drawings.append(
+            RotorDrawing(np.asarray(spec.position), axis / np.linalg.norm(axis), radius, thickness)
+        )
+    return drawings
+
+
+def with_dampers(internal: Any, geometry: Geometry) -> Geometry:
+    """The body's mesh with the spheres of the dampers given by mass and radius."""
+    pieces = [(geometry.vertices, geometry.faces)]
+    for spec in internal:
+        if spec.type == "kane-damper" and spec.radius is not None:
+            ball, faces = sphere(spec.radius, rings=8, sections=12)
+            pieces.append((ball + np.asarray(spec.position), faces))
+    if len(pieces) == 1:
+        return geometry
+    vertices, faces = _concatenate(pieces)
+    return Geometry(vertices, faces, geometry.exact)

@@ -3,8 +3,10 @@
 The page holds the plotly.js bundle inline, the body's mesh once (body
 coordinates) and the attitude quaternion of each frame; a small script turns the
 mesh, the principal axes and the ω and L arrows frame by frame, so the file
-stays small however fine the mesh. Controls: play / pause, a time slider and the
-time shown. The script keeps the current frame in ``window.tumbleViewer.frame``.
+stays small however fine the mesh. A body's rotors are discs with a stripe,
+turned by the body and by their own spin angle (the integral of their speed).
+Controls: play / pause, a time slider and the time shown. The script keeps the
+current frame in ``window.tumbleViewer.frame``.
 """
 
 from __future__ import annotations
@@ -18,7 +20,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from tumble.report.geometry import Geometry
+    from collections.abc import Sequence
+
+    from tumble.report.geometry import Geometry, RotorDrawing
     from tumble.trajectory import Trajectory
 
 __all__ = ["Viewer", "viewer_html"]
@@ -53,10 +57,59 @@ def _geometry(traj: Trajectory, geometry: Geometry | None) -> tuple[Array, NDArr
     return geometry.vertices, geometry.faces, geometry.exact
 
 
+def _rotor_drawings(traj: Trajectory, reach: float) -> list[RotorDrawing]:
+    """Discs for the trajectory's rotors, at the centre of mass, sized to the body."""
+    from tumble.parts import Rotor
+    from tumble.report.geometry import RotorDrawing
+
+    return [
+        RotorDrawing(traj.mass_properties.center_of_mass, part.axis, 0.25 * reach, 0.05 * reach)
+        for part in traj.internal
+        if isinstance(part, Rotor)
+    ]
+
+
+def _rotor_data(
+    traj: Trajectory,
+    drawings: Sequence[RotorDrawing],
+    origin: Array,
+    index: Any,
+) -> list[dict[str, Any]]:
+    """Each rotor's mesh (body coordinates about the fixed point), axis and spin
+    angle at each frame (rad, the integral of its speed, modulo 2π)."""
+    from scipy.integrate import cumulative_trapezoid
+
+    from tumble.report.geometry import rotor_mesh
+
+    speeds = traj.rotor_speed
+    if len(drawings) != speeds.shape[1]:
+        raise ValueError(f"Expected {speeds.shape[1]} rotor drawings, got {len(drawings)}.")
+    rotors = []
+    for k, drawing in enumerate(drawings):
+        vertices, faces, marked = rotor_mesh(drawing)
+        angles = cumulative_trapezoid(speeds[:, k], traj.t, initial=0.0)[index] % (2 * np.pi)
+        rotors.append(
+            {
+                "vertices": _rounded(vertices - origin),
+                "faces": faces.T.tolist(),
+                "marked": marked.tolist(),
+                "position": _rounded(np.asarray(drawing.position) - origin),
+                "axis": [float(a) for a in drawing.axis],
+                "angles": np.round(angles, 4).tolist(),
+            }
+        )
+    return rotors
+
+
 def viewer_data(
-    traj: Trajectory, geometry: Geometry | None = None, frames: int = 300
+    traj: Trajectory,
+    geometry: Geometry | None = None,
+    frames: int = 300,
+    rotors: Sequence[RotorDrawing] | None = None,
 ) -> dict[str, Any]:
-    """The numbers the viewer's script needs (SI, space axes; the fixed point at the origin)."""
+    """The numbers the viewer's script needs (SI, space axes; the fixed point at the
+    origin); ``rotors`` places the trajectory's rotors (default: discs at the
+    centre of mass)."""
     vertices, faces, exact = _geometry(traj, geometry)
     mp = traj.mass_properties
     origin = mp.center_of_mass if traj.pivot is None else np.asarray(traj.pivot)
@@ -79,11 +132,19 @@ def viewer_data(
     momentum = traj.angular_momentum[index]
     arrow = 1.5 * reach
 
-    def scaled(vectors: Array) -> Array:
-        size = float(np.max(np.linalg.norm(vectors, axis=1)))
-        return vectors * (arrow / size) if size > 0 else vectors
+    # The scale of the motion's momenta: an L below round-off of it (a body and
+    # its wheels at rest in total) is drawn as nothing, not as noise blown up.
+    carried = float(np.max(np.linalg.norm(traj.omega @ traj.body.inertia.T, axis=1)))
 
+    def scaled(vectors: Array, floor: float = 0.0) -> Array:
+        size = float(np.max(np.linalg.norm(vectors, axis=1)))
+        if not size > floor:
+            return np.zeros_like(vectors)
+        return vectors * (arrow / size)
+
+    drawings = _rotor_drawings(traj, reach) if rotors is None else rotors
     return {
+        "rotors": _rotor_data(traj, drawings, origin, index),
         "t": _rounded(traj.t[index]),
         "q": _rounded(traj.quaternion[index]),
         "vertices": _rounded(body),
@@ -92,7 +153,7 @@ def viewer_data(
         "axis_ends": _rounded(np.array(ends)),
         "moments": [float(m) for m in moments],
         "omega": _rounded(scaled(omega)),
-        "momentum": _rounded(scaled(momentum)),
+        "momentum": _rounded(scaled(momentum, 1e-9 * carried)),
         "omega_max": float(np.max(np.linalg.norm(traj.omega_space, axis=1))),
         "momentum_max": float(np.max(np.linalg.norm(traj.angular_momentum, axis=1))),
         "reach": 2.0 * reach,
@@ -158,7 +219,22 @@ _SCRIPT = """
     }
     const trail = D.omega.slice(0, i + 1);
     xs.push(trail.map(p => p[0])); ys.push(trail.map(p => p[1])); zs.push(trail.map(p => p[2]));
-    Plotly.restyle(gd, { x: xs, y: ys, z: zs }, [0, 1, 2, 3, 4, 5, 6]);
+    const traces = [0, 1, 2, 3, 4, 5, 6];
+    D.rotors.forEach(function (r, k) {
+      // Turned about its axis by its spin angle, about its centre, then with the body.
+      const half = 0.5 * r.angles[i], s = Math.sin(half);
+      const spin = [Math.cos(half), s * r.axis[0], s * r.axis[1], s * r.axis[2]];
+      const rx = [], ry = [], rz = [];
+      const c = r.position;
+      for (const v of r.vertices) {
+        const local = rotate(spin, [v[0] - c[0], v[1] - c[1], v[2] - c[2]]);
+        const p = rotate(q, [local[0] + c[0], local[1] + c[1], local[2] + c[2]]);
+        rx.push(p[0]); ry.push(p[1]); rz.push(p[2]);
+      }
+      xs.push(rx); ys.push(ry); zs.push(rz);
+      traces.push(8 + k);
+    });
+    Plotly.restyle(gd, { x: xs, y: ys, z: zs }, traces);
     state.frame = i;
     slider.value = i;
     clock.textContent = 't = ' + D.t[i].toFixed(3) + ' s  (' + (i + 1) + ' / ' + n + ')';
@@ -209,7 +285,7 @@ def _figure(data: dict[str, Any]) -> dict[str, Any]:
             "j": faces[1],
             "k": faces[2],
             "color": "#9fb7d9",
-            "opacity": 0.75,
+            "opacity": 0.35 if data["rotors"] else 0.75,
             "flatshading": True,
             "lighting": {"ambient": 0.55, "diffuse": 0.7, "specular": 0.2},
             "showlegend": True,
@@ -274,6 +350,24 @@ def _figure(data: dict[str, Any]) -> dict[str, Any]:
             "marker": {"size": 4, "color": "#000000"},
         }
     )
+    for k, rotor in enumerate(data["rotors"]):
+        points = np.asarray(rotor["vertices"])
+        traces.append(
+            {
+                "type": "mesh3d",
+                "name": f"rotor {k + 1}",
+                "x": points[:, 0].tolist(),
+                "y": points[:, 1].tolist(),
+                "z": points[:, 2].tolist(),
+                "i": rotor["faces"][0],
+                "j": rotor["faces"][1],
+                "k": rotor["faces"][2],
+                "facecolor": ["#5a4a1a" if m else "#f2b134" for m in rotor["marked"]],
+                "flatshading": True,
+                "showlegend": True,
+                "hoverinfo": "name",
+            }
+        )
     layout = {
         "margin": {"l": 0, "r": 0, "t": 30, "b": 0},
         "uirevision": "keep",
@@ -300,6 +394,7 @@ def viewer_html(
     *,
     frames: int = 300,
     title: str = "",
+    rotors: Sequence[RotorDrawing] | None = None,
 ) -> str:
     """The viewer page of a trajectory, as one self-contained HTML string.
 
@@ -310,16 +405,24 @@ def viewer_html(
         equal inertia.
     frames : at most this many frames, evenly spread over the trajectory.
     title : shown above the plot.
+    rotors : where to draw the trajectory's rotors (default: discs at the centre
+        of mass, sized to the body).
     """
     from plotly.offline import get_plotlyjs
 
-    data = viewer_data(traj, geometry, frames)
+    data = viewer_data(traj, geometry, frames, rotors)
     heading = title or "tumble: rigid-body rotation"
     shape = "its shape" if data["exact_shape"] else "an ellipsoid of equal inertia"
     note = (
         f"The body ({shape}), its principal axes, ω (orange) and L (purple), space axes with the "
         f"{data['fixed_point']} at the origin; arrows scaled to their largest value. "
-        f"{len(data['t'])} frames over {data['t'][-1]:.4g} s."
+        + (
+            f"Its {len(data['rotors'])} rotor(s) as discs turning at their speed (the stripe "
+            "shows their angle; a fast rotor seen once a frame may seem to turn slowly). "
+            if data["rotors"]
+            else ""
+        )
+        + f"{len(data['t'])} frames over {data['t'][-1]:.4g} s."
     )
     return (
         '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'

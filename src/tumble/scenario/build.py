@@ -38,6 +38,7 @@ __all__ = [
     "InitialState",
     "at_key",
     "initial_state",
+    "internal_parts",
     "mass_properties",
     "mesh_path",
     "rotation",
@@ -149,3 +150,20 @@ def torque_model(scenario: Scenario, loaded: LoadedScenario | None = None) -> An
         with at_key(loaded, "torques", k):
             terms.append(TORQUES[torque.type](**torque.values))
     return sum(terms[1:], terms[0]) if terms else None
+
+
+def internal_parts(
+    scenario: Scenario, loaded: LoadedScenario | None = None
+) -> tuple[tuple[Any, ...], MassProperties | None]:
+    """The scenario's ``[[internal]]`` parts (:mod:`tumble.parts`) and the sum of the
+    uniform solids tumble adds to the body for those given by mass and radius
+    (None when there are none)."""
+    parts, solids = [], []
+    for k, spec in enumerate(scenario.internal):
+        with at_key(loaded, "internal", k):
+            parts.append(spec.part())
+            solid = spec.solid()
+            if solid is not None:
+                solids.append(solid)
+    added = sum(solids[1:], solids[0]) if solids else None
+    return tuple(parts), added

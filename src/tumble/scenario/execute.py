@@ -24,6 +24,7 @@ from tumble.checks import Comparison, Panel, Setup, choose_check
 from tumble.scenario.build import (
     at_key,
     initial_state,
+    internal_parts,
     mass_properties,
     torque_model,
 )
@@ -114,6 +115,9 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
     spec = loaded.spec
     start = time.perf_counter()
     mp = mass_properties(spec.body, loaded.folder, loaded)
+    parts, added = internal_parts(spec, loaded)
+    if added is not None:
+        mp = mp + added
     theory: str | None
     if spec.gyrocompass is not None:
         runs, comparisons, panels, theory = run_gyrocompass(loaded, mp, progress)
@@ -122,7 +126,7 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
             "the Jacobi integral T − Ω·L is."
         ]
     else:
-        runs, comparisons, panels, theory, notes = _rigid_body(loaded, mp, progress)
+        runs, comparisons, panels, theory, notes = _rigid_body(loaded, mp, parts, progress)
     main = next(iter(runs.values()))
     drift: dict[str, Any] = dict(main.drift)
     return RunResult(
@@ -139,7 +143,7 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
 
 
 def _rigid_body(
-    loaded: LoadedScenario, mp: MassProperties, progress: Progress
+    loaded: LoadedScenario, mp: MassProperties, parts: tuple[Any, ...], progress: Progress
 ) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str | None, list[str]]:
     from tumble.simulation import prepare, simulate
 
@@ -149,11 +153,12 @@ def _rigid_body(
     sim = spec.simulation
     env = spec.environment
     dt = sim.dt
-    with at_key(loaded, "simulation"):
+    with at_key(loaded, "internal" if parts else "simulation"):
         chosen = prepare(
             mp, state.omega, attitude0=state.attitude, pivot=env.pivot, gravity=env.gravity,
-            torque=torque, method=sim.method,
+            torque=torque, method=sim.method, internal=parts,
         ).integrator  # fmt: skip
+    with at_key(loaded, "simulation"):
         if dt is None and chosen.kind != "stepping":
             # Methods that sample every dt rather than step by it (the exact
             # solution, the adaptive method): sample as often as [output] asks.
@@ -170,11 +175,15 @@ def _rigid_body(
             method=sim.method,
             record_every=record_every(sim.duration, dt, spec.output.samples),
             progress=progress,
+            internal=parts,
         )
     traj = decimate(traj, spec.output.samples)
+    options: dict[str, Any] = {"method": sim.method, "dt": dt, "samples": spec.output.samples}
+    if spec.theory.bearings is not None:
+        options["bearings"] = spec.theory.bearings
     setup = Setup(
-        mp, state.omega, state.attitude, env.pivot, env.gravity, torque,
-        options={} if spec.theory.bearings is None else {"bearings": spec.theory.bearings},
+        mp, state.omega, state.attitude, env.pivot, env.gravity, torque, options=options,
+        internal=parts,
     )  # fmt: skip
     with at_key(loaded, "theory", "model"):
         check = choose_check(spec.theory.model, setup)
@@ -185,4 +194,5 @@ def _rigid_body(
     for row in comparison.rows:
         row.setdefault("run", "main")
     theory = None if check is None else check.name
-    return {"main": traj}, comparison.rows, comparison.panels, theory, []
+    runs = {"main": traj, **comparison.runs}
+    return runs, comparison.rows, comparison.panels, theory, []

@@ -41,6 +41,10 @@ BUILTINS = config.Builtins(
         "heavy-top",
         "free-symmetric-top",
         "tumbling-satellite",
+        "dual-spin",
+        "explorer-1",
+        "gravity-gradient",
+        "reaction-wheel-slew",
     ),
     describe=("title", "description"),
 )

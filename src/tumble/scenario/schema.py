@@ -1,9 +1,10 @@
 """The scenario file's schema: pydantic models that validate and convert to SI.
 
 A scenario is a TOML file with the tables ``[scenario]`` (name, title,
-description), ``[body]``, ``[initial]``, ``[environment]``, ``[[torques]]``,
-``[simulation]``, ``[theory]``, ``[output]`` and, for the gimballed gyroscope,
-``[gyrocompass]``. Quantities are numbers (SI) or strings with units
+description), ``[body]``, ``[[internal]]`` (its rotors and dampers,
+:mod:`tumble.scenario.internal`), ``[initial]``, ``[environment]``,
+``[[torques]]``, ``[simulation]``, ``[theory]``, ``[output]`` and, for the
+gimballed gyroscope, ``[gyrocompass]``. Quantities are numbers (SI) or strings with units
 (``"250 g"``, ``"3000 rpm"``, ``"0, 0, -10 cm"``); every value is converted to
 SI floats here, with :mod:`tumble.units`, so what passes validation is a plain
 description in SI. Unknown keys are errors (a typo must not be ignored
@@ -32,6 +33,7 @@ from tumble.scenario.bodies import (
     key_path,
     vector_field,
 )
+from tumble.scenario.internal import InternalSpec
 
 __all__ = [
     "Attitude",
@@ -39,6 +41,7 @@ __all__ = [
     "Environment",
     "Gyrocompass",
     "Initial",
+    "InternalSpec",
     "Output",
     "Scenario",
     "Simulation",
@@ -178,6 +181,7 @@ class Scenario(StrictModel):
 
     scenario: Info
     body: Body
+    internal: list[InternalSpec] = []
     initial: Initial = Initial()
     environment: Environment = Environment()
     torques: list[Torque] = []
@@ -195,6 +199,7 @@ class Scenario(StrictModel):
                     ("initial", self.initial != Initial()),
                     ("environment", self.environment != Environment()),
                     ("torques", bool(self.torques)),
+                    ("internal", bool(self.internal)),
                 )
                 if given
             ]

@@ -55,6 +55,25 @@ class Libration:
     def stable(self) -> bool:
         return self.pitch_stable and self.roll_yaw_stable
 
+    def pitch_frequency_at(self, amplitude: float) -> float:
+        """The frequency (rad/s) of a pitch libration of any ``amplitude`` θ_max
+        (rad, below 90°): ``θ̈ = −(ω_p² / 2) sin 2θ`` is a pendulum in 2θ, of period
+        ``4 K(sin² θ_max) / ω_p`` (K the complete elliptic integral of the first
+        kind, parameter m = k²): ω_p (1 − θ_max² / 4 + …) for small swings."""
+        from scipy.special import ellipk
+
+        if not self.pitch_stable:
+            return math.nan
+        quarter = float(ellipk(math.sin(amplitude) ** 2))
+        return 2.0 * math.pi * self.pitch_frequency / (4.0 * quarter)
+
+    def pitch_amplitude(self, angle: float, rate: float) -> float:
+        """The amplitude θ_max (rad) of the pitch libration through ``angle`` (rad)
+        at ``rate`` (rad/s, relative to the orbiting frame): from the first
+        integral ``θ̇² + ω_p² sin² θ = ω_p² sin² θ_max``."""
+        sine = math.sin(angle) ** 2 + (rate / self.pitch_frequency) ** 2
+        return math.asin(min(1.0, math.sqrt(sine)))
+
 
 def gravity_gradient_libration(
     mp: MassProperties,

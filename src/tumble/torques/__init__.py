@@ -53,10 +53,18 @@ from tumble.torques.builtin import (
 )
 from tumble.torques.control import AttitudeController
 from tumble.torques.environment import GravityGradient
-from tumble.torques.model import TORQUES, Parameter, TorqueModel, TorqueSum, register_torque
+from tumble.torques.model import (
+    ACTUATORS,
+    TORQUES,
+    Parameter,
+    TorqueModel,
+    TorqueSum,
+    register_torque,
+)
 from tumble.torques.user import UserTorque
 
 __all__ = [
+    "ACTUATORS",
     "TORQUES",
     "AttitudeController",
     "BoundTorque",
