@@ -20,15 +20,10 @@ runs here detect that and report when it happened.
 
 from __future__ import annotations
 
-import datetime
-import os
-import platform
 from dataclasses import dataclass, field
 from functools import cached_property
-from pathlib import Path
 
 import mujoco
-import numba
 import numpy as np
 import scipy
 from mujoco import rollout
@@ -80,22 +75,9 @@ _TOP_MJCF = """
 # ------------------------------------------------------------------ helpers
 def environment() -> str:
     """Date, machine (nproc, CPU model) and versions, for the head of a benchmark's output."""
-    import tumble
+    from machine import describe
 
-    model = platform.processor() or "unknown CPU"
-    cpuinfo = Path("/proc/cpuinfo")
-    if cpuinfo.is_file():
-        for line in cpuinfo.read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    return (
-        f"{datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M:%S UTC}\n"
-        f"nproc {os.cpu_count()}, usable CPUs {len(os.sched_getaffinity(0))}, CPU {model!r}\n"
-        f"tumble {tumble.__version__}, mujoco {mujoco.__version__}, scipy {scipy.__version__}, "
-        f"numpy {np.__version__}, numba {numba.__version__} ({numba.get_num_threads()} threads), "
-        f"Python {platform.python_version()}"
-    )
+    return describe({"mujoco": mujoco.__version__, "scipy": scipy.__version__})
 
 
 def quat_matrix(q: Array) -> Array:

@@ -8,6 +8,7 @@ either is not shared.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 
 import numpy as np
@@ -82,6 +83,7 @@ def gyrostat_reference(
     torque: Callable | None = None,
     times=None,
     rtol=1e-13,
+    breaks=(),
 ):
     """A free body carrying rotors and Kane dampers, written from the balance of
     angular momentum with *velocities* as the state, in body axes with the full
@@ -97,6 +99,8 @@ def gyrostat_reference(
 
     Returns ω (n, 3), the attitude matrices (n, 3, 3), the rotor rates (n, k)
     and the sphere rates (n, 3 d) at ``times`` (or at ``duration`` alone).
+    ``breaks``: times where a motor's torque jumps; the integration restarts
+    there, so no step straddles a jump.
     """
     inertia = np.asarray(mp.inertia, dtype=float)
     axes = [np.asarray(a, dtype=float) / np.linalg.norm(a) for a, *_ in rotors]
@@ -141,9 +145,16 @@ def gyrostat_reference(
     start = np.concatenate(
         [omega0, a0.ravel(), [speed for _, _, speed, _ in rotors], *([omega0] * len(dampers))]
     )
-    sol = solve_ivp(
-        rhs, (0, duration), start, method="DOP853", rtol=rtol, atol=1e-14, t_eval=times,
-        max_step=duration / 50,
-    )  # fmt: skip
-    y = sol.y.T if times is not None else sol.y[:, -1:].T
+    edges = [0.0, *sorted(b for b in breaks if 0 < b < duration), duration]
+    wanted = np.array([duration]) if times is None else np.asarray(times, dtype=float)
+    pieces = []
+    for first, last in itertools.pairwise(edges):
+        inside = wanted[(wanted >= first) & ((wanted < last) | (last == duration))]
+        sol = solve_ivp(
+            rhs, (first, last), start, method="DOP853", rtol=rtol, atol=1e-14,
+            t_eval=np.union1d(inside, [last]), max_step=duration / 50,
+        )  # fmt: skip
+        pieces.append(sol.y[:, : inside.size].T)
+        start = sol.y[:, -1]
+    y = np.concatenate(pieces)[: wanted.size]
     return y[:, :3], y[:, 3:12].reshape(-1, 3, 3), y[:, 12 : 12 + k], y[:, 12 + k :]

@@ -238,12 +238,20 @@ class RigidBody:
         """Principal-coordinates vectors (..., 3) in body axes."""
         return np.asarray(np.asarray(vectors, dtype=float) @ self.axes.T)
 
+    @cached_property
+    def _axes_are_body_axes(self) -> bool:
+        return bool(np.array_equal(self.axes, np.eye(3)))
+
     def attitude_to_principal(self, quaternions: Array) -> Array:
         """Quaternions body → space (..., 4) as principal → space (``q ⊗ q_axes``)."""
+        if self._axes_are_body_axes:  # the principal axes are the body's: q ⊗ 1 = q
+            return np.array(quaternions, dtype=float)
         return compose(quaternions, self.principal_rotation)
 
     def attitude_from_principal(self, quaternions: Array) -> Array:
         """Quaternions principal → space (..., 4) as body → space."""
+        if self._axes_are_body_axes:
+            return np.array(quaternions, dtype=float)
         return compose(quaternions, self.principal_rotation.inv())
 
     # ------------------------------------------------------------ parts

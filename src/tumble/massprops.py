@@ -281,9 +281,13 @@ def principal_decomposition(inertia: Array) -> tuple[Array, Array]:
 
 
 def _principal_one(inertia: Array) -> tuple[Array, Array]:
-    moments, vectors = np.linalg.eigh(inertia)
     scale = max(float(np.trace(inertia)), np.finfo(float).tiny)
     tol = REPEATED_MOMENT_TOLERANCE * scale
+    diagonal = np.diag(inertia)
+    if not np.any(inertia - np.diag(diagonal)) and np.all(np.diff(diagonal) > tol):
+        # Already principal, ascending and distinct: what the rule below gives.
+        return np.maximum(diagonal, 0.0), np.eye(3)
+    moments, vectors = np.linalg.eigh(inertia)
     # Group repeated moments: eigh sorts ascending, so equal ones are neighbours.
     groups: list[list[int]] = [[0]]
     for k in (1, 2):
