@@ -390,6 +390,29 @@ def _motor_command(torques: ArrayLike) -> tuple[Any, Any]:
 # --- the cases ---------------------------------------------------------------------------
 
 
+def _wheels_and_logs(
+    sim: Any, sc: Any, wheels: tuple[Any, ...], torques: ArrayLike
+) -> tuple[Any, Any, tuple[Any, Any, Any]]:
+    """Add the wheels (``(model, axes, positions, js, jt, mass, speeds)``, see
+    :func:`_add_wheels`) to the spacecraft with their motor command (``torques``,
+    N·m), the recorders of the state, the wheel speeds and the conserved quantities,
+    and initialise the simulation; the command message, its payload type and the
+    three recorders."""
+    model, axes, positions, js, jt, mass, speeds = wheels
+    effector, _factory = _add_wheels(sc, sim, model, axes, positions, js, jt, mass, speeds)
+    cmd_msg, payload_type = _motor_command(torques)
+    effector.rwMotorCmdInMsg.subscribeTo(cmd_msg)
+    logs = (
+        sc.scStateOutMsg.recorder(),
+        effector.rwSpeedOutMsg.recorder(),
+        sc.logger(["totRotAngMomPntC_N", "totRotEnergy"]),
+    )
+    for log in logs:
+        sim.AddModelToTask(_LOG_TASK, log)
+    sim.InitializeSimulation()
+    return cmd_msg, payload_type, logs
+
+
 def reaction_wheels(
     dt: float,
     duration: float = 20.0,
@@ -463,18 +486,10 @@ def reaction_wheels(
     # and at c, so that the body origin B starts at (0, 0, 0).
     sc = _make_spacecraft(sim, m_bsk, c_bsk, i_bsk, omega0, r0=c_all)
     _set_integrator(sc, integrator, tolerance, abs_tolerance)
-    effector, _factory = _add_wheels(
-        sc, sim, wheel_model, axes, positions, js, jt, mw, omega_wheels0
+    wheels = (wheel_model, axes, positions, js, jt, mw, omega_wheels0)
+    cmd_msg, payload_type, (state_log, speed_log, conserved_log) = _wheels_and_logs(
+        sim, sc, wheels, u_on
     )
-    cmd_msg, payload_type = _motor_command(u_on)
-    effector.rwMotorCmdInMsg.subscribeTo(cmd_msg)
-
-    state_log = sc.scStateOutMsg.recorder()
-    speed_log = effector.rwSpeedOutMsg.recorder()
-    conserved_log = sc.logger(["totRotAngMomPntC_N", "totRotEnergy"])
-    for log in (state_log, speed_log, conserved_log):
-        sim.AddModelToTask(_LOG_TASK, log)
-    sim.InitializeSimulation()
     setup_s = time.perf_counter() - t0
 
     wall = _execute(sim, n_on * dt)
@@ -639,16 +654,9 @@ def spin_up(
     sim, _ = _new_sim(dt, _record_nanos(dt, n_steps, record_dt))
     sc = _make_spacecraft(sim, m_bsk, c_bsk, i_bsk, np.zeros(3))
     _set_integrator(sc, integrator, tolerance, abs_tolerance)
-    effector, _factory = _add_wheels(sc, sim, wheel_model, axes, positions, js, jt, mw, [0.0])
-    cmd_msg, _ = _motor_command([u])
-    effector.rwMotorCmdInMsg.subscribeTo(cmd_msg)
-
-    state_log = sc.scStateOutMsg.recorder()
-    speed_log = effector.rwSpeedOutMsg.recorder()
-    conserved_log = sc.logger(["totRotAngMomPntC_N", "totRotEnergy"])
-    for log in (state_log, speed_log, conserved_log):
-        sim.AddModelToTask(_LOG_TASK, log)
-    sim.InitializeSimulation()
+    wheels = (wheel_model, axes, positions, js, jt, mw, [0.0])
+    # The command message is held here: the effector reads it through its subscription.
+    _command, _, (state_log, speed_log, conserved_log) = _wheels_and_logs(sim, sc, wheels, [u])
     setup_s = time.perf_counter() - t0
 
     wall = _execute(sim, n_steps * dt)

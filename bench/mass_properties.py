@@ -47,12 +47,10 @@ import argparse
 import datetime
 import gc
 import os
-import platform
 import statistics
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numba
 import numpy as np
@@ -240,13 +238,8 @@ def breakdown(mesh: Mesh, repeat: int) -> dict[str, float]:
 
 def machine() -> str:
     """nproc, CPU model, numba threads and threading layer, library versions."""
-    model = platform.processor() or "unknown CPU"
-    cpuinfo = Path("/proc/cpuinfo")
-    if cpuinfo.is_file():
-        for line in cpuinfo.read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
+    from machine import describe
+
     try:
         layer: str = numba.threading_layer()
     except ValueError:  # no parallel kernel has run yet
@@ -256,10 +249,8 @@ def machine() -> str:
         or "none set"
     )
     return (
-        f"nproc {os.cpu_count()}, usable CPUs {len(os.sched_getaffinity(0))}, CPU {model!r}\n"
-        f"thread settings in the environment: {settings}\n"
-        f"numba {numba.__version__}: {numba.get_num_threads()} threads, threading layer {layer}; "
-        f"numpy {np.__version__}, trimesh {trimesh.__version__}, Python {platform.python_version()}"
+        f"{describe({'trimesh': trimesh.__version__})}\n"
+        f"thread settings in the environment: {settings}; numba threading layer {layer}"
     )
 
 

@@ -11,19 +11,16 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
+import scenario_tools
 import tumble as tb
+from scenario_tools import rows
 from tumble.scenario import ScenarioError, builtin_names, builtin_text, load, parse, run
 
 GYRO = builtin_text("gyroscope")
 
 
 def edited(old: str, new: str, text: str = GYRO) -> str:
-    assert old in text, old
-    return text.replace(old, new, 1)
-
-
-def rows(result: object) -> dict[str, dict]:
-    return {row["quantity"]: row for row in result.comparisons}  # type: ignore[attr-defined]
+    return scenario_tools.edited(old, new, text)
 
 
 # ------------------------------------------------------------------ validation

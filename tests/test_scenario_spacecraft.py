@@ -10,7 +10,9 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
+import scenario_tools
 import tumble as tb
+from scenario_tools import rows
 from tumble.report import write_run
 from tumble.scenario import ScenarioError, builtin_text, parse, run
 
@@ -19,12 +21,7 @@ SLEW = builtin_text("reaction-wheel-slew")
 
 
 def edited(old: str, new: str, text: str = DUAL) -> str:
-    assert old in text, old
-    return text.replace(old, new, 1)
-
-
-def rows(result: object) -> dict[str, dict]:
-    return {row["quantity"]: row for row in result.comparisons}  # type: ignore[attr-defined]
+    return scenario_tools.edited(old, new, text)
 
 
 # ------------------------------------------------------------------ the built-ins

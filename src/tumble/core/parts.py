@@ -59,13 +59,7 @@ import numpy as np
 from tumble.core._jit import FINITE, file_stamp, njit, njit_parallel, prange, specialise
 from tumble.core.adaptive import adaptive_loop
 from tumble.core.dynamics import quaternion_rates
-from tumble.core.splitting import (
-    YOSHIDA_INNER,
-    YOSHIDA_OUTER,
-    decay_integral,
-    free_flow,
-    turn,
-)
+from tumble.core.splitting import decay_integral, free_flow, sub_steps, turn
 
 __all__ = [
     "DAMPER_FIELDS",
@@ -140,6 +134,16 @@ def _motor(parts, row, pc, n_schedule, hold, h, w1, w2, w3, v1, v2, v3):  # type
 
 
 @njit(inline="always")
+def _torques(torque, drive, t, w1, w2, w3, q, system):  # type: ignore[no-untyped-def]
+    """The external torque ``(τ1, τ2, τ3, c)`` (its damping c apart) and the torque
+    ``v`` the rotors must exert on the body (its damping included)."""
+    params, column, context = system[4], system[5], system[6]
+    t1, t2, t3, c = torque(t, (w1, w2, w3), q, params, column, context)
+    v1, v2, v3, cv = drive(t, (w1, w2, w3), q, params, column, context)
+    return t1, t2, t3, c, v1 - cv * w1, v2 - cv * w2, v3 - cv * w3
+
+
+@njit(inline="always")
 def part_rates(torque, drive, layout, t, hold, y, dy, system):  # type: ignore[no-untyped-def]
     """``dy = f(t, y)`` for the state of the module's docstring, the schedules read
     at time ``hold``.
@@ -151,14 +155,10 @@ def part_rates(torque, drive, layout, t, hold, y, dy, system):  # type: ignore[n
     exert on the body.
     """
     kinds, n_schedule = layout
-    _, inverse, parts, pc, params, column, context = system
+    inverse, parts, pc = system[1], system[2], system[3]
     w1, w2, w3 = velocity(layout, y, inverse, parts, pc)
     q = (y[3], y[4], y[5], y[6])
-    t1, t2, t3, c = torque(t, (w1, w2, w3), q, params, column, context)
-    v1, v2, v3, cv = drive(t, (w1, w2, w3), q, params, column, context)
-    v1 -= cv * w1
-    v2 -= cv * w2
-    v3 -= cv * w3
+    t1, t2, t3, c, v1, v2, v3 = _torques(torque, drive, t, w1, w2, w3, q, system)
     dy[0] = t1 - c * w1 - (w2 * y[2] - w3 * y[1])
     dy[1] = t2 - c * w2 - (w3 * y[0] - w1 * y[2])
     dy[2] = t3 - c * w3 - (w1 * y[1] - w2 * y[0])
@@ -297,17 +297,13 @@ def _kick(torque, drive, layout, t, hold, h, y, system):  # type: ignore[no-unty
     torque on H (its damping ``c`` integrated exactly) and the motor torques on
     the rotors' momenta (schedules read at ``hold``)."""
     kinds, n_schedule = layout
-    moments, inverse, parts, pc, params, column, context = system
+    moments, inverse, parts, pc = system[0], system[1], system[2], system[3]
     g1, g2, g3 = _internal_momentum(layout, y, parts, pc, False)
     w1 = (y[0] - g1) * inverse[0]
     w2 = (y[1] - g2) * inverse[1]
     w3 = (y[2] - g3) * inverse[2]
     q = (y[3], y[4], y[5], y[6])
-    t1, t2, t3, c = torque(t, (w1, w2, w3), q, params, column, context)
-    v1, v2, v3, cv = drive(t, (w1, w2, w3), q, params, column, context)
-    v1 -= cv * w1
-    v2 -= cv * w2
-    v3 -= cv * w3
+    t1, t2, t3, c, v1, v2, v3 = _torques(torque, drive, t, w1, w2, w3, q, system)
     k = 7
     row = 0
     for _ in kinds:  # the splitting's bodies carry rotors only
@@ -342,12 +338,7 @@ def splitting_step(torque, drive, layout, t, dt, y, work, system, order):  # typ
     :func:`tumble.core.splitting.free_flow`) and the linear ``−(I_p⁻¹ g)·H``, an
     exact rotation about a body-fixed axis: explicit and symplectic, H kept to
     round-off (``work`` is not used)."""
-    if order == 2:
-        fractions = (1.0, 0.0, 0.0)
-        n_sub = 1
-    else:
-        fractions = (YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER)
-        n_sub = 3
+    fractions, n_sub = sub_steps(order)
     hold = t + 0.5 * dt
     # The sub-steps at one call site, so the compiler inlines the Strang step once.
     for j in range(n_sub):

@@ -158,18 +158,22 @@ def _strang(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  
 
 
 @njit(inline="always")
+def sub_steps(order):  # type: ignore[no-untyped-def]
+    """The fractions of a step taken by Strang sub-steps, and how many: one whole
+    step (``order`` 2), or Yoshida's triple jump (4)."""
+    if order == 2:
+        return (1.0, 0.0, 0.0), 1
+    return (YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER), 3
+
+
+@njit(inline="always")
 def splitting_step(torque, t, dt, order, state, inertia, params, column, context):  # type: ignore[no-untyped-def]
     """One step of ``dt`` s from time t of ``state`` = (L1, L2, L3, q0, … q3) (L in
     kg·m²/s, principal axes; ``inertia`` the principal moments): Strang
     (``order`` 2) or Yoshida's triple jump of it (4), as sub-steps at one call
     site so the compiler inlines the Strang step once. Returns the new state,
     the quaternion renormalised."""
-    if order == 2:
-        fractions = (1.0, 0.0, 0.0)
-        n_sub = 1
-    else:
-        fractions = (YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER)
-        n_sub = 3
+    fractions, n_sub = sub_steps(order)
     l1, l2, l3, q0, q1, q2, q3 = state
     i1, i2, i3 = inertia
     q = (q0, q1, q2, q3)
