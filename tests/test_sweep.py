@@ -501,7 +501,7 @@ def test_flip_map_is_shipped_and_valid() -> None:
 def test_unknown_builtin_is_refused() -> None:
     with pytest.raises(
         SweepError,
-        match=r"Expected a built-in sweep \(flip-map\) or a .toml file, got 'flip-mop'. "
+        match=r"Expected a built-in sweep \(dual-spin-map, flip-map\) or a .toml file, got 'flip-mop'. "
         r"Did you mean flip-map\?",
     ):
         load_sweep("flip-mop")

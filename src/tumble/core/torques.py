@@ -251,3 +251,20 @@ def attitude_feedback(t, w, q, params, row, column, context):  # type: ignore[no
         t2 *= scale
         t3 *= scale
     return t1, t2, t3, 0.0
+
+
+@njit(inline="always")
+def rotor_momentum(t, w, q, params, row, column, context):  # type: ignore[no-untyped-def]
+    """Rotors whose momentum relative to the body is prescribed, ``h(t) = h0 + ḣ t``
+    (principal axes): on the body, the torque ``−ω × h − ḣ`` (N·m). Fields h0 (3,
+    kg·m²/s) and ḣ (3, N·m)."""
+    h1 = params[row, column] + params[row + 3, column] * t
+    h2 = params[row + 1, column] + params[row + 4, column] * t
+    h3 = params[row + 2, column] + params[row + 5, column] * t
+    w1, w2, w3 = w
+    return (
+        -(w2 * h3 - w3 * h2) - params[row + 3, column],
+        -(w3 * h1 - w1 * h3) - params[row + 4, column],
+        -(w1 * h2 - w2 * h1) - params[row + 5, column],
+        0.0,
+    )

@@ -16,6 +16,8 @@ may give it one value per body, and which quantities the motion keeps under it.
 * :class:`GravityGradient` — the torque of a circular orbit, ``3 n² r × (I r)``.
 * :class:`HoldRotation` — the body-fixed torque ``ω0 × (I ω0)`` that keeps the
   initial rotation steady (a motor holding a shaft at a constant rate).
+* :class:`RotorMomentum` — rotors of prescribed relative momentum h(t): the
+  gyroscopic torque ``−ω × h − ḣ`` (batches and sweeps of gyrostats).
 * :class:`AttitudeController` — quaternion feedback ``τ = −K ε − C ω`` toward a
   target attitude, from outside or through the body's rotors (reaction wheels).
 * :class:`UserTorque` — any torque, from a function compiled with numba.
@@ -50,6 +52,7 @@ from tumble.torques.builtin import (
     Gravity,
     HoldRotation,
     LinearDamping,
+    RotorMomentum,
 )
 from tumble.torques.control import AttitudeController
 from tumble.torques.environment import GravityGradient
@@ -75,6 +78,7 @@ __all__ = [
     "HoldRotation",
     "LinearDamping",
     "Parameter",
+    "RotorMomentum",
     "TorqueModel",
     "TorqueSum",
     "UserTorque",

@@ -16,7 +16,14 @@ from tumble.body import FREE_BODY_INVARIANTS
 from tumble.core import torques as kernels
 from tumble.torques.model import Parameter, TorqueModel, register_torque
 
-__all__ = ["ConstantBodyTorque", "ConstantSpaceTorque", "Gravity", "HoldRotation", "LinearDamping"]
+__all__ = [
+    "ConstantBodyTorque",
+    "ConstantSpaceTorque",
+    "Gravity",
+    "HoldRotation",
+    "LinearDamping",
+    "RotorMomentum",
+]
 
 Array = NDArray[np.float64]
 
@@ -164,3 +171,54 @@ class HoldRotation(TorqueModel):
 
     def conserves(self, body: Any) -> frozenset[str]:
         return frozenset({"energy", "angular_momentum_norm"})
+
+
+@register_torque
+@dataclass(frozen=True, eq=False, repr=False)
+class RotorMomentum(TorqueModel):
+    """Rotors whose angular momentum relative to the body is prescribed: ``h(t) =
+    momentum + momentum_rate · t`` (body axes; kg·m²/s and kg·m²/s² = N·m), held
+    by their motors — at a constant relative speed when ``momentum_rate`` is zero
+    (a momentum wheel, the rotor of a dual-spin satellite).
+
+    The body (its MassProperties holding the rotors as if locked, I) then obeys
+    the gyrostat's equation ``I ω̇ + ω × (I ω + h) = −ḣ`` (Hughes, *Spacecraft
+    Attitude Dynamics*, §6.2): this model is the torque ``−ω × h − ḣ`` on it.
+    (ḣ is not the motors' torque, which also turns the rotors with the body:
+    ``J (a·ω̇) + ḣ`` each.) Its values may be one per body of a batch, and sweep
+    files vary them (``rotor_momentum_1`` …, ``rotor_momentum_rate_1`` …,
+    principal axes). With a constant h it does no work: the body's energy
+    ``½ ω · I ω`` stays, and the total ``I ω + h`` is the conserved angular
+    momentum (the trajectory's L is the body's own, ``I ω``). For rotors with
+    their own dynamics (free rotors, motor torques and their limits, a
+    controller), use :class:`tumble.Rotor` parts.
+    """
+
+    momentum: Any
+    momentum_rate: Any = (0.0, 0.0, 0.0)
+
+    name = "rotor-momentum"
+    summary = "rotors of prescribed relative momentum h(t): the torque −ω × h − ḣ"
+    parameters = (
+        Parameter(
+            "momentum", "angular_momentum", (3,), "the rotors' relative momentum h at t = 0",
+            sweep=_vector_field("rotor_momentum"),
+        ),
+        Parameter(
+            "momentum_rate", "torque", (3,), "dh/dt, constant",
+            sweep=_vector_field("rotor_momentum_rate"),
+        ),
+    )  # fmt: skip
+    fields = (*_vector_field("momentum"), *_vector_field("rate"))
+    kernel = staticmethod(kernels.rotor_momentum)
+    depends_on = frozenset({"omega", "time"})
+    in_batches = True
+
+    def pack(self, body: Any, omega0: Array | None) -> Array:
+        momentum = np.atleast_2d(body.to_principal(self.momentum))  # (1 or N, 3)
+        rate = np.atleast_2d(body.to_principal(self.momentum_rate))
+        momentum, rate = np.broadcast_arrays(momentum, rate)
+        return np.concatenate([momentum.T, rate.T])
+
+    def conserves(self, body: Any) -> frozenset[str]:
+        return frozenset() if np.any(self.momentum_rate) else frozenset({"energy"})

@@ -68,6 +68,7 @@ class Parameter:
                 f"Expected `{self.name}` {relation} {self.minimum:g} {unit}, got {shown}."
             )
         if isinstance(result, np.ndarray):
+            result = result.copy()  # frozen: never the caller's own array
             result.flags.writeable = False
         return result
 
