@@ -158,3 +158,60 @@ def gyrostat_reference(
         start = sol.y[:, -1]
     y = np.concatenate(pieces)[: wanted.size]
     return y[:, :3], y[:, 3:12].reshape(-1, 3, 3), y[:, 12 : 12 + k], y[:, 12 + k :]
+
+
+def spring_mass_reference(mp, mass, position, direction, stiffness, damping, omega0, q0,
+                          duration, displacement=0.0, times=None, rtol=1e-12):  # fmt: skip
+    """A free body carrying a point mass on a spring, by Newton–Euler: the hub about
+    its own centre of mass and the mass relative to it (the two-body problem,
+    reduced mass μ), joined by the slot's constraint force, solved for at each
+    step (no Lagrangian, no momenta, no inertia about the moving centre of mass).
+
+    With d = d0 + x n from the hub's centre of mass to the mass (body axes) and F
+    the force of the hub on the mass, ``F = (−k x − c ẋ) n + f``, f ⟂ n::
+
+        μ (ẍ n + 2 ω × ẋ n + ω̇ × d + ω × (ω × d)) = F
+        I_h ω̇ + ω × I_h ω = −d × F
+
+    Returns ω (n, 3), the attitude matrices (n, 3, 3), x (n,) and ẋ (n,).
+    """
+    total = mp.mass
+    reduced = mass * (total - mass) / total
+    n = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    rest = (total / (total - mass)) * (np.asarray(position, dtype=float) - mp.center_of_mass)
+    inertia = mp.inertia - reduced * (rest @ rest * np.eye(3) - np.outer(rest, rest))
+    helper = np.eye(3)[int(np.argmin(np.abs(n)))]
+    u1 = np.cross(n, helper)
+    u1 /= np.linalg.norm(u1)
+    u2 = np.cross(n, u1)
+
+    def rhs(t, y):
+        w = y[:3]
+        a = y[3:12].reshape(3, 3)
+        x, v = y[12], y[13]
+        d = rest + x * n
+        along = -stiffness * x - damping * v
+        # Unknowns (ω̇, ẍ, f1, f2): six linear equations.
+        system = np.zeros((6, 6))
+        right = np.zeros(6)
+        system[:3, :3] = -reduced * np.array(
+            [[0, -d[2], d[1]], [d[2], 0, -d[0]], [-d[1], d[0], 0]]
+        )  # μ ω̇ × d = −μ [d]× ω̇
+        system[:3, 3] = reduced * n
+        system[:3, 4] = -u1
+        system[:3, 5] = -u2
+        right[:3] = along * n - reduced * (2 * v * np.cross(w, n) + np.cross(w, np.cross(w, d)))
+        system[3:, :3] = inertia
+        system[3:, 4] = np.cross(d, u1)
+        system[3:, 5] = np.cross(d, u2)
+        right[3:] = -np.cross(w, inertia @ w) - along * np.cross(d, n)
+        solution = np.linalg.solve(system, right)
+        skew = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+        return np.concatenate([solution[:3], (a @ skew).ravel(), [v, solution[3]]])
+
+    a0 = Rotation.from_quat(q0, scalar_first=True).as_matrix()
+    start = np.concatenate([omega0, a0.ravel(), [displacement, 0.0]])
+    sol = solve_ivp(rhs, (0, duration), start, method="DOP853", rtol=rtol, atol=1e-14,
+                    t_eval=times, max_step=duration / 50)  # fmt: skip
+    y = sol.y.T
+    return y[:, :3], y[:, 3:12].reshape(-1, 3, 3), y[:, 12], y[:, 13]

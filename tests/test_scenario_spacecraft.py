@@ -131,7 +131,7 @@ thickness = "6 cm"''',
 @pytest.mark.parametrize(
     ("old", "new", "message"),
     [
-        ('type = "rotor"', 'type = "roter"', r"d\.toml, line 25, `internal\[0\]\.type`: Expected `type` to be one of rotor, kane-damper, got 'roter'\. Did you mean 'rotor'\?"),
+        ('type = "rotor"', 'type = "roter"', r"d\.toml, line 25, `internal\[0\]\.type`: Expected `type` to be one of rotor, kane-damper, spring-mass-damper, got 'roter'\. Did you mean 'rotor'\?"),
         ("axis = [0, 1, 0]", "axis = [0, 0, 0]", r"d\.toml, line 24, `internal\[0\]`: Expected `axis` of a Rotor to be a non-zero vector, got \[0\.0, 0\.0, 0\.0\]\."),
         ("axis = [0, 1, 0]\n", "", r"`internal\[0\]\.axis`: Expected `axis` \(the rotor's spin axis, body axes\), which is missing\."),
         ('mass = "20 kg"', 'mass = "-20 kg"', r"`internal\[0\]\.mass`: Expected `mass` > 0 kg, got -20\.0\."),
@@ -191,3 +191,53 @@ def test_internal_parts_are_refused_with_a_gyrocompass() -> None:
     extra = '\n[[internal]]\ntype = "kane-damper"\ninertia = 1e-4\ndamping = 0.1\n'
     with pytest.raises(ScenarioError, match=r"Expected no \[internal\] with \[gyrocompass\]"):
         parse(base + extra)
+
+
+SPRING = """
+[scenario]
+name = "spring"
+[body]
+inertia = "1, 3, 3.2 kg*m^2"
+mass = "30 kg"
+[[internal]]
+type = "spring-mass-damper"
+mass = "1 kg"
+position = "0, 0.4, 0 m"
+axis = [1, 0, 0]
+stiffness = "6 N/m"
+damping = "1 N*s/m"
+[initial]
+omega = "2, 0.05, 0.02 rad/s"
+[simulation]
+duration = "20 s"
+dt = "5 ms"
+method = "rk4"
+"""
+
+
+def test_a_spring_mass_damper_in_a_file_is_the_library_s() -> None:
+    # The file adds the 1 kg point mass to the body; the run equals tumble.simulate
+    # with the same parts (the same arithmetic: to the bit).
+    result = run(parse(SPRING))
+    body = tb.MassProperties(30.0, [0, 0, 0], np.diag([1.0, 3.0, 3.2])) + tb.point_masses(
+        [1.0], [[0.0, 0.4, 0.0]]
+    )
+    part = tb.SpringMassDamper(1.0, [0, 0.4, 0], [1, 0, 0], 6.0, 1.0)
+    alone = tb.simulate(body, [2.0, 0.05, 0.02], duration=20.0, dt=0.005, method="rk4",
+                        internal=[part])  # fmt: skip
+    assert_allclose(result.trajectory.omega[-1], alone.omega[-1], rtol=0, atol=0)
+    assert result.trajectory.internal_values.shape[1] == 2
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ('stiffness = "6 N/m"\n', "", r"`internal\[0\]\.stiffness`: Expected `stiffness` \(N/m\), which is missing\."),
+        ('stiffness = "6 N/m"', 'stiffness = "6 N/m"\nradius = 1', r"`internal\[0\]\.radius`: Expected no `radius` for a spring-mass-damper, got one\."),
+        ('stiffness = "6 N/m"', 'stiffness = "6 kg"', r"`internal\[0\]`: Expected `stiffness` to be a stiffness in N/m"),
+        ('damping = "1 N*s/m"', 'damping = "-1 N*s/m"', r"`internal\[0\]`: Expected `damping` of a SpringMassDamper >= 0 N·s/m, got -1\.0\."),
+    ],
+)
+def test_bad_spring_tables_name_the_key(old: str, new: str, message: str) -> None:
+    with pytest.raises(ScenarioError, match=message):
+        run(parse(edited(old, new, SPRING)))

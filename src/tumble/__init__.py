@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
     from tumble.massprops import MassProperties, point_masses
     from tumble.mesh import MeshOrientationWarning, from_mesh
-    from tumble.parts import KaneDamper, Rotor
+    from tumble.parts import KaneDamper, Rotor, SpringMassDamper
     from tumble.simulation import simulate
     from tumble.trajectory import Trajectory
 
@@ -49,6 +49,7 @@ _WHERE = {
     "simulate_batch": "tumble.batch",
     "Rotor": "tumble.parts",
     "KaneDamper": "tumble.parts",
+    "SpringMassDamper": "tumble.parts",
 }
 _SUBMODULES = {
     "analysis",
@@ -68,6 +69,7 @@ __all__ = [
     "MeshError",
     "MeshOrientationWarning",
     "Rotor",
+    "SpringMassDamper",
     "Trajectory",
     "__version__",
     "analysis",

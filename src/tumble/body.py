@@ -32,7 +32,7 @@ from scipy.spatial.transform import Rotation
 
 from tumble.errors import InputError
 from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, principal_decomposition
-from tumble.parts import InternalPart, Rotor
+from tumble.parts import InternalPart, KaneDamper, Rotor, SpringMassDamper
 
 __all__ = [
     "INVARIANTS",
@@ -154,6 +154,13 @@ class RigidBody:
 
     def __post_init__(self) -> None:
         if self.parts:
+            attached = tuple(part.attached(self.mass_properties) for part in self.parts)
+            object.__setattr__(self, "parts", attached)
+            if self.pivot is not None and any(isinstance(p, SpringMassDamper) for p in attached):
+                raise InputError(
+                    "Expected a free body for a SpringMassDamper (its mass moves the centre "
+                    "of mass the body turns about), got a pivot."
+                )
             moments = np.linalg.eigvalsh(0.5 * (self.platform_inertia + self.platform_inertia.T))
             if not moments[0] > ZERO_MOMENT * max(float(moments[2]), 0.0):
                 locked = np.linalg.eigvalsh(self.inertia)
@@ -283,7 +290,7 @@ class RigidBody:
         omega0 = np.asarray(omega0, dtype=float)
         momenta = [part.momenta(omega0, part.initial_values(omega0)) for part in self.parts]
         pieces = [
-            m if isinstance(part, Rotor) else self.to_principal(m)
+            self.to_principal(m) if isinstance(part, KaneDamper) else m
             for part, m in zip(self.parts, momenta, strict=True)
         ]
         momentum = self.to_principal(self.angular_momentum(omega0))
@@ -298,19 +305,44 @@ class RigidBody:
         inside = states[:, :3].copy()
         k = 7
         momenta = []
+        spring = None
         for part in self.parts:
             block = states[:, k : k + part.size]
             if isinstance(part, Rotor):  # its axial momentum h, along its axis
                 inside -= block * self.to_principal(part.axis)
+            elif isinstance(part, SpringMassDamper):  # (x, p): in the solve below
+                spring = (part, block)
             else:  # a damper sphere's momentum vector
                 inside -= block
                 block = self.from_principal(block)
             momenta.append(block)
             k += part.size
-        omega = self.from_principal(inside / self.moments)
+        if spring is None:
+            omega = self.from_principal(inside / self.moments)
+        else:
+            omega = self._omega_with_spring(inside, *spring)
         values = [part.values_from(omega, m) for part, m in zip(self.parts, momenta, strict=True)]
         parts = np.concatenate(values, axis=1) if values else np.zeros((len(states), 0))
         return omega, self.attitude_from_principal(states[:, 3:7]), parts
+
+    def _omega_with_spring(self, inside: Array, part: SpringMassDamper, block: Array) -> Array:
+        """ω (n, 3), body axes, of a body with a spring–mass damper: the solution of
+        ``(I_p + Δ(x)) ω + g ẋ = inside``, ``g·ω + μ ẋ = p`` (:mod:`tumble.core.parts`;
+        ``inside`` the momentum H less the other parts', principal axes)."""
+        reduced, _ = part.geometry
+        x, p = block[:, 0], block[:, 1]
+        basis = np.eye(3)
+        # The matrix of ω ↦ I_p ω + Δ(x) ω − g (g·ω)/μ, column by column, body axes.
+        coupling = part.coupling()
+        columns = [
+            basis[j] @ self.platform_inertia.T
+            + part.momentum(np.broadcast_to(basis[j], (len(x), 3)), np.column_stack([x, 0 * x]))
+            - coupling * coupling[j] / reduced
+            for j in range(3)
+        ]
+        matrix = np.stack(columns, axis=-1)  # (n, 3, 3)
+        rhs = self.from_principal(inside) - np.outer(p / reduced, coupling)
+        return np.asarray(np.linalg.solve(matrix, rhs[..., None])[..., 0])
 
     # ------------------------------------------------------------ physics
     def angular_momentum(self, omega: Array, values: Array | None = None) -> Array:

@@ -46,6 +46,8 @@ SI_UNITS: dict[str, str] = {
     "angular_momentum": "kg*m^2/s",
     "torque": "N*m",
     "damping": "N*m*s",
+    "stiffness": "N/m",
+    "linear_damping": "N*s/m",
     "acceleration": "m/s^2",
     "dimensionless": "",
 }

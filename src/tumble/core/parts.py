@@ -17,9 +17,19 @@ State ``y`` (``7 + m``):
 * one entry per rotor: its axial angular momentum ``h = J (a·ω + Ω)``,
   kg·m²/s (Ω its spin rate relative to the body);
 * three per damper: the sphere's angular momentum ``σ = J ω_s``, kg·m²/s
-  (ω_s its absolute angular velocity, in body components).
+  (ω_s its absolute angular velocity, in body components);
+* two for a spring–mass damper (one a body at most): the point mass's
+  displacement x along its direction n (m) and its momentum
+  ``p = g·ω + μ ẋ`` (kg·m/s).
 
 Velocities: ``ω = I_p⁻¹ (H − Σ h a − Σ σ)``, ``Ω = h / J − a·ω``, ``ω_s = σ / J``.
+With a spring–mass damper (reduced mass μ = m (M − m) / M, rest position d0
+from the rest of the body's centre of mass, ``d = d0 + x n``, ``g = μ d0 × n``)
+the body's inertia about the moving centre of mass becomes ``I_p + Δ(x)``,
+``Δ = μ ((|d|² − |d0|²) 1 − (d dᵀ − d0 d0ᵀ))``, and ω and ẋ solve
+``(I_p + Δ) ω + g ẋ = H − Σ h a − Σ σ``, ``g·ω + μ ẋ = p``: the kinetic energy is
+``½ ωᵀ (I_p + Δ) ω + ẋ ω·g + ½ μ ẋ²`` (checked against the sum over the masses
+with sympy in the tests).
 Equations (Hughes, *Spacecraft Attitude Dynamics*, 1986, §6.2 for the
 gyrostat; Schaub & Junkins, *Analytical Mechanics of Space Systems*, §4.5)::
 
@@ -27,6 +37,7 @@ gyrostat; Schaub & Junkins, *Analytical Mechanics of Space Systems*, §4.5)::
     q̇ = ½ q ⊗ (0, ω)
     ḣ = u                             (the motor torque on the rotor; the body feels −u a)
     σ̇ = D (ω − ω_s) − ω × σ          (D: the damper's viscous coupling, N·m·s)
+    ṗ = μ (ω × n)·(ω × d) − k x − c ẋ  (k the spring's stiffness, c its damping)
 
 Internal torques (motors, the fluid) move momentum between the body and its
 parts and leave H alone. Each rotor's motor torque ``u`` is its own schedule
@@ -39,9 +50,10 @@ to zero when it would drive the rotor past its largest speed.
 
 Parts are packed in their order as rows of ``parts`` (rows, 1 shared or N per
 body): per rotor ``ROTOR_FIELDS`` then ``n_schedule`` switch times and
-``n_schedule`` torques (times padded with +inf), per damper ``DAMPER_FIELDS``.
-The kernels are built for one layout ``(kinds, n_schedule)``: ``kinds`` the
-parts' kinds in order (``ROTOR`` or ``DAMPER``), the same order as the state.
+``n_schedule`` torques (times padded with +inf), per damper ``DAMPER_FIELDS``,
+for the spring–mass damper ``SPRING_FIELDS``. The kernels are built for one
+layout ``(kinds, n_schedule)``: ``kinds`` the parts' kinds in order (``ROTOR``,
+``DAMPER`` or ``SPRING``), the same order as the state.
 
 A rotor's schedule is read at one *hold* time per step (its middle; for the
 adaptive method, the middle of each stretch between switches, where the
@@ -62,8 +74,12 @@ from tumble.core.dynamics import quaternion_rates
 from tumble.core.splitting import decay_integral, free_flow, sub_steps, turn
 
 __all__ = [
+    "DAMPER",
     "DAMPER_FIELDS",
+    "ROTOR",
     "ROTOR_FIELDS",
+    "SPRING",
+    "SPRING_FIELDS",
     "adaptive_kernel",
     "batch_kernel",
     "parts_rk4_step",
@@ -82,13 +98,20 @@ ROTOR_FIELDS = ("axis_1", "axis_2", "axis_3", "inertia", "max_torque", "max_spee
                 "allocation_1", "allocation_2", "allocation_3")  # fmt: skip
 #: The rows of one damper: the sphere's moment J (kg·m²) and the coupling D (N·m·s).
 DAMPER_FIELDS = ("inertia", "damping")
+#: The rows of a spring–mass damper: the rest position d0 (m, from the centre of
+#: mass of the rest of the body), the unit direction n, the reduced mass μ (kg),
+#: the stiffness k (N/m) and the damping c (N·s/m).
+SPRING_FIELDS = ("rest_1", "rest_2", "rest_3", "direction_1", "direction_2", "direction_3",
+                 "reduced_mass", "stiffness", "damping")  # fmt: skip
 
 _ROTOR = len(ROTOR_FIELDS)
 _DAMPER = len(DAMPER_FIELDS)
+_SPRING = len(SPRING_FIELDS)
 
 #: The kinds of part in a layout.
 ROTOR = 0
 DAMPER = 1
+SPRING = 2
 
 
 @njit(inline="always")
@@ -99,9 +122,77 @@ def rotor_rows(n_schedule):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def velocity(layout, y, inverse, parts, pc):  # type: ignore[no-untyped-def]
-    """ω = I_p⁻¹ (H − Σ h a − Σ σ) (rad/s, principal-platform axes) of state ``y``."""
+    """ω (rad/s, principal-platform axes) of state ``y``: ``I_p⁻¹ (H − Σ h a − Σ σ)``,
+    or with a spring–mass damper the solution of the module's docstring."""
     g1, g2, g3 = _internal_momentum(layout, y, parts, pc, True)
-    return (y[0] - g1) * inverse[0], (y[1] - g2) * inverse[1], (y[2] - g3) * inverse[2]
+    r1, r2, r3 = y[0] - g1, y[1] - g2, y[2] - g3
+    k, row = _spring_at(layout)
+    if k < 0:
+        return r1 * inverse[0], r2 * inverse[1], r3 * inverse[2]
+    d1, d2, d3, _, _, _, mu, e1, e2, e3, g4, g5, g6 = _spring_geometry(y, parts, row, pc, k)
+    # (I_p + Δ − g gᵀ / μ) ω = r − g p / μ, Δ = μ ((|d|² − |d0|²) 1 − (d dᵀ − d0 d0ᵀ)).
+    grow = (d1 * d1 + d2 * d2 + d3 * d3) - (e1 * e1 + e2 * e2 + e3 * e3)
+    p = y[k + 1]
+    a11 = 1.0 / inverse[0] + mu * (grow - (d1 * d1 - e1 * e1)) - g4 * g4 / mu
+    a22 = 1.0 / inverse[1] + mu * (grow - (d2 * d2 - e2 * e2)) - g5 * g5 / mu
+    a33 = 1.0 / inverse[2] + mu * (grow - (d3 * d3 - e3 * e3)) - g6 * g6 / mu
+    a12 = -mu * (d1 * d2 - e1 * e2) - g4 * g5 / mu
+    a13 = -mu * (d1 * d3 - e1 * e3) - g4 * g6 / mu
+    a23 = -mu * (d2 * d3 - e2 * e3) - g5 * g6 / mu
+    return _solve3(a11, a12, a13, a22, a23, a33, r1 - g4 * p / mu, r2 - g5 * p / mu,
+                   r3 - g6 * p / mu)  # fmt: skip
+
+
+@njit(inline="always")
+def _solve3(a11, a12, a13, a22, a23, a33, b1, b2, b3):  # type: ignore[no-untyped-def]
+    """x of the symmetric 3 × 3 system A x = b, by cofactors (A positive definite)."""
+    c11 = a22 * a33 - a23 * a23
+    c12 = a13 * a23 - a12 * a33
+    c13 = a12 * a23 - a13 * a22
+    c22 = a11 * a33 - a13 * a13
+    c23 = a12 * a13 - a11 * a23
+    c33 = a11 * a22 - a12 * a12
+    det = a11 * c11 + a12 * c12 + a13 * c13
+    return (
+        (c11 * b1 + c12 * b2 + c13 * b3) / det,
+        (c12 * b1 + c22 * b2 + c23 * b3) / det,
+        (c13 * b1 + c23 * b2 + c33 * b3) / det,
+    )
+
+
+@njit(inline="always")
+def _spring_at(layout):  # type: ignore[no-untyped-def]
+    """The index in the state and the first row of the spring–mass damper, or (−1, −1)."""
+    kinds, n_schedule = layout
+    k = 7
+    row = 0
+    for kind in kinds:
+        if kind == SPRING:
+            return k, row
+        if kind == ROTOR:
+            k += 1
+            row += rotor_rows(n_schedule)
+        else:
+            k += 3
+            row += _DAMPER
+    return -1, -1
+
+
+@njit(inline="always")
+def _spring_geometry(y, parts, row, pc, k):  # type: ignore[no-untyped-def]
+    """d = d0 + x n, n, μ, d0 and g = μ d0 × n of the spring–mass damper."""
+    x = y[k]
+    e1 = parts[row, pc]
+    e2 = parts[row + 1, pc]
+    e3 = parts[row + 2, pc]
+    n1 = parts[row + 3, pc]
+    n2 = parts[row + 4, pc]
+    n3 = parts[row + 5, pc]
+    mu = parts[row + 6, pc]
+    return (
+        e1 + x * n1, e2 + x * n2, e3 + x * n3, n1, n2, n3, mu, e1, e2, e3,
+        mu * (e2 * n3 - e3 * n2), mu * (e3 * n1 - e1 * n3), mu * (e1 * n2 - e2 * n1),
+    )  # fmt: skip
 
 
 @njit(inline="always")
@@ -170,7 +261,7 @@ def part_rates(torque, drive, layout, t, hold, y, dy, system):  # type: ignore[n
             dy[k] = _motor(parts, row, pc, n_schedule, hold, y[k], w1, w2, w3, v1, v2, v3)
             k += 1
             row += rotor_rows(n_schedule)
-        else:
+        elif kind == DAMPER:
             moment = parts[row, pc]
             damping = parts[row + 1, pc]
             s1 = y[k]
@@ -181,6 +272,22 @@ def part_rates(torque, drive, layout, t, hold, y, dy, system):  # type: ignore[n
             dy[k + 2] = damping * (w3 - s3 / moment) - (w1 * s2 - w2 * s1)
             k += 3
             row += _DAMPER
+        else:
+            d1, d2, d3, n1, n2, n3, mu, _, _, _, g4, g5, g6 = _spring_geometry(
+                y, parts, row, pc, k
+            )
+            speed = (y[k + 1] - (g4 * w1 + g5 * w2 + g6 * w3)) / mu
+            # ∂T/∂x = μ (ω × n)·(ω × d), then the spring and its damping.
+            c1, c2, c3 = w2 * n3 - w3 * n2, w3 * n1 - w1 * n3, w1 * n2 - w2 * n1
+            f1, f2, f3 = w2 * d3 - w3 * d2, w3 * d1 - w1 * d3, w1 * d2 - w2 * d1
+            dy[k] = speed
+            dy[k + 1] = (
+                mu * (c1 * f1 + c2 * f2 + c3 * f3)
+                - parts[row + 7, pc] * y[k]
+                - parts[row + 8, pc] * speed
+            )
+            k += 2
+            row += _SPRING
 
 
 @njit(inline="always")
@@ -245,13 +352,16 @@ def _internal_momentum(layout, y, parts, pc, dampers):  # type: ignore[no-untype
             s3 += h * parts[row + 2, pc]
             k += 1
             row += rotor_rows(n_schedule)
-        else:
+        elif kind == DAMPER:
             if dampers:
                 s1 += y[k]
                 s2 += y[k + 1]
                 s3 += y[k + 2]
             k += 3
             row += _DAMPER
+        else:  # a spring–mass damper: in the velocity's own solve
+            k += 2
+            row += _SPRING
     return s1, s2, s3
 
 

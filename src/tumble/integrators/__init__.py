@@ -50,7 +50,7 @@ PartsKernelFactory = Callable[[Any, Any, Any, str], Any]
 
 #: The kinds of internal part (:attr:`tumble.parts.InternalPart.kind`).
 ROTORS = frozenset({"rotor"})
-ALL_PARTS = frozenset({"rotor", "kane-damper"})
+ALL_PARTS = frozenset({"rotor", "kane-damper", "spring-mass-damper"})
 
 
 @dataclass(frozen=True, eq=False)

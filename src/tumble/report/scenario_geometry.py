@@ -157,11 +157,17 @@ def rotor_drawings(internal: Any, geometry: Geometry) -> list[RotorDrawing]:
 
 
 def with_dampers(internal: Any, geometry: Geometry) -> Geometry:
-    """The body's mesh with the spheres of the dampers given by mass and radius."""
+    """The body's mesh with the spheres of the dampers given by mass and radius, and
+    a ball at the rest point of a spring–mass damper."""
     pieces = [(geometry.vertices, geometry.faces)]
+    vertices = geometry.vertices
+    reach = float(np.max(np.ptp(vertices, axis=0))) if len(vertices) else 1.0
     for spec in internal:
         if spec.type == "kane-damper" and spec.radius is not None:
             ball, faces = sphere(spec.radius, rings=8, sections=12)
+            pieces.append((ball + np.asarray(spec.position), faces))
+        elif spec.type == "spring-mass-damper":  # its mass at rest, as a small ball
+            ball, faces = sphere(0.04 * reach, rings=8, sections=12)
             pieces.append((ball + np.asarray(spec.position), faces))
     if len(pieces) == 1:
         return geometry

@@ -16,12 +16,23 @@ Each table is one part (:mod:`tumble.parts`)::
     inertia = "0.02 kg*m^2"        # already in [body], as if locked
     damping = "0.01 N*m*s"
 
+    [[internal]]
+    type = "spring-mass-damper"    # a point mass on a spring: another energy sink
+    mass = "1 kg"                  # added to the body at `position`, its rest point
+    position = "0, 0.4, 0 m"
+    axis = [1, 0, 0]               # the direction it slides along
+    stiffness = "6 N/m"
+    damping = "1 N*s/m"
+
 A part given by ``mass`` and ``radius`` is a uniform solid (a disc of
 ``thickness``, default a fifth of the radius, for a rotor; a sphere for a
 damper) that tumble adds to the body at ``position``. A part given by its
 ``inertia`` is already in ``[body]``, as if locked to it (tumble's convention:
 the body's mass properties hold every internal part); ``position`` then only
-places its drawing. ``max_torque`` and ``max_speed`` limit a rotor's motor.
+places its drawing. ``max_torque`` and ``max_speed`` limit a rotor's motor. A
+spring–mass damper is always given by its ``mass`` (a point mass tumble adds at
+``position``), with ``axis``, ``stiffness``, ``damping`` and optionally the
+``displacement`` it starts at.
 """
 
 from __future__ import annotations
@@ -52,6 +63,7 @@ Inertia = Annotated[float, scalar_field("inertia", positive=True)]
 PART_KEYS: dict[str, tuple[str, ...]] = {
     "rotor": ("axis", "speed", "torque", "max_torque", "max_speed", "thickness"),
     "kane-damper": ("damping",),
+    "spring-mass-damper": ("axis", "stiffness", "damping", "displacement"),
 }
 
 
@@ -72,6 +84,8 @@ class InternalSpec(StrictModel):
     max_torque: Any = None
     max_speed: Any = None
     damping: Any = None
+    stiffness: Any = None
+    displacement: Any = 0.0
 
     @model_validator(mode="after")
     def _consistent(self) -> InternalSpec:
@@ -83,9 +97,17 @@ class InternalSpec(StrictModel):
                 "type", f"Expected `type` to be one of {', '.join(kinds)}, got {self.type!r}.{hint}"
             )
         given = {key for key in self.model_fields_set if key not in {"type", "position"}}
-        allowed = {"inertia", "mass", "radius", *PART_KEYS[self.type]}
+        spring = self.type == "spring-mass-damper"
+        sizes = {"mass"} if spring else {"inertia", "mass", "radius"}
+        allowed = {*sizes, *PART_KEYS[self.type]}
         for key in sorted(given - allowed):
             raise key_error(key, f"Expected no `{key}` for a {self.type}, got one.")
+        if spring:
+            for key, what in (("mass", "kg"), ("axis", "the direction it slides along"),
+                              ("stiffness", "N/m")):  # fmt: skip
+                if getattr(self, key) is None:
+                    raise key_error(key, f"Expected `{key}` ({what}), which is missing.")
+            return self
         by_mass = self.mass is not None or self.radius is not None
         if (self.inertia is not None) == by_mass:
             raise key_error(
@@ -110,6 +132,10 @@ class InternalSpec(StrictModel):
     def solid(self) -> Any:
         """The uniform solid tumble adds to the body (a MassProperties at
         ``position``), or None for a part already in ``[body]``."""
+        if self.type == "spring-mass-damper":
+            from tumble.massprops import point_masses
+
+            return point_masses([self.mass], [list(self.position)])
         if self.mass is None or self.radius is None:
             return None
         from scipy.spatial.transform import Rotation
@@ -145,8 +171,13 @@ class InternalSpec(StrictModel):
         InputError
             A value the part refuses (a zero axis, a schedule out of order …).
         """
-        from tumble.parts import KaneDamper, Rotor
+        from tumble.parts import KaneDamper, Rotor, SpringMassDamper
 
+        if self.type == "spring-mass-damper":
+            return SpringMassDamper(
+                self.mass, self.position, self.axis, self.stiffness,
+                0.0 if self.damping is None else self.damping, self.displacement,
+            )  # fmt: skip
         if self.type == "kane-damper":
             return KaneDamper(self.moment(), self.damping)
         torque = self.torque

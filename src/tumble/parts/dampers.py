@@ -1,0 +1,231 @@
+"""Internal energy sinks: :class:`KaneDamper` and :class:`SpringMassDamper`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.errors import InputError
+from tumble.parts.base import InternalPart, positive
+from tumble.units import to_si, vector_to_si
+
+__all__ = ["KaneDamper", "SpringMassDamper"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class KaneDamper(InternalPart):
+    """A Kane damper: a sphere of moment of inertia ``inertia`` (kg·m², > 0; about
+    any axis through its centre) turning in a viscous fluid inside the body.
+
+    The fluid couples it to the body with the torque ``damping · (ω − ω_s)`` on
+    the sphere (``damping`` D in N·m·s, >= 0; the body feels the opposite): an
+    internal energy sink that keeps the total angular momentum. Its centre is
+    fixed in the body and its mass and inertia, as if locked, belong in the
+    body's MassProperties. At t = 0 the sphere turns with the body.
+    (Kane & Barba, J. Appl. Mech. 33 (1966); Roithmayr & Hodges, *Dynamics:
+    Theory and Application of Kane's Method*, §9.6.)
+    """
+
+    inertia: Any
+    damping: Any
+
+    kind = "kane-damper"
+    size = 3
+    value_labels = ("omega_x", "omega_y", "omega_z")
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "inertia", positive(self.inertia, "inertia", "inertia", "KaneDamper", "kg·m²")
+        )
+        object.__setattr__(
+            self,
+            "damping",
+            positive(self.damping, "damping", "damping", "KaneDamper", "N·m·s", strict=False),
+        )
+
+    @property
+    def dissipative(self) -> bool:
+        return self.damping > 0
+
+    def spin_inertia(self) -> Array:
+        return self.inertia * np.eye(3)
+
+    def initial_values(self, omega0: Array) -> Array:
+        return np.array(omega0, dtype=float)
+
+    def momenta(self, omega: Array, values: Array) -> Array:
+        return np.asarray(self.inertia * np.asarray(values, dtype=float))
+
+    def momentum(self, omega: Array, values: Array) -> Array:
+        return self.momenta(omega, values)
+
+    def kinetic_energy(self, omega: Array, values: Array) -> Array:
+        values = np.asarray(values, dtype=float)
+        return np.asarray(0.5 * self.inertia * np.einsum("...i,...i->...", values, values))
+
+    def values_from(self, omega: Array, momenta: Array) -> Array:
+        return np.asarray(momenta / self.inertia)
+
+    def describe(self) -> dict[str, Any]:
+        return {"type": self.kind, "inertia": self.inertia, "damping": self.damping}
+
+    def __repr__(self) -> str:
+        return f"KaneDamper(inertia={self.inertia!r} kg·m², damping={self.damping!r} N·m·s)"
+
+
+@dataclass(frozen=True, eq=False)
+class SpringMassDamper(InternalPart):
+    """A point mass on a spring: it slides along the body-fixed ``direction`` through
+    its rest point ``position`` (body coordinates, m), pulled back by the spring
+    (``stiffness`` k, N/m, > 0) and slowed by a dashpot (``damping`` c, N·s/m, >= 0):
+    an internal energy sink, the second classic besides :class:`KaneDamper`.
+
+    ``mass`` (kg, > 0) is in the body's MassProperties at ``position``, as if
+    locked there (tumble's convention); ``displacement`` (m) is where it starts
+    along ``direction``, at rest relative to the body. The body must be free
+    (no pivot) and carry one spring–mass damper at most. The model is exact:
+    the body's centre of mass moves with the mass, and the kinetic energy about
+    it is ``½ ωᵀ (I_p + Δ(x)) ω + ẋ ω·g + ½ μ ẋ²`` with μ = m (M − m) / M
+    (:mod:`tumble.core.parts`).
+    """
+
+    mass: Any
+    position: Any
+    direction: Any
+    stiffness: Any
+    damping: Any = 0.0
+    displacement: Any = 0.0
+    geometry: Any = field(default=None, repr=False)
+
+    kind = "spring-mass-damper"
+    size = 2
+    value_labels = ("displacement", "velocity")
+    value_unit = "m, m/s"
+
+    def __post_init__(self) -> None:
+        if self.geometry is not None:  # attached: converted already
+            return
+        owner = "SpringMassDamper"
+        object.__setattr__(self, "mass", positive(self.mass, "mass", "mass", owner, "kg"))
+        position = vector_to_si(self.position, "length", "position", (3,))
+        position.flags.writeable = False
+        object.__setattr__(self, "position", position)
+        direction = vector_to_si(self.direction, "dimensionless", "direction", (3,))
+        size = float(np.linalg.norm(direction))
+        if not size > 0 or not math.isfinite(size):
+            raise InputError(
+                f"Expected `direction` of a {owner} to be a non-zero vector, got "
+                f"{direction.tolist()}."
+            )
+        unit = direction / size
+        unit.flags.writeable = False
+        object.__setattr__(self, "direction", unit)
+        stiffness = positive(self.stiffness, "stiffness", "stiffness", owner, "N/m")
+        object.__setattr__(self, "stiffness", stiffness)
+        damping = positive(self.damping, "linear_damping", "damping", owner, "N·s/m", False)
+        object.__setattr__(self, "damping", damping)
+        object.__setattr__(self, "displacement", to_si(self.displacement, "length", "displacement"))
+
+    def attached(self, mp: Any) -> SpringMassDamper:
+        """With the reduced mass μ = m (M − m) / M and the rest position d0 from the
+        centre of mass of the rest of the body (body axes), for a body ``mp``."""
+        total = float(mp.mass)
+        if not total > self.mass * (1 + 1e-12):
+            raise InputError(
+                f"Expected the body's mass ({total!r} kg) to hold the SpringMassDamper's mass "
+                f"and more, got {self.mass!r} kg."
+            )
+        reduced = self.mass * (total - self.mass) / total
+        rest = (total / (total - self.mass)) * (self.position - np.asarray(mp.center_of_mass))
+        values = dict(self.__dict__)
+        values.pop("geometry")
+        copy = SpringMassDamper(**values, geometry=(reduced, rest))
+        return copy
+
+    @property
+    def _geometry(self) -> tuple[float, Array]:
+        if self.geometry is None:
+            raise InputError("Expected a SpringMassDamper attached to a body, got a bare one.")
+        return self.geometry
+
+    @property
+    def dissipative(self) -> bool:
+        return self.damping > 0
+
+    def coupling(self) -> Array:
+        """g = μ d0 × n (kg·m, body axes)."""
+        reduced, rest = self._geometry
+        return np.asarray(reduced * np.cross(rest, self.direction))
+
+    def spin_inertia(self) -> Array:
+        return np.zeros((3, 3))
+
+    def initial_values(self, omega0: Array) -> Array:
+        shape = (*np.shape(omega0)[:-1], 2)
+        values = np.zeros(shape)
+        values[..., 0] = self.displacement
+        return values
+
+    def _inertia_change(self, omega: Array, x: Array) -> Array:
+        """Δ(x) ω, kg·m²/s: the change of the inertia about the moving centre of mass."""
+        reduced, rest = self._geometry
+        omega = np.asarray(omega, dtype=float)
+        d = rest + np.asarray(x)[..., None] * self.direction
+        grow = np.einsum("...i,...i->...", d, d) - rest @ rest
+        along = np.einsum("...i,...i->...", d, omega)[..., None]
+        return np.asarray(
+            reduced * (grow[..., None] * omega - d * along + rest * (omega @ rest)[..., None])
+        )
+
+    def momentum(self, omega: Array, values: Array) -> Array:
+        x, speed = values[..., 0], values[..., 1]
+        return np.asarray(self._inertia_change(omega, x) + speed[..., None] * self.coupling())
+
+    def kinetic_energy(self, omega: Array, values: Array) -> Array:
+        reduced, _ = self._geometry
+        omega = np.asarray(omega, dtype=float)
+        x, speed = values[..., 0], values[..., 1]
+        change = np.einsum("...i,...i->...", omega, self._inertia_change(omega, x))
+        cross = speed * (omega @ self.coupling())
+        return np.asarray(
+            0.5 * change + cross + 0.5 * reduced * speed**2 + 0.5 * self.stiffness * x**2
+        )
+
+    def momenta(self, omega: Array, values: Array) -> Array:
+        reduced, _ = self._geometry
+        x, speed = values[..., 0], values[..., 1]
+        p = np.asarray(omega, dtype=float) @ self.coupling() + reduced * speed
+        return np.stack([np.broadcast_to(x, np.shape(p)), p], axis=-1)
+
+    def values_from(self, omega: Array, momenta: Array) -> Array:
+        reduced, _ = self._geometry
+        x, p = momenta[..., 0], momenta[..., 1]
+        speed = (p - np.asarray(omega, dtype=float) @ self.coupling()) / reduced
+        return np.stack([x, speed], axis=-1)
+
+    def describe(self) -> dict[str, Any]:
+        return {
+            "type": self.kind,
+            "mass": self.mass,
+            "position": self.position.tolist(),
+            "direction": self.direction.tolist(),
+            "stiffness": self.stiffness,
+            "damping": self.damping,
+            "displacement": self.displacement,
+        }
+
+    def __repr__(self) -> str:
+        return (
+            f"SpringMassDamper(mass={self.mass!r} kg at {self.position.tolist()} m along "
+            f"{self.direction.tolist()}, stiffness={self.stiffness!r} N/m, "
+            f"damping={self.damping!r} N·s/m)"
+        )
+
+
+#: The part classes by their ``type`` in scenario files and run files.

@@ -1,0 +1,168 @@
+"""A wheel spinning about a body-fixed axis: :class:`Rotor`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.errors import InputError
+from tumble.parts.base import InternalPart, limit, positive
+from tumble.units import to_si, vector_to_si
+
+__all__ = ["Rotor"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class Rotor(InternalPart):
+    """A symmetric rotor (a wheel) spinning about a body-fixed axis.
+
+    Parameters
+    ----------
+    axis : (3,) its spin axis in body coordinates (normalised here).
+    inertia : its moment of inertia about that axis, J (kg·m², > 0). Its mass and
+        all of its inertia, as if locked, belong in the body's MassProperties.
+    speed : its spin rate relative to the body at t = 0 (rad/s, or "6000 rpm").
+    torque : the motor torque on the rotor about its axis (N·m; the body feels
+        the reaction): a constant, or a schedule, a sequence of ``(time, torque)``
+        pairs with increasing times, piecewise constant from each time to the
+        next (zero before the first).
+    max_torque : the largest motor torque it can give (N·m, > 0; default no limit).
+    max_speed : the largest relative speed it can reach (rad/s, > 0; default no
+        limit): the motor torque is cut when it would drive the rotor beyond.
+
+    The motor torque adds to the rotor's share of any torque model that acts
+    through the rotors (``actuator="rotors"``, e.g. an attitude controller).
+    """
+
+    axis: Any
+    inertia: Any
+    speed: Any = 0.0
+    torque: Any = 0.0
+    max_torque: Any = None
+    max_speed: Any = None
+
+    kind = "rotor"
+    size = 1
+    value_labels = ("speed",)
+
+    def __post_init__(self) -> None:
+        axis = vector_to_si(self.axis, "dimensionless", "axis", (3,))
+        size = float(np.linalg.norm(axis))
+        if not size > 0 or not math.isfinite(size):
+            raise InputError(
+                f"Expected `axis` of a Rotor to be a non-zero vector, got {axis.tolist()}."
+            )
+        unit = axis / size
+        unit.flags.writeable = False
+        object.__setattr__(self, "axis", unit)
+        object.__setattr__(
+            self, "inertia", positive(self.inertia, "inertia", "inertia", "Rotor", "kg·m²")
+        )
+        speed = to_si(self.speed, "angular_velocity", "speed")
+        if not math.isfinite(speed):
+            raise InputError(f"Expected `speed` of a Rotor to be finite, got {speed!r}.")
+        object.__setattr__(self, "speed", speed)
+        object.__setattr__(self, "torque", _schedule(self.torque))
+        object.__setattr__(
+            self, "max_torque", limit(self.max_torque, "torque", "max_torque", "N·m")
+        )
+        object.__setattr__(
+            self, "max_speed", limit(self.max_speed, "angular_velocity", "max_speed", "rad/s")
+        )
+
+    @property
+    def schedule(self) -> tuple[Array, Array]:
+        """(times (s), torques (N·m)): the motor torque is torques[k] from times[k] on."""
+        times, torques = self.torque
+        return times, torques
+
+    @property
+    def driven(self) -> bool:
+        return bool(np.any(self.schedule[1] != 0.0))
+
+    def motor_torque(self, t: Any) -> Array:
+        """The scheduled motor torque (N·m) at times ``t`` (s), right-continuous."""
+        times, torques = self.schedule
+        index = np.searchsorted(times, np.asarray(t, dtype=float), side="right") - 1
+        return np.where(index >= 0, torques[np.clip(index, 0, None)], 0.0)
+
+    def spin_inertia(self) -> Array:
+        return np.asarray(self.inertia * np.outer(self.axis, self.axis))
+
+    def initial_values(self, omega0: Array) -> Array:
+        return np.full((*np.shape(omega0)[:-1], 1), self.speed)
+
+    def momenta(self, omega: Array, values: Array) -> Array:
+        along = np.asarray(omega, dtype=float) @ self.axis
+        return np.asarray(self.inertia * (along + values[..., 0]))[..., None]
+
+    def momentum(self, omega: Array, values: Array) -> Array:
+        return self.momenta(omega, values) * self.axis
+
+    def kinetic_energy(self, omega: Array, values: Array) -> Array:
+        h = self.momenta(omega, values)[..., 0]
+        return np.asarray(0.5 * h * h / self.inertia)
+
+    def values_from(self, omega: Array, momenta: Array) -> Array:
+        along = np.asarray(omega, dtype=float) @ self.axis
+        return np.asarray(momenta[..., 0] / self.inertia - along)[..., None]
+
+    def describe(self) -> dict[str, Any]:
+        times, torques = self.schedule
+        return {
+            "type": self.kind,
+            "axis": self.axis.tolist(),
+            "inertia": self.inertia,
+            "speed": self.speed,
+            "torque": [[float(a), float(b)] for a, b in zip(times, torques, strict=True)],
+            "max_torque": None if math.isinf(self.max_torque) else self.max_torque,
+            "max_speed": None if math.isinf(self.max_speed) else self.max_speed,
+        }
+
+    def __repr__(self) -> str:
+        times, torques = self.schedule
+        motor = (
+            f"{torques[0]!r} N·m"
+            if len(times) == 1 and times[0] == 0.0
+            else f"schedule of {len(times)} steps"
+        )
+        return (
+            f"Rotor(axis={self.axis.tolist()}, inertia={self.inertia!r} kg·m², "
+            f"speed={self.speed!r} rad/s, torque={motor})"
+        )
+
+
+def _schedule(torque: Any) -> tuple[Array, Array]:
+    """A constant motor torque or a list of (time, torque) pairs as (times, torques)."""
+    pairs = torque if isinstance(torque, list | tuple) and len(torque) > 0 else None
+    if pairs is not None and all(isinstance(p, list | tuple) and len(p) == 2 for p in pairs):
+        times = np.array([to_si(p[0], "time", "torque") for p in pairs])
+        values = np.array([to_si(p[1], "torque", "torque") for p in pairs])
+        if not (np.all(np.isfinite(times)) and np.all(np.isfinite(values))):
+            raise InputError(
+                f"Expected `torque` of a Rotor to hold finite times and torques, got {torque!r}."
+            )
+        if np.any(np.diff(times) <= 0):
+            raise InputError(
+                "Expected `torque` of a Rotor as (time, torque) pairs with increasing times, "
+                f"got times {times.tolist()} s."
+            )
+    else:
+        try:
+            value = to_si(torque, "torque", "torque")
+        except InputError as exc:
+            raise InputError(
+                f"{exc} (a Rotor's `torque` is a torque or a list of (time, torque) pairs)"
+            ) from None
+        if not math.isfinite(value):
+            raise InputError(f"Expected `torque` of a Rotor to be finite, got {value!r}.")
+        times, values = np.array([0.0]), np.array([value])
+    times.flags.writeable = False
+    values.flags.writeable = False
+    return times, values
