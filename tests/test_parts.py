@@ -174,6 +174,30 @@ def test_a_symmetric_gyrostat_precesses_at_the_closed_form_rate() -> None:
         assert_allclose(run.rotor_speed[:, 0], speed, atol=1e-11)
 
 
+@pytest.mark.parametrize(
+    ("moments", "axis"), [((2.0, 2.0, 3.0), (0, 0, 1)), ((3.0, 2.0, 2.0), (1, 0, 0))]
+)
+def test_the_exact_symmetric_gyrostat_follows_an_independent_integration(moments, axis) -> None:
+    # Oblate and prolate, body axes turned away from the principal ones, a free
+    # rotor on the axis of symmetry: the closed form (a steady precession) against
+    # DOP853 at rtol 1e-13 over 30 s: 1e-11.
+    turn = Rotation.from_rotvec([0.3, -0.4, 0.2])
+    body = tb.MassProperties(
+        10.0, [0, 0, 0], turn.as_matrix() @ np.diag(moments) @ turn.as_matrix().T
+    )
+    rotor_axis = turn.apply(axis)
+    w0 = turn.apply([0.2, -0.1, 0.7])
+    run = tb.simulate(body, w0, attitude0=Q0, duration=30.0, dt=0.1,
+                      internal=[Rotor(rotor_axis, 0.2, speed=50.0)])  # fmt: skip
+    assert run.method == "exact" and run.steps == 0
+    omega, matrices, speeds, _ = gyrostat_reference(
+        body, w0, Q0, 30.0, rotors=[(rotor_axis, 0.2, 50.0, lambda t: 0.0)], times=run.t
+    )
+    assert np.max(np.abs(run.omega - omega)) < 1e-11
+    assert attitude_error(run.quaternion, matrices) < 1e-11
+    assert np.max(np.abs(run.rotor_speed[:, 0] - speeds[:, 0])) < 1e-10
+
+
 def test_a_rotor_stabilises_a_spin_about_the_intermediate_axis() -> None:
     # Locked moments 4 < 6 < 8, spin 1 rad/s about axis 2: alone it flips; with a
     # rotor of h = J Ω_rel = 4 kg·m²/s > (I3 − I2) Ω along it, it stays
@@ -342,6 +366,10 @@ def test_a_trajectory_without_parts_has_no_rotor_speeds() -> None:
 def test_auto_chooses_the_splitting_for_rotors_and_the_adaptive_method_for_dampers() -> None:
     free = tb.simulate(BOX, [0.1, 0.2, 0.3], duration=1.0, internal=[Rotor([0, 0, 1], 0.1)])
     assert free.method == "splitting" and "gyrostat" in free.reason
+    symmetric = tb.MassProperties(20.0, [0, 0, 0], np.diag([2.0, 2.0, 4.0]))
+    steady = tb.simulate(symmetric, [0.1, 0.2, 0.3], duration=1.0,
+                         internal=[Rotor([0, 0, 1], 0.1, speed=20.0)])  # fmt: skip
+    assert steady.method == "exact" and "steady precession" in steady.reason
     damped = tb.simulate(BOX, [0.1, 0.2, 0.3], duration=1.0, internal=[KaneDamper(0.1, 0.1)])
     assert damped.method == "adaptive"
 
@@ -405,7 +433,11 @@ def test_bad_parts_are_refused_with_a_clear_message(make, message) -> None:
         ({"internal": [KaneDamper(2.5, 0.1)]}, r"spin inertia the body can hold"),
         (
             {"internal": Rotor([0, 0, 1], 0.1), "method": "exact"},
-            r"Expected a method that integrates a body carrying rotor parts \(auto, splitting, strang, rk4, adaptive\), got 'exact'",
+            r"Expected a method that integrates a body carrying rotor parts \(auto, splitting, strang, rk4, adaptive\), got 'exact': the closed form of a body with rotors needs a symmetric gyrostat",
+        ),
+        (
+            {"internal": Rotor([0, 0, 1], 0.1, torque=0.1), "method": "exact"},
+            r"got 'exact': the closed form of a body with rotors needs a symmetric gyrostat: two equal platform moments and rotors without motors",
         ),
         (
             {"internal": [KaneDamper(0.1, 0.1)], "method": "splitting"},

@@ -31,10 +31,18 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from tumble.errors import InputError
+from tumble.invariants import (
+    FREE_BODY_INVARIANTS,
+    INVARIANTS,
+    Invariant,
+    label,
+    reduce_invariants,
+)
 from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, principal_decomposition
 from tumble.parts import InternalPart, KaneDamper, Rotor, SpringMassDamper
 
 __all__ = [
+    "FREE_BODY_INVARIANTS",
     "INVARIANTS",
     "ZERO_MOMENT",
     "BodyBatch",
@@ -50,82 +58,6 @@ Array = NDArray[np.float64]
 #: body (a thin rod, point masses on a line) has an axis it cannot spin about,
 #: and Euler's equations divide by each moment.
 ZERO_MOMENT = 1e-12
-
-
-@dataclass(frozen=True)
-class Invariant:
-    """A quantity a motion may conserve: its key in drift reports, a short label
-    and what it is."""
-
-    name: str
-    label: str
-    description: str
-    implied_by: str | None = None
-
-
-#: Every quantity a body model or a torque model can declare conserved.
-INVARIANTS: dict[str, Invariant] = {
-    invariant.name: invariant
-    for invariant in (
-        Invariant("energy", "energy", "kinetic plus potential energy, J"),
-        Invariant(
-            "angular_momentum_vector",
-            "vector L",
-            "angular momentum about the reference point, space axes, kg·m²/s",
-        ),
-        Invariant(
-            "angular_momentum_norm",
-            "|L|",
-            "magnitude of the angular momentum, kg·m²/s",
-            implied_by="angular_momentum_vector",
-        ),
-        Invariant(
-            "angular_momentum_vertical",
-            "L_vertical",
-            "component of L along the upward vertical (against gravity), kg·m²/s",
-            implied_by="angular_momentum_vector",
-        ),
-        Invariant(
-            "angular_momentum_axial",
-            "L_axial",
-            "component of L along the body's symmetry axis through the pivot, kg·m²/s",
-            implied_by="angular_momentum_vector",
-        ),
-        Invariant(
-            "jacobi_integral",
-            "Jacobi integral",
-            "energy in a frame turning at a constant rate, J",
-        ),
-    )
-}
-
-#: What a torque-free rigid body conserves (every component of L with L).
-FREE_BODY_INVARIANTS = frozenset(
-    {
-        "energy",
-        "angular_momentum_vector",
-        "angular_momentum_norm",
-        "angular_momentum_vertical",
-        "angular_momentum_axial",
-    }
-)
-
-
-def label(name: str) -> str:
-    """The short label of a conserved quantity (its name when it is a model's own)."""
-    invariant = INVARIANTS.get(name)
-    return invariant.label if invariant is not None else name.replace("_", " ")
-
-
-def reduce_invariants(names: frozenset[str] | set[str]) -> tuple[str, ...]:
-    """The conserved quantities to report, in the order of :data:`INVARIANTS`,
-    leaving out those implied by another one in the set (the components of a
-    conserved vector L)."""
-    return tuple(
-        name
-        for name, invariant in INVARIANTS.items()
-        if name in names and invariant.implied_by not in names
-    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -364,6 +296,25 @@ class RigidBody:
         for part, own in zip(self.parts, self.split_values(values, omega), strict=True):
             energy = energy + part.kinetic_energy(omega, own)
         return np.asarray(energy)
+
+    def symmetric_gyrostat_axis(self) -> int | None:
+        """The index (0 or 2) of the principal axis of symmetry of a body whose
+        platform moments are equal about the other two and whose parts are rotors
+        on that axis, free of motors (a symmetric gyrostat: its free motion is a
+        steady precession, in closed form); None for any other body."""
+        moments = self.moments
+        if moments[0] == moments[1] and moments[1] != moments[2]:
+            axis = 2
+        elif moments[1] == moments[2] and moments[0] != moments[1]:
+            axis = 0
+        else:
+            return None
+        for part in self.parts:
+            if not isinstance(part, Rotor) or part.driven:
+                return None
+            if abs(abs(float(self.to_principal(part.axis)[axis])) - 1.0) > 1e-12:
+                return None
+        return axis
 
     def is_symmetric_top(self) -> bool:
         """True for a body on a pivot with two equal principal moments about the

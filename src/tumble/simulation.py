@@ -249,16 +249,17 @@ def prepare(
     body = RigidBody(mp, None if pivot is None else vector_to_si(pivot, "length", "pivot"), parts)
     body.check_simulable()
     bound = bind(model, body, omega)
-    kinds = frozenset(part.kind for part in parts)
     if chosen is None:
-        chosen, reason = auto_choice(bound, kinds)
+        chosen, reason = auto_choice(bound, body)
     else:
         reason = "requested"
-        if not chosen.handles(kinds):
-            able = [name for name, entry in INTEGRATORS.items() if entry.handles(kinds)]
+        why = chosen.refuses(body)
+        if why is not None:
+            kinds = sorted({part.kind for part in parts})
+            able = [name for name, entry in INTEGRATORS.items() if entry.refuses(body) is None]
             raise InputError(
-                f"Expected a method that integrates a body carrying {', '.join(sorted(kinds))} "
-                f"parts ({', '.join(['auto', *able])}), got {chosen.name!r}."
+                f"Expected a method that integrates a body carrying {', '.join(kinds)} parts "
+                f"({', '.join(['auto', *able])}), got {chosen.name!r}: {why}."
             )
     if chosen.kicks and "omega" in bound.depends_on:
         reason += (

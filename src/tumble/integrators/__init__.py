@@ -76,6 +76,9 @@ class Integrator:
         those that handle the body's parts).
     single, batch, metrics : kernel factories (see the module's docstring), or None.
     parts : the kinds of internal part it handles (empty: bodies without parts).
+    applies : None, or ``applies(body) -> None or why not``: a narrower rule on
+        the bodies it integrates (the exact solution of a body with rotors needs
+        a symmetric gyrostat).
     parts_single, parts_batch : kernel factories for bodies carrying parts, or None.
     run : the single-body driver of its kind (:mod:`tumble.integrators.drivers`).
     """
@@ -94,6 +97,7 @@ class Integrator:
     batch: KernelFactory | None = None
     metrics: KernelFactory | None = None
     parts: frozenset[str] = frozenset()
+    applies: Callable[[Any], str | None] | None = None
     parts_single: PartsKernelFactory | None = None
     parts_batch: PartsKernelFactory | None = None
     _kernels: dict[tuple[str, str, Any], Any] = field(default_factory=dict, repr=False)
@@ -106,6 +110,13 @@ class Integrator:
     def handles(self, kinds: frozenset[str] | set[str]) -> bool:
         """True when it integrates a body carrying parts of these kinds."""
         return set(kinds) <= self.parts
+
+    def refuses(self, body: Any) -> str | None:
+        """Why it does not integrate this body (:class:`tumble.body.RigidBody`), or None."""
+        kinds = {part.kind for part in getattr(body, "parts", ())}
+        if not self.handles(kinds):
+            return f"it does not integrate bodies carrying {', '.join(sorted(kinds))} parts"
+        return None if self.applies is None else self.applies(body)
 
     def kernel(
         self,
@@ -162,11 +173,11 @@ def get_integrator(name: str, *, batch: bool = False) -> Integrator:
     return INTEGRATORS[name]
 
 
-def auto_choice(torque: BoundTorque, parts: frozenset[str] = frozenset()) -> tuple[Integrator, str]:
-    """The integrator ``method="auto"`` picks for this bound torque and a body
-    carrying parts of the kinds ``parts``, and why."""
+def auto_choice(torque: BoundTorque, body: Any = None) -> tuple[Integrator, str]:
+    """The integrator ``method="auto"`` picks for this bound torque and body
+    (:class:`tumble.body.RigidBody`, with its parts), and why."""
     for entry in INTEGRATORS.values():
-        if not entry.handles(parts):
+        if body is not None and entry.refuses(body) is not None:
             continue
         reason = entry.auto(torque) if entry.auto is not None else None
         if reason is not None:
@@ -176,9 +187,19 @@ def auto_choice(torque: BoundTorque, parts: frozenset[str] = frozenset()) -> tup
 
 def _exact_when(torque: BoundTorque) -> str | None:
     return (
-        "torque-free, so the exact solution (Jacobi elliptic functions)"
+        "torque-free, so the exact solution (Jacobi elliptic functions; a steady "
+        "precession for a symmetric gyrostat)"
         if (torque.torque_free)
         else None
+    )
+
+
+def _exact_applies(body: Any) -> str | None:
+    if not getattr(body, "parts", ()) or body.symmetric_gyrostat_axis() is not None:
+        return None
+    return (
+        "the closed form of a body with rotors needs a symmetric gyrostat: two equal "
+        "platform moments and rotors without motors on the axis of symmetry"
     )
 
 
@@ -206,6 +227,8 @@ register_integrator(
         run=drivers.run_exact,
         torque_free_only=True,
         auto=_exact_when,
+        parts=ROTORS,
+        applies=_exact_applies,
     )
 )
 

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from tumble.body import RigidBody
 from tumble.core._jit import FINITE
 from tumble.errors import CoarseStepWarning, InputError, IntegrationError
-from tumble.integrators.exact import exact_principal
+from tumble.integrators.exact import exact_principal, symmetric_gyrostat
 from tumble.torques import BoundTorque
 from tumble.units import to_si
 
@@ -295,6 +295,13 @@ def _adaptive_chunks(
 def run_exact(integrator: Any, problem: Problem, schedule: Schedule, progress: Progress) -> Samples:
     """The exact torque-free solution at ``schedule.times``; no steps."""
     body = problem.body
+    if body.parts:
+        omega, quaternion, values = symmetric_gyrostat(
+            body, problem.omega0, problem.attitude0, schedule.times
+        )
+        if progress is not None:
+            progress(schedule.n_steps, schedule.n_steps)
+        return Samples(omega, quaternion, values, 0)
     w, q = exact_principal(
         body.moments,
         body.to_principal(problem.omega0),
