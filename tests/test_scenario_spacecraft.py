@@ -241,3 +241,26 @@ def test_a_spring_mass_damper_in_a_file_is_the_library_s() -> None:
 def test_bad_spring_tables_name_the_key(old: str, new: str, message: str) -> None:
     with pytest.raises(ScenarioError, match=message):
         run(parse(edited(old, new, SPRING)))
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("axis = [0, 1, 0]", "axis = [0, 0, 0]", "Expected `axis` of a Rotor to be a non-zero vector"),
+        ('mass = "20 kg"\nradius = "30 cm"', 'inertia = "-1 kg*m^2"', "Expected `inertia` > 0 kg·m², got -1.0"),
+        ('mass = "20 kg"\nradius = "30 cm"', 'inertia = "60 kg*m^2"', "Expected internal parts whose spin inertia the body can hold"),
+    ],
+)
+def test_the_cli_prints_one_line_and_exits_2_for_a_bad_part(tmp_path, old, new, message) -> None:
+    from typer.testing import CliRunner
+
+    from tumble.cli import app
+
+    path = tmp_path / "bad.toml"
+    path.write_text(edited(old, new))
+    result = CliRunner().invoke(app, ["run", str(path), "-o", str(tmp_path / "out")])
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ")
+    assert "bad.toml, line " in lines[0] and message in lines[0]
+    assert not (tmp_path / "out").exists()

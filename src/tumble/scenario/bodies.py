@@ -57,7 +57,9 @@ def _name(info: ValidationInfo) -> str:
 
 
 def scalar_field(kind: str, positive: bool = False, non_negative: bool = False) -> Any:
-    unit = {"mass": "kg", "length": "m", "time": "s", "density": "kg/m^3"}.get(kind, "")
+    unit = {"mass": "kg", "length": "m", "time": "s", "density": "kg/m^3", "inertia": "kg·m²"}.get(
+        kind, ""
+    )
 
     def convert(value: Any, info: ValidationInfo) -> float:
         result = to_si(value, kind, _name(info))
