@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from tumble.errors import InputError
 
-__all__ = ["SI_UNITS", "length_scale", "to_si", "ureg", "vector_to_si"]
+__all__ = ["SI_UNITS", "length_scale", "to_si", "unit_vector", "ureg", "vector_to_si"]
 
 
 def _registry() -> pint.UnitRegistry:
@@ -251,3 +251,30 @@ def length_scale(units: Any, name: str = "units") -> float:
     if scale <= 0:
         raise InputError(f"Expected `{name}` to be a positive length unit, got {units!r}.")
     return scale
+
+
+def unit_vector(
+    value: Any,
+    name: str,
+    *,
+    owner: str = "",
+    noun: str = "a non-zero vector",
+    shape: tuple[int, ...] = (3,),
+    floor: float = 0.0,
+) -> NDArray[np.float64]:
+    """``value`` (numbers of the given ``shape``) scaled to unit length, read-only.
+
+    Raises
+    ------
+    InputError
+        A vector of length at most ``floor`` or not finite: ``Expected `name` of a
+        Owner to be a non-zero vector, got [...]``.
+    """
+    vector = vector_to_si(value, "dimensionless", name, shape)
+    size = float(np.linalg.norm(vector))
+    if not size > floor or not math.isfinite(size):
+        whose = f" of a {owner}" if owner else ""
+        raise InputError(f"Expected `{name}`{whose} to be {noun}, got {vector.tolist()}.")
+    unit = vector / size
+    unit.flags.writeable = False
+    return unit

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -11,7 +10,7 @@ from numpy.typing import NDArray
 
 from tumble.errors import InputError
 from tumble.parts.base import InternalPart, positive
-from tumble.units import to_si, vector_to_si
+from tumble.units import to_si, unit_vector, vector_to_si
 
 __all__ = ["KaneDamper", "SpringMassDamper"]
 
@@ -116,16 +115,7 @@ class SpringMassDamper(InternalPart):
         position = vector_to_si(self.position, "length", "position", (3,))
         position.flags.writeable = False
         object.__setattr__(self, "position", position)
-        direction = vector_to_si(self.direction, "dimensionless", "direction", (3,))
-        size = float(np.linalg.norm(direction))
-        if not size > 0 or not math.isfinite(size):
-            raise InputError(
-                f"Expected `direction` of a {owner} to be a non-zero vector, got "
-                f"{direction.tolist()}."
-            )
-        unit = direction / size
-        unit.flags.writeable = False
-        object.__setattr__(self, "direction", unit)
+        object.__setattr__(self, "direction", unit_vector(self.direction, "direction", owner=owner))
         stiffness = positive(self.stiffness, "stiffness", "stiffness", owner, "N/m")
         object.__setattr__(self, "stiffness", stiffness)
         damping = positive(self.damping, "linear_damping", "damping", owner, "N·s/m", False)

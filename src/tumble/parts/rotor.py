@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from tumble.errors import InputError
 from tumble.parts.base import InternalPart, limit, positive
-from tumble.units import to_si, vector_to_si
+from tumble.units import to_si, unit_vector
 
 __all__ = ["Rotor"]
 
@@ -52,15 +52,7 @@ class Rotor(InternalPart):
     value_labels = ("speed",)
 
     def __post_init__(self) -> None:
-        axis = vector_to_si(self.axis, "dimensionless", "axis", (3,))
-        size = float(np.linalg.norm(axis))
-        if not size > 0 or not math.isfinite(size):
-            raise InputError(
-                f"Expected `axis` of a Rotor to be a non-zero vector, got {axis.tolist()}."
-            )
-        unit = axis / size
-        unit.flags.writeable = False
-        object.__setattr__(self, "axis", unit)
+        object.__setattr__(self, "axis", unit_vector(self.axis, "axis", owner="Rotor"))
         object.__setattr__(
             self, "inertia", positive(self.inertia, "inertia", "inertia", "Rotor", "kg·m²")
         )

@@ -11,8 +11,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core import torques as kernels
-from tumble.errors import InputError
 from tumble.torques.model import Parameter, TorqueModel, register_torque
+from tumble.units import unit_vector
 
 __all__ = ["AttitudeController"]
 
@@ -74,15 +74,10 @@ class AttitudeController(TorqueModel):
         if hasattr(target, "as_quat"):
             object.__setattr__(self, "target", target.as_quat(scalar_first=True))
         super().__post_init__()
-        quaternion = np.asarray(self.target, dtype=float)
-        size = float(np.linalg.norm(quaternion))
-        if not size > 1e-12 or not math.isfinite(size):
-            raise InputError(
-                f"Expected `target` to be a non-zero quaternion [w, x, y, z], got "
-                f"{quaternion.tolist()}."
-            )
-        unit = quaternion / size
-        unit.flags.writeable = False
+        unit = unit_vector(
+            self.target, "target", noun="a non-zero quaternion [w, x, y, z]", shape=(4,),
+            floor=1e-12,
+        )  # fmt: skip
         object.__setattr__(self, "target", unit)
 
     def pack(self, body: Any, omega0: Array | None) -> Array:
