@@ -513,7 +513,23 @@ SPHERE = tb.shapes.solid_sphere(1.0, 0.1)
         ),
         (
             lambda: checks.compare(short_top(3.0), "gyroscope"),
-            r"Expected `result` to be a Gyroscope, FreeSymmetricTop, Gyrocompass or a flip period \(float\) from tumble.theory, got str\.",
+            r"Expected `result` to be one of GyrostatStability, KaneDamperDecay, Gyroscope, FreeSymmetricTop, Gyrocompass from tumble.theory, or a flip period \(float\), got str\.",
+        ),
+        (
+            lambda: analysis.pointing_error(short_top(3.0), [0, 0, 0, 0]),
+            r"Expected `target` to be a non-zero quaternion \[w, x, y, z\], got \[0\.0, 0\.0, 0\.0, 0\.0\]\.",
+        ),
+        (
+            lambda: analysis.orbit_deviation(short_top(3.0), 1e-3, [1, 0, 0], [0, 0, 1], [0, 0, 2]),
+            r"Expected `radial0` off the orbit's normal, got \[0\.0, 0\.0, 2\.0\]\.",
+        ),
+        (
+            lambda: analysis.exponential_rate([0.0, 1.0, 2.0], [1.0, 2.0, 4.0], (10.0, 20.0)),
+            r"Expected at least 3 samples to fit an exponential rate, got 0 \(band \(10\.0, 20\.0\)\)\.",
+        ),
+        (
+            lambda: checks.compare(short_top(3.0), theory.gravity_gradient_libration(DISK, 1e-3)),
+            r"Expected `result` to be one of GyrostatStability, KaneDamperDecay, Gyroscope, FreeSymmetricTop, Gyrocompass from tumble.theory, or a flip period \(float\), got Libration\.",
         ),
         (
             lambda: checks.compare(short_top(3.0), 1.0, spam=1),

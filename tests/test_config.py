@@ -342,6 +342,7 @@ def test_methods_are_read_from_the_integrator_registry() -> None:
         method_choice("strnag")
     # Files for batches may name only integrators with batch kernels that measure.
     with pytest.raises(
-        tb.InputError, match=r"Expected `method` to be one of splitting, strang, rk4, got 'adaptive'\.$"
+        tb.InputError,
+        match=r"Expected `method` to be one of splitting, strang, rk4, got 'adaptive'\.$",
     ):
         method_choice("adaptive", batch=True)

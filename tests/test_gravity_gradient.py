@@ -46,9 +46,7 @@ def test_a_tumbling_body_in_orbit_follows_an_independent_integration() -> None:
         atol=1e-15,
     )  # fmt: skip
     assert run.method == "adaptive" and run.drift == {}
-    w_ref, a_ref = reference(
-        BODY, omega0, q0, 12000.0, torque=gradient_reference, times=run.t
-    )
+    w_ref, a_ref = reference(BODY, omega0, q0, 12000.0, torque=gradient_reference, times=run.t)
     assert np.max(np.abs(run.omega - w_ref)) < 1e-9
     assert attitude_error(run.quaternion, a_ref) < 1e-9
 
@@ -100,12 +98,14 @@ def test_batches_take_one_orbit_rate_per_body() -> None:
 
 
 def test_scenario_files_take_it_with_units() -> None:
-    text = scenario.builtin_text("tennis-racket").replace(
-        'model = "flip-period"', 'model = "none"'
-    ).replace(
-        "[simulation]",
-        '[[torques]]\ntype = "gravity-gradient"\norbit_rate = "0.06 deg/s"\n'
-        'orbit_normal = [0, 0, 1]\nradial0 = [1, 0, 0]\n\n[simulation]',
+    text = (
+        scenario.builtin_text("tennis-racket")
+        .replace('model = "flip-period"', 'model = "none"')
+        .replace(
+            "[simulation]",
+            '[[torques]]\ntype = "gravity-gradient"\norbit_rate = "0.06 deg/s"\n'
+            "orbit_normal = [0, 0, 1]\nradial0 = [1, 0, 0]\n\n[simulation]",
+        )
     )
     loaded = scenario.parse(text.replace('method = "exact"', 'method = "rk4"'))
     (entry,) = loaded.spec.torques

@@ -198,6 +198,22 @@ def test_the_exact_symmetric_gyrostat_follows_an_independent_integration(moments
     assert np.max(np.abs(run.rotor_speed[:, 0] - speeds[:, 0])) < 1e-10
 
 
+def test_the_exact_symmetric_gyrostat_refuses_another_body() -> None:
+    from tumble.body import RigidBody
+    from tumble.integrators.exact import symmetric_gyrostat
+
+    # Three unequal moments: no axis of symmetry, so no steady precession.
+    body = RigidBody(tb.MassProperties(20.0, [0, 0, 0], np.diag([2.0, 3.0, 4.0])),
+                     parts=(Rotor([0, 0, 1], 0.1, speed=5.0),))  # fmt: skip
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected a symmetric gyrostat \(two equal platform moments, rotors without motors on the axis of symmetry\) for the exact solution, got another body\.$",
+    ):
+        symmetric_gyrostat(
+            body, np.array([0.1, 0.2, 0.3]), np.array([1.0, 0, 0, 0]), np.array([0.0, 1.0])
+        )
+
+
 def test_a_rotor_stabilises_a_spin_about_the_intermediate_axis() -> None:
     # Locked moments 4 < 6 < 8, spin 1 rad/s about axis 2: alone it flips; with a
     # rotor of h = J Ω_rel = 4 kg·m²/s > (I3 − I2) Ω along it, it stays
@@ -400,6 +416,10 @@ def test_auto_chooses_the_splitting_for_rotors_and_the_adaptive_method_for_dampe
         (
             lambda: Rotor([0, 0, 1], 0.1, max_speed=-1),
             r"Expected `max_speed` of a Rotor > 0 rad/s, got -1.0",
+        ),
+        (
+            lambda: Rotor([0, 0, 1], 0.1, torque="3 kg"),
+            r"\(a Rotor's `torque` is a torque or a list of \(time, torque\) pairs\)$",
         ),
         (lambda: KaneDamper(0.0, 0.1), r"Expected `inertia` of a KaneDamper > 0 kg·m², got 0.0"),
         (lambda: KaneDamper(0.1, -1.0), r"Expected `damping` of a KaneDamper >= 0 N·m·s, got -1.0"),

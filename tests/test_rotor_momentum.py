@@ -110,7 +110,9 @@ def test_the_dual_spin_map_tumbles_inside_the_theory_s_wedge() -> None:
 def test_its_values_are_checked() -> None:
     with pytest.raises(tb.InputError, match=r"`momentum`"):
         tb.torques.RotorMomentum("2 kg")
-    with pytest.raises(tb.InputError, match=r"Expected one torque for one body, got per-body values"):
+    with pytest.raises(
+        tb.InputError, match=r"Expected one torque for one body, got per-body values"
+    ):
         tb.simulate(BODY, [0, 0, 1], duration=1.0,
                     torque=tb.torques.RotorMomentum(np.ones((4, 3))))  # fmt: skip
 

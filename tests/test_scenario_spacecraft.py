@@ -62,9 +62,7 @@ def test_gravity_gradient_pitches_at_the_pendulum_frequency() -> None:
     # The large-swing pitch frequency (an elliptic integral) to the measurement's
     # ~1e-8 (maxima refined by parabolas over five orbits).
     assert rows(result)["pitch libration frequency"]["relative_error"] < 1e-6
-    small = tb.theory.gravity_gradient_libration(
-        result.trajectory.mass_properties, 1.078007613e-3
-    )
+    small = tb.theory.gravity_gradient_libration(result.trajectory.mass_properties, 1.078007613e-3)
     assert small.region == "Lagrange"
     assert rows(result)["pitch libration frequency"]["theory"] < small.pitch_frequency
 
@@ -93,6 +91,15 @@ def test_a_run_folder_holds_the_extra_run_and_the_rotor_figure(tmp_path) -> None
     assert back.rotor_speed.shape == (len(back.t), 1)
 
 
+def test_the_viewer_wants_one_drawing_per_rotor() -> None:
+    from tumble.report.viewer import viewer_data
+
+    traj = tb.simulate(tb.shapes.box(1.0, [0.3, 0.4, 0.5]), [0.1, 0.2, 0.3], duration=1.0,
+                       dt=0.1, internal=[tb.Rotor([0, 0, 1], 1e-3, speed=5.0)])  # fmt: skip
+    with pytest.raises(ValueError, match=r"^Expected 1 rotor drawings, got 0\.$"):
+        viewer_data(traj, rotors=[])
+
+
 # ------------------------------------------------------------------ [[internal]]
 def test_a_rotor_given_by_its_inertia_is_already_in_the_body() -> None:
     # The same wheel as a 20 kg disc in [[body.parts]] and given by its J: the
@@ -102,7 +109,7 @@ def test_a_rotor_given_by_its_inertia_is_already_in_the_body() -> None:
 shape = "box"
 mass = "300 kg"
 size = "1.2, 1.0, 0.8 m"''',
-        '''[[body.parts]]
+        """[[body.parts]]
 shape = "box"
 mass = "300 kg"
 size = "1.2, 1.0, 0.8 m"
@@ -112,7 +119,7 @@ shape = "solid-cylinder"
 mass = "20 kg"
 radius = "30 cm"
 height = "6 cm"
-rotation = { axis = [1, 0, 0], angle = "90 deg" }''',
+rotation = { axis = [1, 0, 0], angle = "90 deg" }""",
     )
     given = edited(
         '''mass = "20 kg"
@@ -131,19 +138,76 @@ thickness = "6 cm"''',
 @pytest.mark.parametrize(
     ("old", "new", "message"),
     [
-        ('type = "rotor"', 'type = "roter"', r"d\.toml, line 25, `internal\[0\]\.type`: Expected `type` to be one of rotor, kane-damper, spring-mass-damper, got 'roter'\. Did you mean 'rotor'\?"),
-        ("axis = [0, 1, 0]", "axis = [0, 0, 0]", r"d\.toml, line 24, `internal\[0\]`: Expected `axis` of a Rotor to be a non-zero vector, got \[0\.0, 0\.0, 0\.0\]\."),
-        ("axis = [0, 1, 0]\n", "", r"`internal\[0\]\.axis`: Expected `axis` \(the rotor's spin axis, body axes\), which is missing\."),
-        ('mass = "20 kg"', 'mass = "-20 kg"', r"`internal\[0\]\.mass`: Expected `mass` > 0 kg, got -20\.0\."),
-        ('mass = "20 kg"', 'inertia = "-1 kg*m^2"', r"`internal\[0\]\.inertia`: Expected `inertia` > 0"),
-        ('mass = "20 kg"', 'inertia = "1 kg*m^2"\nmass = "20 kg"', r"`internal\[0\]\.inertia`: Expected either `inertia` \(a rotor already in \[body\]\) or `mass` and `radius` \(a uniform one tumble adds\), got both\."),
-        ('radius = "30 cm"\n', "", r"`internal\[0\]\.radius`: Expected `radius` with `mass`, which is missing\."),
-        ('speed = "100 rpm"', 'speed = "100 m"', r"`internal\[0\]\.speed`: Expected `speed` to be an angular velocity in rad/s"),
-        ('speed = "100 rpm"', 'speed = "100 rpm"\ndamping = 1', r"`internal\[0\]\.damping`: Expected no `damping` for a rotor, got one\."),
-        ('speed = "100 rpm"', 'speed = "100 rpm"\ntorque = [[1, 0.1], [0.5, 0]]', r"`internal\[0\]`: Expected `torque` of a Rotor as \(time, torque\) pairs with increasing times, got times \[1\.0, 0\.5\] s\."),
-        ('speed = "100 rpm"', 'speed = "100 rpm"\nmax_speed = "-5 rpm"', r"`internal\[0\]`: Expected `max_speed` of a Rotor > 0 rad/s"),
-        ('speed = "100 rpm"', 'speed = "100 rpm"\nspeeed = 1', r"`internal\[0\]\.speeed`: Expected one of .*, got the unknown key `speeed`\. Did you mean `speed`\?"),
-        ('mass = "20 kg"\nradius = "30 cm"', 'inertia = "60 kg*m^2"', r"`internal`: Expected internal parts whose spin inertia the body can hold"),
+        (
+            'type = "rotor"',
+            'type = "roter"',
+            r"d\.toml, line 25, `internal\[0\]\.type`: Expected `type` to be one of rotor, kane-damper, spring-mass-damper, got 'roter'\. Did you mean 'rotor'\?",
+        ),
+        (
+            "axis = [0, 1, 0]",
+            "axis = [0, 0, 0]",
+            r"d\.toml, line 24, `internal\[0\]`: Expected `axis` of a Rotor to be a non-zero vector, got \[0\.0, 0\.0, 0\.0\]\.",
+        ),
+        (
+            "axis = [0, 1, 0]\n",
+            "",
+            r"`internal\[0\]\.axis`: Expected `axis` \(the rotor's spin axis, body axes\), which is missing\.",
+        ),
+        (
+            'mass = "20 kg"',
+            'mass = "-20 kg"',
+            r"`internal\[0\]\.mass`: Expected `mass` > 0 kg, got -20\.0\.",
+        ),
+        (
+            'mass = "20 kg"',
+            'inertia = "-1 kg*m^2"',
+            r"`internal\[0\]\.inertia`: Expected `inertia` > 0",
+        ),
+        (
+            'mass = "20 kg"',
+            'inertia = "1 kg*m^2"\nmass = "20 kg"',
+            r"`internal\[0\]\.inertia`: Expected either `inertia` \(a rotor already in \[body\]\) or `mass` and `radius` \(a uniform one tumble adds\), got both\.",
+        ),
+        (
+            'radius = "30 cm"\n',
+            "",
+            r"`internal\[0\]\.radius`: Expected `radius` with `mass`, which is missing\.",
+        ),
+        (
+            'mass = "20 kg"\nradius = "30 cm"\n',
+            "",
+            r"`internal\[0\]\.inertia`: Expected either `inertia` \(a rotor already in \[body\]\) or `mass` and `radius` \(a uniform one tumble adds\), got neither\.",
+        ),
+        (
+            'speed = "100 rpm"',
+            'speed = "100 m"',
+            r"`internal\[0\]\.speed`: Expected `speed` to be an angular velocity in rad/s",
+        ),
+        (
+            'speed = "100 rpm"',
+            'speed = "100 rpm"\ndamping = 1',
+            r"`internal\[0\]\.damping`: Expected no `damping` for a rotor, got one\.",
+        ),
+        (
+            'speed = "100 rpm"',
+            'speed = "100 rpm"\ntorque = [[1, 0.1], [0.5, 0]]',
+            r"`internal\[0\]`: Expected `torque` of a Rotor as \(time, torque\) pairs with increasing times, got times \[1\.0, 0\.5\] s\.",
+        ),
+        (
+            'speed = "100 rpm"',
+            'speed = "100 rpm"\nmax_speed = "-5 rpm"',
+            r"`internal\[0\]`: Expected `max_speed` of a Rotor > 0 rad/s",
+        ),
+        (
+            'speed = "100 rpm"',
+            'speed = "100 rpm"\nspeeed = 1',
+            r"`internal\[0\]\.speeed`: Expected one of .*, got the unknown key `speeed`\. Did you mean `speed`\?",
+        ),
+        (
+            'mass = "20 kg"\nradius = "30 cm"',
+            'inertia = "60 kg*m^2"',
+            r"`internal`: Expected internal parts whose spin inertia the body can hold",
+        ),
     ],
 )
 def test_bad_internal_parts_name_the_key_and_line(old: str, new: str, message: str) -> None:
@@ -153,20 +217,43 @@ def test_bad_internal_parts_name_the_key_and_line(old: str, new: str, message: s
 
 def test_a_damper_needs_its_damping_and_takes_no_axis() -> None:
     base = builtin_text("explorer-1")
-    with pytest.raises(ScenarioError, match=r"`internal\[0\]\.damping`: Expected `damping` \(N·m·s\), which is missing\."):
+    with pytest.raises(
+        ScenarioError,
+        match=r"`internal\[0\]\.damping`: Expected `damping` \(N·m·s\), which is missing\.",
+    ):
         parse(edited('damping = "3.5e-3 N*m*s"\n', "", base))
-    with pytest.raises(ScenarioError, match=r"`internal\[0\]\.axis`: Expected no `axis` for a kane-damper, got one\."):
-        parse(edited('damping = "3.5e-3 N*m*s"', 'damping = "3.5e-3 N*m*s"\naxis = [0, 0, 1]', base))
-    with pytest.raises(ScenarioError, match=r"`internal\[0\]`: Expected `damping` of a KaneDamper >= 0 N·m·s, got -1\.0\."):
+    with pytest.raises(
+        ScenarioError,
+        match=r"`internal\[0\]\.axis`: Expected no `axis` for a kane-damper, got one\.",
+    ):
+        parse(
+            edited('damping = "3.5e-3 N*m*s"', 'damping = "3.5e-3 N*m*s"\naxis = [0, 0, 1]', base)
+        )
+    with pytest.raises(
+        ScenarioError,
+        match=r"`internal\[0\]`: Expected `damping` of a KaneDamper >= 0 N·m·s, got -1\.0\.",
+    ):
         run(parse(edited('damping = "3.5e-3 N*m*s"', "damping = -1", base)))
 
 
 @pytest.mark.parametrize(
     ("old", "new", "message"),
     [
-        ('actuator = "rotors"', 'actuator = "wheels"', r"`torques\[0\]\.actuator`: Expected `actuator` to be one of 'external', 'rotors', got 'wheels'\."),
-        ('stiffness = "0.41 N*m"', 'stiffness = "-0.41 N*m"', r"`torques\[0\]\.stiffness`: Expected `stiffness` > 0 N·m, got -0\.41\."),
-        ("target = [0.8660254037844387, 0, 0, 0.5]", "target = [0, 0, 0, 0]", r"`torques\[0\]`: Expected `target` to be a non-zero quaternion"),
+        (
+            'actuator = "rotors"',
+            'actuator = "wheels"',
+            r"`torques\[0\]\.actuator`: Expected `actuator` to be one of 'external', 'rotors', got 'wheels'\.",
+        ),
+        (
+            'stiffness = "0.41 N*m"',
+            'stiffness = "-0.41 N*m"',
+            r"`torques\[0\]\.stiffness`: Expected `stiffness` > 0 N·m, got -0\.41\.",
+        ),
+        (
+            "target = [0.8660254037844387, 0, 0, 0.5]",
+            "target = [0, 0, 0, 0]",
+            r"`torques\[0\]`: Expected `target` to be a non-zero quaternion",
+        ),
     ],
 )
 def test_bad_controller_values_name_the_key(old: str, new: str, message: str) -> None:
@@ -176,13 +263,19 @@ def test_bad_controller_values_name_the_key(old: str, new: str, message: str) ->
 
 def test_a_damper_refuses_the_splitting_with_the_key_named() -> None:
     base = builtin_text("explorer-1")
-    with pytest.raises(ScenarioError, match=r"`internal`: Expected a method that integrates a body carrying kane-damper parts \(auto, rk4, adaptive\), got 'splitting'"):
+    with pytest.raises(
+        ScenarioError,
+        match=r"`internal`: Expected a method that integrates a body carrying kane-damper parts \(auto, rk4, adaptive\), got 'splitting'",
+    ):
         run(parse(edited('method = "auto"', 'method = "splitting"', base)))
 
 
 def test_an_orbit_rate_of_zero_is_refused_with_its_key() -> None:
     base = builtin_text("gravity-gradient")
-    with pytest.raises(ScenarioError, match=r"`torques\[0\]\.orbit_rate`: Expected `orbit_rate` > 0 rad/s, got 0\.0\."):
+    with pytest.raises(
+        ScenarioError,
+        match=r"`torques\[0\]\.orbit_rate`: Expected `orbit_rate` > 0 rad/s, got 0\.0\.",
+    ):
         parse(edited('orbit_rate = "1.078007613e-3 rad/s"', "orbit_rate = 0", base))
 
 
@@ -232,10 +325,26 @@ def test_a_spring_mass_damper_in_a_file_is_the_library_s() -> None:
 @pytest.mark.parametrize(
     ("old", "new", "message"),
     [
-        ('stiffness = "6 N/m"\n', "", r"`internal\[0\]\.stiffness`: Expected `stiffness` \(N/m\), which is missing\."),
-        ('stiffness = "6 N/m"', 'stiffness = "6 N/m"\nradius = 1', r"`internal\[0\]\.radius`: Expected no `radius` for a spring-mass-damper, got one\."),
-        ('stiffness = "6 N/m"', 'stiffness = "6 kg"', r"`internal\[0\]`: Expected `stiffness` to be a stiffness in N/m"),
-        ('damping = "1 N*s/m"', 'damping = "-1 N*s/m"', r"`internal\[0\]`: Expected `damping` of a SpringMassDamper >= 0 N·s/m, got -1\.0\."),
+        (
+            'stiffness = "6 N/m"\n',
+            "",
+            r"`internal\[0\]\.stiffness`: Expected `stiffness` \(N/m\), which is missing\.",
+        ),
+        (
+            'stiffness = "6 N/m"',
+            'stiffness = "6 N/m"\nradius = 1',
+            r"`internal\[0\]\.radius`: Expected no `radius` for a spring-mass-damper, got one\.",
+        ),
+        (
+            'stiffness = "6 N/m"',
+            'stiffness = "6 kg"',
+            r"`internal\[0\]`: Expected `stiffness` to be a stiffness in N/m",
+        ),
+        (
+            'damping = "1 N*s/m"',
+            'damping = "-1 N*s/m"',
+            r"`internal\[0\]`: Expected `damping` of a SpringMassDamper >= 0 N·s/m, got -1\.0\.",
+        ),
     ],
 )
 def test_bad_spring_tables_name_the_key(old: str, new: str, message: str) -> None:
@@ -246,9 +355,21 @@ def test_bad_spring_tables_name_the_key(old: str, new: str, message: str) -> Non
 @pytest.mark.parametrize(
     ("old", "new", "message"),
     [
-        ("axis = [0, 1, 0]", "axis = [0, 0, 0]", "Expected `axis` of a Rotor to be a non-zero vector"),
-        ('mass = "20 kg"\nradius = "30 cm"', 'inertia = "-1 kg*m^2"', "Expected `inertia` > 0 kg·m², got -1.0"),
-        ('mass = "20 kg"\nradius = "30 cm"', 'inertia = "60 kg*m^2"', "Expected internal parts whose spin inertia the body can hold"),
+        (
+            "axis = [0, 1, 0]",
+            "axis = [0, 0, 0]",
+            "Expected `axis` of a Rotor to be a non-zero vector",
+        ),
+        (
+            'mass = "20 kg"\nradius = "30 cm"',
+            'inertia = "-1 kg*m^2"',
+            "Expected `inertia` > 0 kg·m², got -1.0",
+        ),
+        (
+            'mass = "20 kg"\nradius = "30 cm"',
+            'inertia = "60 kg*m^2"',
+            "Expected internal parts whose spin inertia the body can hold",
+        ),
     ],
 )
 def test_the_cli_prints_one_line_and_exits_2_for_a_bad_part(tmp_path, old, new, message) -> None:
@@ -264,3 +385,15 @@ def test_the_cli_prints_one_line_and_exits_2_for_a_bad_part(tmp_path, old, new, 
     assert len(lines) == 1 and lines[0].startswith("error: ")
     assert "bad.toml, line " in lines[0] and message in lines[0]
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("name", ["dual-spin", "energy-sink", "libration", "slew"])
+def test_a_spacecraft_check_refuses_a_setup_it_does_not_describe(name: str) -> None:
+    # A bare box tumbling freely: no rotor, no damper, no orbit, no controller.
+    box = tb.MassProperties(20.0, [0, 0, 0], np.diag([2.0, 3.0, 4.0]))
+    setup = tb.checks.Setup(box, np.array([0.1, 0.2, 0.3]), np.array([1.0, 0, 0, 0]))
+    trajectory = tb.simulate(box, setup.omega0, duration=1.0, dt=0.1)
+    check = tb.checks.THEORY_CHECKS[name]
+    assert not check.fits(setup)
+    with pytest.raises(tb.InputError, match=rf"^Expected {check.needs}, got another setup\.$"):
+        check.compare(setup, trajectory)

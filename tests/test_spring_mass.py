@@ -130,10 +130,22 @@ def test_a_trajectory_with_a_spring_round_trips_through_parquet(tmp_path) -> Non
 @pytest.mark.parametrize(
     ("make", "message"),
     [
-        (lambda: tb.SpringMassDamper(0, POSITION, DIRECTION, 1.0), r"Expected `mass` of a SpringMassDamper > 0 kg, got 0\.0"),
-        (lambda: tb.SpringMassDamper(1.0, POSITION, [0, 0, 0], 1.0), r"Expected `direction` of a SpringMassDamper to be a non-zero vector"),
-        (lambda: tb.SpringMassDamper(1.0, POSITION, DIRECTION, -1.0), r"Expected `stiffness` of a SpringMassDamper > 0 N/m, got -1\.0"),
-        (lambda: tb.SpringMassDamper(1.0, POSITION, DIRECTION, 1.0, -0.1), r"Expected `damping` of a SpringMassDamper >= 0 N·s/m, got -0\.1"),
+        (
+            lambda: tb.SpringMassDamper(0, POSITION, DIRECTION, 1.0),
+            r"Expected `mass` of a SpringMassDamper > 0 kg, got 0\.0",
+        ),
+        (
+            lambda: tb.SpringMassDamper(1.0, POSITION, [0, 0, 0], 1.0),
+            r"Expected `direction` of a SpringMassDamper to be a non-zero vector",
+        ),
+        (
+            lambda: tb.SpringMassDamper(1.0, POSITION, DIRECTION, -1.0),
+            r"Expected `stiffness` of a SpringMassDamper > 0 N/m, got -1\.0",
+        ),
+        (
+            lambda: tb.SpringMassDamper(1.0, POSITION, DIRECTION, 1.0, -0.1),
+            r"Expected `damping` of a SpringMassDamper >= 0 N·s/m, got -0\.1",
+        ),
         (lambda: tb.SpringMassDamper(1.0, "3 kg", DIRECTION, 1.0), r"`position`"),
     ],
 )
@@ -142,13 +154,33 @@ def test_bad_springs_are_refused(make, message: str) -> None:
         make()
 
 
+def test_a_spring_not_yet_attached_to_a_body_has_no_coupling() -> None:
+    # Its reduced mass and rest position depend on the body that carries it.
+    with pytest.raises(
+        tb.InputError, match=r"^Expected a SpringMassDamper attached to a body, got a bare one\.$"
+    ):
+        spring().coupling()
+
+
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        ({"internal": [spring(), spring()]}, r"Expected at most one SpringMassDamper in a body, got 2"),
-        ({"internal": [spring()], "pivot": [0, 0, 0], "gravity": [0, 0, -9.81]}, r"Expected a free body for a SpringMassDamper .*, got a pivot"),
-        ({"internal": [tb.SpringMassDamper(40.0, POSITION, DIRECTION, 1.0)]}, r"Expected the body's mass \(30\.5 kg\) to hold the SpringMassDamper's mass and more, got 40\.0 kg"),
-        ({"internal": [spring()], "method": "splitting"}, r"carrying spring-mass-damper parts \(auto, rk4, adaptive\), got 'splitting'"),
+        (
+            {"internal": [spring(), spring()]},
+            r"Expected at most one SpringMassDamper in a body, got 2",
+        ),
+        (
+            {"internal": [spring()], "pivot": [0, 0, 0], "gravity": [0, 0, -9.81]},
+            r"Expected a free body for a SpringMassDamper .*, got a pivot",
+        ),
+        (
+            {"internal": [tb.SpringMassDamper(40.0, POSITION, DIRECTION, 1.0)]},
+            r"Expected the body's mass \(30\.5 kg\) to hold the SpringMassDamper's mass and more, got 40\.0 kg",
+        ),
+        (
+            {"internal": [spring()], "method": "splitting"},
+            r"carrying spring-mass-damper parts \(auto, rk4, adaptive\), got 'splitting'",
+        ),
     ],
 )
 def test_bad_bodies_with_a_spring_are_refused(kwargs, message: str) -> None:

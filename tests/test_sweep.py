@@ -709,7 +709,10 @@ def test_output_path_that_is_a_file_is_refused(tmp_path: Path) -> None:
     ("replace", "message"),
     [
         (
-            {"spin_axis = 2\n": "", "[vary.ratio_2]": '[vary.spin_axis]\nvalues = [1, 2]\nunit = "deg"\n\n[vary.ratio_2]'},
+            {
+                "spin_axis = 2\n": "",
+                "[vary.ratio_2]": '[vary.spin_axis]\nvalues = [1, 2]\nunit = "deg"\n\n[vary.ratio_2]',
+            },
             r"`vary.spin_axis.unit`: Expected no `unit` for `spin_axis`, got 'deg'.",
         ),
         (

@@ -13,7 +13,7 @@ from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
 import tumble as tb
-from tumble import theory
+from tumble import checks, theory
 
 DIAGONAL = tb.MassProperties(10.0, [0, 0, 0], np.diag([4.0, 6.0, 8.0]))
 
@@ -67,6 +67,10 @@ def test_the_nutation_of_a_dual_spin_body_has_the_closed_form_frequency() -> Non
     times = run.t[up] - signal[up] * (run.t[up + 1] - run.t[up]) / (signal[up + 1] - signal[up])
     measured = 2 * math.pi / np.mean(np.diff(times))
     assert measured == pytest.approx(result.nutation_frequency, rel=1e-5)
+    # The same through tumble.checks.compare, which routes a GyrostatStability
+    # to the dual-spin check (its own crossing fit: the same 1e-5).
+    (row,) = checks.compare(run, result, axis=(0, 1, 0))
+    assert row["measured"] == pytest.approx(result.nutation_frequency, rel=1e-5)
 
 
 @pytest.mark.parametrize(("h", "moments"), [(0.0, (4.0, 6.0, 8.0)), (1.0, (4.0, 6.0, 8.0))])
@@ -140,6 +144,29 @@ def test_a_simulated_damper_damps_or_grows_the_nutation_at_the_closed_form_rate(
     assert measured == pytest.approx(result.decay_rate, rel=1e-3)
     period = np.mean(np.diff(run.t[peaks]))
     assert 2 * math.pi / period == pytest.approx(result.nutation_frequency, rel=1e-3)
+    # tumble.checks.compare routes a KaneDamperDecay to the energy-sink check,
+    # which fits the tilt of the spin axis from L over its linear stage (the
+    # damper's own mode included: 1e-2).
+    (row,) = checks.compare(run, result, axis=(0, 0, 1))
+    assert row["relative_error"] < 1e-2
+
+
+def test_the_sphere_lags_a_torqued_body_at_the_closed_form_spin_down_rate() -> None:
+    # A constant torque τ about the spin axis: the sphere's axial rate relative to
+    # the body, z = ω_s − ω, obeys (I_k − J) ω̇ = τ + D z, J (ω̇ + ż) = −D z, so
+    # z(t) = −τ / ((I_k − J) λ) (1 − e^{−λ t}) with λ the spin-down rate (the
+    # transverse motion stays zero). RK4 at λ dt ≈ 0.02: 1e-10 relative.
+    j, d, tau = 2.0, 3.0, 0.5
+    hub = body(8.0, 10.0, 13.0)
+    mp = hub + tb.MassProperties(1.0, [0, 0, 0], j * np.eye(3))
+    rate = theory.kane_damper_decay(mp, j, d, 1.0).spin_down_rate
+    run = tb.simulate(
+        mp, [0.0, 0.0, 1.0], duration=5.0, dt=0.01, method="rk4",
+        torque=tb.torques.ConstantBodyTorque([0.0, 0.0, tau]), internal=[tb.KaneDamper(j, d)],
+    )  # fmt: skip
+    lag = run.internal_values[:, 2] - run.omega[:, 2]
+    expected = -tau / ((15.0 - j) * rate) * (1.0 - np.exp(-rate * run.t))
+    np.testing.assert_allclose(lag[1:], expected[1:], rtol=1e-9)
 
 
 # ------------------------------------------------------------------ wheel spin-up
@@ -295,6 +322,10 @@ def test_a_small_slew_follows_the_linearised_closed_form() -> None:
         (
             lambda: theory.kane_damper_decay(DIAGONAL, 1.0, -1.0, 1.0),
             r"Expected `damping` > 0 N·m·s, got -1.0",
+        ),
+        (
+            lambda: theory.kane_damper_decay(DIAGONAL, 1.0, 1.0, 0.0),
+            r"Expected `spin_rate` ≠ 0 rad/s, got 0\.0\.",
         ),
         (
             lambda: theory.kane_damper_decay(DIAGONAL, 5.0, 1.0, 1.0),

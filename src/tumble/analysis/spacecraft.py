@@ -61,9 +61,10 @@ def orbit_deviation(
     body_radial = unit_vector(radial_axis, "radial_axis")
     body_normal = unit_vector(normal_axis, "normal_axis")
     normal = unit_vector(orbit_normal, "orbit_normal")
-    first = np.asarray(radial0, dtype=float) - (np.asarray(radial0, dtype=float) @ normal) * normal
+    start = np.asarray(radial0, dtype=float)
+    first = start - (start @ normal) * normal
     if not np.linalg.norm(first) > 0:
-        raise InputError(f"Expected `radial0` off the orbit's normal, got {list(radial0)}.")
+        raise InputError(f"Expected `radial0` off the orbit's normal, got {start.tolist()}.")
     first /= np.linalg.norm(first)
     body_along = np.cross(body_normal, body_radial)
     # Body → orbiting frame at equilibrium: the body's (radial, along, normal) on

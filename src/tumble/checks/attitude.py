@@ -56,7 +56,6 @@ class LibrationCheck(TheoryCheck):
 
     name = "libration"
     needs = "a free rigid body under the gravity-gradient torque alone, near its equilibrium"
-    result_type = theory.Libration
 
     def _equilibrium(self, setup: Setup) -> tuple[GravityGradient, Array, Array] | None:
         model = _only(setup, GravityGradient)
@@ -141,7 +140,6 @@ class SlewCheck(TheoryCheck):
 
     name = "slew"
     needs = "a free body under an attitude controller alone, its error about a principal axis"
-    result_type = theory.AttitudeSlew
 
     def _slew(self, setup: Setup) -> tuple[AttitudeController, Array, float] | None:
         control = _only(setup, AttitudeController)

@@ -138,7 +138,8 @@ class TheoryCheck:
     name: ClassVar[str] = ""
     #: The setup it needs, for messages.
     needs: ClassVar[str] = ""
-    #: The type of the :mod:`tumble.theory` result :func:`compare` hands to :meth:`rows`.
+    #: The type of the :mod:`tumble.theory` result :func:`compare` hands to
+    #: :meth:`rows`; () when :meth:`rows` needs more than ``axis`` and ``vertical``.
     result_type: ClassVar[Any] = ()
 
     def fits(self, setup: Setup) -> bool:
@@ -196,8 +197,10 @@ def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[st
     Each row is ``{"quantity", "theory", "measured", "relative_error", "unit"}``
     (:func:`comparison_row`). What is compared depends on the type of
     ``result`` (a :class:`~tumble.theory.Gyroscope`,
-    :class:`~tumble.theory.FreeSymmetricTop`, :class:`~tumble.theory.Gyrocompass`
-    or a flip period from :func:`~tumble.theory.flip_period`): the check of
+    :class:`~tumble.theory.FreeSymmetricTop`, :class:`~tumble.theory.Gyrocompass`,
+    :class:`~tumble.theory.GyrostatStability`,
+    :class:`~tumble.theory.KaneDamperDecay` or a flip period from
+    :func:`~tumble.theory.flip_period`): the check of
     that type says (see :meth:`TheoryCheck.rows` of each check). ``options``
     are ``axis`` (a body axis) and ``vertical`` (a space direction).
 
@@ -221,9 +224,17 @@ def compare(trajectory: Trajectory, result: Any, **options: Any) -> list[dict[st
             if isinstance(result, bool):
                 break
             return check.rows(trajectory, result, **options)
+    accepted = [
+        kind.__name__
+        for check in THEORY_CHECKS.values()
+        for kind in (
+            check.result_type if isinstance(check.result_type, tuple) else (check.result_type,)
+        )
+        if kind.__module__.startswith("tumble.")
+    ]
     raise InputError(
-        "Expected `result` to be a Gyroscope, FreeSymmetricTop, Gyrocompass or a flip period "
-        f"(float) from tumble.theory, got {type(result).__name__}."
+        f"Expected `result` to be one of {', '.join(accepted)} from tumble.theory, or a flip "
+        f"period (float), got {type(result).__name__}."
     )
 
 

@@ -74,4 +74,3 @@ class GyrocompassCheck(TheoryCheck):
         result = theory.gyrocompass(setup.mass_properties, setup.options["spin_rate"], rate)
         direction = np.sign(rate) * np.array([0.0, 0.0, 1.0])
         return Comparison(self.rows(trajectory, result, vertical=direction), [])
-

@@ -273,9 +273,7 @@ def part_rates(torque, drive, layout, t, hold, y, dy, system):  # type: ignore[n
             k += 3
             row += _DAMPER
         else:
-            d1, d2, d3, n1, n2, n3, mu, _, _, _, g4, g5, g6 = _spring_geometry(
-                y, parts, row, pc, k
-            )
+            d1, d2, d3, n1, n2, n3, mu, _, _, _, g4, g5, g6 = _spring_geometry(y, parts, row, pc, k)
             speed = (y[k + 1] - (g4 * w1 + g5 * w2 + g6 * w3)) / mu
             # ∂T/∂x = μ (ω × n)·(ω × d), then the spring and its damping.
             c1, c2, c3 = w2 * n3 - w3 * n2, w3 * n1 - w1 * n3, w1 * n2 - w2 * n1

@@ -13,7 +13,6 @@ from tumble.core.dynamics import normalised, rates
 __all__ = ["rk4_step"]
 
 
-
 @njit(inline="always")
 def rk4_step(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
     """One RK4 step of ``dt`` s from ``state`` at time ``t``; the new state, its
