@@ -142,7 +142,7 @@ def pitch_of(quaternion: np.ndarray, radial: np.ndarray) -> np.ndarray:
 
 def pitch_exact(t: np.ndarray) -> np.ndarray:
     """sin θ = sin θ0 cd(ω_p t | sin² θ0), the pendulum in 2θ released from rest."""
-    a, b, c = 5.0, 50.0, 52.0
+    a, b, c = np.diag(BOOM.inertia)
     rate = ORBIT_RATE * math.sqrt(3 * (b - a) / c)
     _, cn, dn, _ = ellipj(rate * t, math.sin(PITCH0) ** 2)
     return np.arcsin(math.sin(PITCH0) * cn / dn)

@@ -417,6 +417,11 @@ def test_auto_chooses_the_splitting_for_rotors_and_the_adaptive_method_for_dampe
             lambda: Rotor([0, 0, 1], 0.1, max_speed=-1),
             r"Expected `max_speed` of a Rotor > 0 rad/s, got -1.0",
         ),
+        (lambda: Rotor([0, 0, 1], 0.1, speed=float("nan")), r"Expected `speed` to be finite"),
+        (
+            lambda: Rotor([0, 0, 1], 0.1, torque=[[0.0, 1.0], [float("inf"), 0.0]]),
+            r"Expected `torque` to be finite, got inf\.",
+        ),
         (
             lambda: Rotor([0, 0, 1], 0.1, torque="3 kg"),
             r"\(a Rotor's `torque` is a torque or a list of \(time, torque\) pairs\)$",

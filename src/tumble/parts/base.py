@@ -19,7 +19,7 @@ __all__ = ["InternalPart", "limit", "positive"]
 def positive(value: Any, kind: str, name: str, owner: str, unit: str, strict: bool = True) -> float:
     number = to_si(value, kind, name)
     ok = number > 0 if strict else number >= 0
-    if not ok or math.isnan(number):
+    if not ok:
         relation = ">" if strict else ">="
         raise InputError(f"Expected `{name}` of a {owner} {relation} 0 {unit}, got {number!r}.")
     return number

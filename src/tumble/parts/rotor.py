@@ -56,10 +56,7 @@ class Rotor(InternalPart):
         object.__setattr__(
             self, "inertia", positive(self.inertia, "inertia", "inertia", "Rotor", "kg·m²")
         )
-        speed = to_si(self.speed, "angular_velocity", "speed")
-        if not math.isfinite(speed):
-            raise InputError(f"Expected `speed` of a Rotor to be finite, got {speed!r}.")
-        object.__setattr__(self, "speed", speed)
+        object.__setattr__(self, "speed", to_si(self.speed, "angular_velocity", "speed"))
         object.__setattr__(self, "torque", _schedule(self.torque))
         object.__setattr__(
             self, "max_torque", limit(self.max_torque, "torque", "max_torque", "N·m")
@@ -136,10 +133,6 @@ def _schedule(torque: Any) -> tuple[Array, Array]:
     if pairs is not None and all(isinstance(p, list | tuple) and len(p) == 2 for p in pairs):
         times = np.array([to_si(p[0], "time", "torque") for p in pairs])
         values = np.array([to_si(p[1], "torque", "torque") for p in pairs])
-        if not (np.all(np.isfinite(times)) and np.all(np.isfinite(values))):
-            raise InputError(
-                f"Expected `torque` of a Rotor to hold finite times and torques, got {torque!r}."
-            )
         if np.any(np.diff(times) <= 0):
             raise InputError(
                 "Expected `torque` of a Rotor as (time, torque) pairs with increasing times, "
@@ -152,8 +145,6 @@ def _schedule(torque: Any) -> tuple[Array, Array]:
             raise InputError(
                 f"{exc} (a Rotor's `torque` is a torque or a list of (time, torque) pairs)"
             ) from None
-        if not math.isfinite(value):
-            raise InputError(f"Expected `torque` of a Rotor to be finite, got {value!r}.")
         times, values = np.array([0.0]), np.array([value])
     times.flags.writeable = False
     values.flags.writeable = False
