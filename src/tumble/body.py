@@ -297,6 +297,24 @@ class RigidBody:
             energy = energy + part.kinetic_energy(omega, own)
         return np.asarray(energy)
 
+    def gyrostat_axis(self) -> Array | None:
+        """The unit axis (body axes) on which every part lies, when every part is
+        a rotor free of motors and that axis is a principal axis of the platform
+        (a gyrostat whose rotor momentum is constant along a principal axis: its
+        free motion is in closed form, :mod:`tumble.core.gyrostat`); None for
+        any other body."""
+        rotors = [part for part in self.parts if isinstance(part, Rotor) and not part.driven]
+        if not rotors or len(rotors) < len(self.parts):
+            return None
+        axis = rotors[0].axis
+        if any(abs(abs(float(rotor.axis @ axis)) - 1.0) > 1e-12 for rotor in rotors):
+            return None
+        turned = self.platform_inertia @ axis
+        off = turned - float(axis @ turned) * axis
+        if np.linalg.norm(off) > 1e-12 * float(np.trace(self.platform_inertia)):
+            return None
+        return np.asarray(axis, dtype=float)
+
     def symmetric_gyrostat_axis(self) -> int | None:
         """The index (0 or 2) of the principal axis of symmetry of a body whose
         platform moments are equal about the other two and whose parts are rotors

@@ -93,6 +93,8 @@ def simulate(
     method : a name from the integrator registry (:data:`tumble.integrators.INTEGRATORS`):
         * ``"exact"``: torque-free bodies (free, or on a pivot without gravity):
           the closed-form solution, sampled every ``dt``; no stepping error.
+          With parts: rotors without motors on one principal axis of the
+          platform (:func:`tumble.integrators.exact.gyrostat_solution`).
         * ``"splitting"``: fourth-order symplectic splitting (Yoshida's
           composition of ``"strang"``): exact rotations of the free motion
           composed with torque kicks (:mod:`tumble.core.splitting`); |L| kept

@@ -45,7 +45,7 @@ from tumble.core.quaternion import multiply
 
 
 @njit
-def _incomplete_first_kind(phi, m, mc):  # type: ignore[no-untyped-def]
+def incomplete_first_kind(phi, m, mc):  # type: ignore[no-untyped-def]
     """F(φ | m) for −π ≤ φ ≤ π, via Carlson: F = sin φ R_F(cos²φ, cos²φ + mc sin²φ, 1)."""
     sign = 1.0
     if phi < 0.0:
@@ -126,7 +126,7 @@ def _solve_side(i1, i2, i3, w1, w2, w3, times, out, k1, k2, k3, flip2, direction
     s = 1.0 if w3 >= 0.0 else -1.0
     sn0 = w2 / a2 if a2 > 0.0 else 0.0
     cn0 = s * w1 / a1 if a1 > 0.0 else 1.0
-    phase = _incomplete_first_kind(math.atan2(sn0, cn0), m, mc)
+    phase = incomplete_first_kind(math.atan2(sn0, cn0), m, mc)
     rate_hi, rate_lo, mc_hi, mc_lo = _rate_and_mc_double_double(i1, i2, i3, w1, w2, w3)
     table = jacobi_table(mc_hi, mc_lo) if mc > 0.0 else np.zeros(1)
     rate_hi *= direction
@@ -239,30 +239,29 @@ _CHEB_DEGREE = 16
 
 
 @njit
-def _phi_rate_at(moments, w, momentum, n):  # type: ignore[no-untyped-def]
-    a = moments[0] * w[n, 0] * w[n, 0]
-    b = moments[1] * w[n, 1] * w[n, 1]
-    return momentum * (a + b) / (moments[0] * a + moments[1] * b)
-
-
-@njit
-def _panel_expansions(moments, omega0, momentum, width, panels):  # type: ignore[no-untyped-def]
-    """Chebyshev coefficients (panels, degree + 2) of ∫ φ̇ dt from the start of
-    each panel [j w, (j+1) w], in x ∈ [−1, 1] (t = start + (x + 1) w / 2).
-
-    φ̇ is sampled at the Chebyshev–Lobatto points, its interpolating series is
-    integrated term by term (Numerical Recipes §5.9, ``chebint``), and the
-    constant term makes the integral vanish at the panel's start.
-    """
+def panel_nodes(width, panels):  # type: ignore[no-untyped-def]
+    """The Chebyshev–Lobatto points (panels · (degree + 1),) of the panels
+    [j w, (j+1) w], s, where :func:`panel_series` samples the integrand."""
     n = _CHEB_DEGREE
-    nodes = np.empty(n + 1)
-    for k in range(n + 1):
-        nodes[k] = math.cos(math.pi * k / n)
     times = np.empty(panels * (n + 1))
     for j in range(panels):
         for k in range(n + 1):
-            times[j * (n + 1) + k] = (j + 0.5 * (nodes[k] + 1.0)) * width
-    w = free_omega(moments, omega0, times)
+            times[j * (n + 1) + k] = (j + 0.5 * (math.cos(math.pi * k / n) + 1.0)) * width
+    return times
+
+
+@njit
+def panel_series(rates, width, panels):  # type: ignore[no-untyped-def]
+    """Chebyshev coefficients (panels, degree + 2) of the integral of a rate
+    from the start of each panel [j w, (j+1) w], in x ∈ [−1, 1]
+    (t = start + (x + 1) w / 2), from the rate's samples ``rates`` at
+    :func:`panel_nodes`.
+
+    The interpolating series of the samples is integrated term by term
+    (Numerical Recipes §5.9, ``chebint``), and the constant term makes the
+    integral vanish at the panel's start.
+    """
+    n = _CHEB_DEGREE
     out = np.zeros((panels, n + 2))
     c = np.empty(n + 3)
     for j in range(panels):
@@ -270,11 +269,7 @@ def _panel_expansions(moments, omega0, momentum, width, panels):  # type: ignore
             total = 0.0
             for k in range(n + 1):
                 weight = 0.5 if k == 0 or k == n else 1.0
-                total += (
-                    weight
-                    * _phi_rate_at(moments, w, momentum, j * (n + 1) + k)
-                    * math.cos(math.pi * i * k / n)
-                )
+                total += weight * rates[j * (n + 1) + k] * math.cos(math.pi * i * k / n)
             c[i] = 2.0 * total / n
         c[n] *= 0.5  # the series is c0/2 + Σ c_i T_i with the last term halved
         c[n + 1] = 0.0
@@ -297,6 +292,28 @@ def _clenshaw(coefficients, j, x):  # type: ignore[no-untyped-def]
     for i in range(coefficients.shape[1] - 1, 0, -1):
         b1, b2 = 2.0 * x * b1 - b2 + coefficients[j, i], b1
     return x * b1 - b2 + 0.5 * coefficients[j, 0]
+
+
+@njit
+def periodic_integral(series, period, times):  # type: ignore[no-untyped-def]
+    """∫₀ᵗ of a rate of period ``period`` (s) at ``times``, from its
+    :func:`panel_series` over one period: whole periods times the integral
+    over one, plus the panels before t, plus the series of t's panel."""
+    panels = series.shape[0]
+    width = period / panels
+    cumulative = np.empty(panels + 1)
+    cumulative[0] = 0.0
+    for j in range(panels):
+        cumulative[j + 1] = cumulative[j] + _clenshaw(series, j, 1.0)
+    out = np.empty(times.shape[0])
+    for n in range(times.shape[0]):
+        t = times[n]
+        turns = math.floor(t / period)
+        rest = t - turns * period
+        j = min(int(rest / width), panels - 1)
+        x = 2.0 * (rest - j * width) / width - 1.0
+        out[n] = turns * cumulative[panels] + cumulative[j] + _clenshaw(series, j, x)
+    return out
 
 
 @njit
@@ -334,20 +351,12 @@ def free_precession_angle(moments, omega0, times):  # type: ignore[no-untyped-de
         return out
     period = 2.0 * ellipk_mc(mc) / rate
     panels = max(8, int(math.ceil(2.0 * ellipk_mc(mc) / _PANEL_U)))  # noqa: RUF046 (numba)
-    width = period / panels
-    series = _panel_expansions(moments, omega0, momentum, width, panels)
-    cumulative = np.empty(panels + 1)
-    cumulative[0] = 0.0
-    for j in range(panels):
-        cumulative[j + 1] = cumulative[j] + _clenshaw(series, j, 1.0)
-    for n in range(times.shape[0]):
-        t = times[n]
-        turns = math.floor(t / period)
-        rest = t - turns * period
-        j = min(int(rest / width), panels - 1)
-        x = 2.0 * (rest - j * width) / width - 1.0
-        out[n] = turns * cumulative[panels] + cumulative[j] + _clenshaw(series, j, x)
-    return out
+    nodes = panel_nodes(period / panels, panels)
+    w = free_omega(moments, omega0, nodes)
+    rates = np.empty(nodes.shape[0])
+    for k in range(nodes.shape[0]):
+        rates[k] = _phi_rate(moments, w[k], momentum)
+    return periodic_integral(panel_series(rates, period / panels, panels), period, times)
 
 
 @njit

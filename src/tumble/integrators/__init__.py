@@ -78,7 +78,7 @@ class Integrator:
     parts : the kinds of internal part it handles (empty: bodies without parts).
     applies : None, or ``applies(body) -> None or why not``: a narrower rule on
         the bodies it integrates (the exact solution of a body with rotors needs
-        a symmetric gyrostat).
+        a gyrostat: free rotors on one principal axis).
     parts_single, parts_batch : kernel factories for bodies carrying parts, or None.
     run : the single-body driver of its kind (:mod:`tumble.integrators.drivers`).
     """
@@ -187,19 +187,19 @@ def auto_choice(torque: BoundTorque, body: Any = None) -> tuple[Integrator, str]
 
 def _exact_when(torque: BoundTorque) -> str | None:
     return (
-        "torque-free, so the exact solution (Jacobi elliptic functions; a steady "
-        "precession for a symmetric gyrostat)"
+        "torque-free, so the exact solution (Jacobi elliptic functions; with rotors, "
+        "those of the gyrostat, or a steady precession for a symmetric one)"
         if (torque.torque_free)
         else None
     )
 
 
 def _exact_applies(body: Any) -> str | None:
-    if not getattr(body, "parts", ()) or body.symmetric_gyrostat_axis() is not None:
+    if not getattr(body, "parts", ()) or body.gyrostat_axis() is not None:
         return None
     return (
-        "the closed form of a body with rotors needs a symmetric gyrostat: two equal "
-        "platform moments and rotors without motors on the axis of symmetry"
+        "the closed form of a body with parts needs a gyrostat: rotors without motors, "
+        "all on one principal axis of the platform"
     )
 
 

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from tumble.body import RigidBody
 from tumble.core._jit import FINITE
 from tumble.errors import CoarseStepWarning, InputError, IntegrationError
-from tumble.integrators.exact import exact_principal, symmetric_gyrostat
+from tumble.integrators.exact import exact_principal, gyrostat_solution
 from tumble.torques import BoundTorque
 from tumble.units import to_si
 
@@ -296,7 +296,7 @@ def run_exact(integrator: Any, problem: Problem, schedule: Schedule, progress: P
     """The exact torque-free solution at ``schedule.times``; no steps."""
     body = problem.body
     if body.parts:
-        omega, quaternion, values = symmetric_gyrostat(
+        omega, quaternion, values = gyrostat_solution(
             body, problem.omega0, problem.attitude0, schedule.times
         )
         if progress is not None:

@@ -20,7 +20,7 @@ from tumble.errors import InputError
 from tumble.massprops import MassProperties
 from tumble.parts import Rotor
 
-__all__ = ["exact_principal", "exact_solution", "symmetric_gyrostat"]
+__all__ = ["exact_principal", "exact_solution", "gyrostat_solution", "symmetric_gyrostat"]
 
 Array = NDArray[np.float64]
 
@@ -90,12 +90,7 @@ def symmetric_gyrostat(
     transverse, axial = moments[(axis + 1) % 3], moments[axis]
     w0 = body.to_principal(np.asarray(omega0, dtype=float))
     values0 = body.initial_values(np.asarray(omega0, dtype=float))
-    # Each rotor's axial momentum J (a·ω + Ω), along e with the sign of a·e.
-    h = 0.0
-    for k, part in enumerate(body.parts):
-        assert isinstance(part, Rotor)  # symmetric_gyrostat_axis() said so
-        own = float(part.momenta(np.asarray(omega0, dtype=float), values0[k : k + 1])[0])
-        h += own * float(body.to_principal(part.axis) @ e)
+    h = _axial_momentum(body, omega0, body.from_principal(e))
     spin = float(w0 @ e)
     rate = ((axial - transverse) * spin + h) / transverse
     momentum = transverse * (w0 - spin * e) + (axial * spin + h) * e
@@ -110,3 +105,121 @@ def symmetric_gyrostat(
     omega = body.from_principal(w)
     q = body.attitude_from_principal(attitude.as_quat(scalar_first=True))
     return omega, q, np.tile(values0, (len(times), 1))
+
+
+def _axial_momentum(body: RigidBody, omega0: Array, axis: Array) -> float:
+    """The rotors' absolute momentum J (a·ω + Ω) along the unit ``axis`` (body
+    axes; kg·m²/s, each with the sign of a·axis), constant without motors."""
+    omega0 = np.asarray(omega0, dtype=float)
+    values0 = body.initial_values(omega0)
+    h = 0.0
+    for k, part in enumerate(body.parts):
+        assert isinstance(part, Rotor)  # the caller's gyrostat axis says so
+        own = float(part.momenta(omega0, values0[k : k + 1])[0])
+        h += own * float(part.axis @ axis)
+    return h
+
+
+def _gyrostat_frame(body: RigidBody, axis: Array) -> tuple[Array, Array]:
+    """The platform's principal axes with the rotor ``axis`` third, as the
+    columns of a proper rotation (body axes), and their moments (kg·m²): the
+    other two diagonalise the platform inertia in the plane normal to the axis
+    (whatever frame the body chose within a plane of equal moments)."""
+    inertia = body.platform_inertia
+    plane = np.linalg.svd(axis[None, :])[2][1:].T  # (3, 2) orthonormal, normal to axis
+    moments, turn = np.linalg.eigh(plane.T @ inertia @ plane)
+    first, second = plane @ turn[:, 0], plane @ turn[:, 1]
+    if np.cross(first, second) @ axis < 0.0:
+        second = -second
+    frame = np.column_stack([first, second, axis])
+    return frame, np.array([moments[0], moments[1], float(axis @ inertia @ axis)])
+
+
+def gyrostat_solution(
+    body: RigidBody, omega0: Array, attitude0: Array, times: Array
+) -> tuple[Array, Array, Array]:
+    """The exact torque-free motion of a gyrostat whose rotors, free of motors,
+    lie on one principal axis of the platform
+    (:meth:`tumble.body.RigidBody.gyrostat_axis`): ω (n, 3) and the attitude
+    (n, 4), body axes, and the rotors' values (n, k), at ``times`` (s).
+
+    A symmetric platform about that axis precesses steadily
+    (:func:`symmetric_gyrostat`); otherwise H in the body follows Jacobi
+    elliptic functions (:mod:`tumble.core.gyrostat`), in the platform's
+    principal axes with the rotors' third, and the attitude is written, as for
+    the rigid body, with z-x-z Euler angles about the fixed H:
+    ``cos θ = H3/|H|``, ``tan ψ = H1/H2`` and
+    ``φ̇ = |H| (H1 ω1 + H2 ω2) / (H1² + H2²)``, integrated over one period to
+    round-off by Chebyshev panels (:func:`tumble.core.freebody.panel_series`).
+    """
+    from tumble.core.gyrostat import gyrostat_constants
+
+    axis = body.gyrostat_axis()
+    if axis is None:
+        raise InputError(
+            "Expected a gyrostat for the exact solution (rotors without motors, all on "
+            "one principal axis of the platform), got another body."
+        )
+    if body.symmetric_gyrostat_axis() is not None:
+        return symmetric_gyrostat(body, omega0, attitude0, times)
+    omega0 = np.asarray(omega0, dtype=float)
+    times = np.asarray(times, dtype=float)
+    frame, moments = _gyrostat_frame(body, axis)
+    to_body = Rotation.from_matrix(frame)
+    h = _axial_momentum(body, omega0, axis)
+    w0 = frame.T @ omega0
+    start = Rotation.from_quat(attitude0, scalar_first=True) * to_body
+    rotor_momentum = np.array([0.0, 0.0, h])
+    h0 = moments * w0 + rotor_momentum
+    if h == 0.0:  # the rotors carry no momentum: the platform turns as a rigid body
+        w, q = exact_principal(moments, w0, start.as_quat(scalar_first=True), times)
+        attitude = Rotation.from_quat(q, scalar_first=True)
+    elif np.linalg.norm(np.cross(w0, h0)) <= 1e-14 * np.linalg.norm(w0) * np.linalg.norm(h0):
+        # ω parallel to H: a steady rotation
+        w = np.tile(w0, (times.size, 1))
+        attitude = start * Rotation.from_rotvec(np.outer(times, w0))
+    else:
+        w, attitude = _gyrostat_motion(
+            gyrostat_constants(moments, h, *h0), moments, h, start, times
+        )
+    omega = w @ frame.T
+    quaternion = (attitude * to_body.inv()).as_quat(scalar_first=True)
+    momenta0 = [part.momenta(omega0, part.initial_values(omega0)) for part in body.parts]
+    values = np.concatenate(
+        [
+            part.values_from(omega, np.broadcast_to(m, (len(times), 1)))
+            for part, m in zip(body.parts, momenta0, strict=True)
+        ],
+        axis=1,
+    )
+    return omega, quaternion, values
+
+
+def _gyrostat_motion(
+    constants: Array, moments: Array, h: float, start: Rotation, times: Array
+) -> tuple[Array, Rotation]:
+    """ω (n, 3) and the attitude of the gyrostat of :func:`gyrostat_solution`
+    in the frame of its rotor axis (``start``: that frame's attitude at t = 0)."""
+    from tumble.core.freebody import panel_nodes, panel_series, periodic_integral
+    from tumble.core.gyrostat import gyrostat_momentum, gyrostat_period
+
+    rotor_momentum = np.array([0.0, 0.0, h])
+    momentum = gyrostat_momentum(constants, times)
+    h0 = gyrostat_momentum(constants, np.zeros(1))[0]
+    size = float(np.linalg.norm(h0))
+    period = gyrostat_period(constants)
+    # Panels a quarter wide in the elliptic argument, as for the rigid body.
+    panels = max(8, int(np.ceil(period * abs(constants[8]) / 0.25)))
+    nodes = panel_nodes(period / panels, panels)
+    at_nodes = gyrostat_momentum(constants, nodes)
+    x, y = at_nodes[:, 0], at_nodes[:, 1]
+    rates = size * (x * x / moments[0] + y * y / moments[1]) / (x * x + y * y)
+    phi = periodic_integral(panel_series(rates, period / panels, panels), period, times)
+    theta = np.arctan2(np.hypot(momentum[:, 0], momentum[:, 1]), momentum[:, 2])
+    psi = np.arctan2(momentum[:, 0], momentum[:, 1])
+    initial = Rotation.from_euler(
+        "ZXZ", [0.0, np.arctan2(np.hypot(h0[0], h0[1]), h0[2]), np.arctan2(h0[0], h0[1])]
+    )
+    frame = start * initial.inv()  # space axes with z along H
+    attitude = frame * Rotation.from_euler("ZXZ", np.column_stack([phi, theta, psi]))
+    return (momentum - rotor_momentum) / moments, attitude
