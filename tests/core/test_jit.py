@@ -45,3 +45,44 @@ def test_a_second_process_loads_the_specialised_kernel_from_the_cache(tmp_path: 
 
     assert run() == (0, 1)  # compiled, and saved
     assert run() == (1, 0)  # loaded
+
+
+# Two batch kernels of one factory for bodies carrying parts (two rotors, with
+# and without a damper): identical argument types, different closures. Each of
+# two processes compiles one; a third loads both from the cache and must run
+# each one's own body.
+LAYOUTS = """
+import sys
+import numpy as np
+import tumble as tb
+from tumble.parts import KaneDamper, Rotor
+
+for flag in sys.argv[1:]:
+    parts = [Rotor([1, 0.2, 0], 0.1, speed=30.0), Rotor([0, 0, 1], 0.05, speed=-10.0)]
+    parts += [KaneDamper(0.1, 0.2)] if flag == "damper" else []
+    batch = tb.simulate_batch([[2.0, 3.0, 4.0]], [[0.3, -0.5, 0.8]], duration=0.05, dt=1e-3,
+                              internal=parts)
+    print(*batch.omega[0].tolist(), end=" ")
+"""
+
+
+@pytest.mark.skipif(numba.config.DISABLE_JIT, reason="nothing is compiled without the JIT")
+def test_kernels_compiled_in_separate_processes_keep_their_own_bodies(tmp_path: Path) -> None:
+    # numba names symbols after the qualified name and a per-process counter:
+    # without a name of its own per identity, the third process ran the body
+    # loaded first for both (numba issue #10486), an error of ~1e-3 rad/s.
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), TUMBLE_NUMBA_CACHE="1")
+    script = tmp_path / "layouts.py"
+    script.write_text(LAYOUTS)
+
+    def run(*flags: str) -> list[float]:
+        out = subprocess.run(
+            [sys.executable, str(script), *flags], env=env, capture_output=True, text=True,
+            check=True,
+        ).stdout.split()  # fmt: skip
+        return [float(v) for v in out]
+
+    with_damper = run("damper")
+    without = run("none")
+    assert with_damper != without
+    assert run("none", "damper") == without + with_damper

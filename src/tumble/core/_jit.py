@@ -94,6 +94,13 @@ def specialise(decorator: Any, identity: str) -> Callable[[Any], Any]:
     """
 
     def compile_closure(function: Any) -> Any:
+        # numba names a compiled function's symbols after its qualified name and a
+        # counter of the process that compiled it, so two closures of one factory
+        # compiled in different processes can share symbol names; a process that
+        # loads both from the cache then runs one body for both (numba issue
+        # #10486). A qualified name of its own per identity keeps them apart.
+        tag = hashlib.sha256(identity.encode()).hexdigest()[:16]
+        function.__qualname__ = f"{function.__qualname__}_{tag}"
         dispatcher = decorator(cache=False)(function)
         if CACHE and not numba.config.DISABLE_JIT:  # type: ignore[attr-defined]
             # numba raises RuntimeError when it finds no writable cache location:

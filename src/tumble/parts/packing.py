@@ -21,6 +21,7 @@ __all__ = [
     "from_description",
     "layout_of",
     "pack_parts",
+    "padded_schedule",
     "switch_times",
     "value_columns",
 ]
@@ -116,13 +117,8 @@ def pack_parts(body: Any, layout: tuple[tuple[int, ...], int]) -> Array:
     k = 0
     for part in body.parts:
         if isinstance(part, Rotor):
-            times, torques = part.schedule
-            padded_times = np.full(longest, np.inf)
-            padded_times[: len(times)] = times
-            padded_torques = np.zeros(longest)
-            padded_torques[: len(torques)] = torques
             rows += [*axes[k], part.inertia, part.max_torque, part.max_speed, *allocation[k]]
-            rows += [*padded_times, *padded_torques]
+            rows += padded_schedule(part, longest).tolist()
             k += 1
         elif isinstance(part, SpringMassDamper):
             reduced, rest = part.attached(body.mass_properties).geometry
@@ -132,6 +128,17 @@ def pack_parts(body: Any, layout: tuple[tuple[int, ...], int]) -> Array:
             assert isinstance(part, KaneDamper)
             rows += [part.inertia, part.damping]
     return np.asarray(rows, dtype=float)[:, None]
+
+
+def padded_schedule(rotor: Rotor, longest: int) -> Array:
+    """(2 longest,) a rotor's switch times then its torques, padded to ``longest``
+    entries each (times with inf, torques with 0), as the kernels read them."""
+    times, torques = rotor.schedule
+    padded = np.zeros(2 * longest)
+    padded[:longest] = np.inf
+    padded[: len(times)] = times
+    padded[longest : longest + len(torques)] = torques
+    return padded
 
 
 def switch_times(parts: tuple[InternalPart, ...], end: float) -> Array:

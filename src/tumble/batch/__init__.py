@@ -10,13 +10,14 @@ measures taken while stepping (:mod:`tumble.core.metrics`). Both
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble.batch.parts import PartsBatch
+from tumble.batch.result import BatchResult, Progress
 from tumble.body import ZERO_MOMENT, BodyBatch
 from tumble.core._jit import FINITE
 from tumble.core.metrics import N_METRICS
@@ -24,36 +25,13 @@ from tumble.errors import InputError, IntegrationError
 from tumble.integrators import Integrator, get_integrator
 from tumble.integrators.drivers import PROGRESS_CHUNK
 from tumble.massprops import PHYSICAL_TOLERANCE
+from tumble.parts import check_parts
 from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
 from tumble.units import to_si, vector_to_si
 
 __all__ = ["Batch", "BatchResult", "BatchRun", "measure_batch", "simulate_batch", "step_batch"]
 
 Array = NDArray[np.float64]
-Progress = Callable[[int, int], object] | None
-
-
-@dataclass(frozen=True, eq=False)
-class BatchResult:
-    """Final states of a batch of bodies (and every k-th state if asked).
-
-    Attributes
-    ----------
-    omega : (N, 3) final angular velocities in each body's axes, rad/s.
-    quaternion : (N, 4) final attitudes ``[w, x, y, z]``, body → space.
-    t : (n,) times of the recorded states, s (only the final time when no
-        history was asked for).
-    omega_history, quaternion_history : (n, N, 3) and (n, N, 4), or None.
-    dt : the integration step used, s; ``method``: the integrator.
-    """
-
-    omega: Array
-    quaternion: Array
-    t: Array
-    omega_history: Array | None
-    quaternion_history: Array | None
-    dt: float
-    method: str
 
 
 @dataclass(frozen=True, eq=False)
@@ -196,6 +174,8 @@ def simulate_batch(
     torque: TorqueModel | None = None,
     record_every: int | None = None,
     progress: Progress = None,
+    internal: Any = None,
+    rotor_speed: Any = None,
 ) -> BatchResult:
     """Simulate N free bodies at once, in parallel.
 
@@ -218,6 +198,13 @@ def simulate_batch(
     record_every : None to keep only the final states (memory stays O(N)), or k
         to also keep every k-th state.
     progress : None or ``progress(done, total)`` in steps.
+    internal : Rotor and KaneDamper parts (:mod:`tumble.parts`) that every body
+        carries, as in :func:`tumble.simulate`: ``inertia`` holds them as if
+        locked. Methods ``"rk4"``, and ``"splitting"``/``"strang"`` for rotors;
+        one compiled body per thread.
+    rotor_speed : None (each Rotor's own ``speed``) or (N, k) the k Rotors'
+        initial speeds relative to each body, rad/s (a map over the rotors'
+        momentum, as for the dual-spin condition).
 
     Returns
     -------
@@ -254,9 +241,15 @@ def simulate_batch(
         raise InputError(
             f"Expected `record_every` to be None or an integer >= 1, got {record_every!r}."
         )
-    bound = bind(torque, bodies, bodies=n)
     n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
     step = total_time / n_steps
+    parts = check_parts(internal)
+    if parts:
+        with_parts = PartsBatch.build(values, omega, q0, parts, rotor_speed, method)
+        return with_parts.run(integrator, torque, step, n_steps, record_every, progress)
+    if rotor_speed is not None:
+        raise InputError("Expected `rotor_speed` with Rotor parts in `internal`, got no parts.")
+    bound = bind(torque, bodies, bodies=n)
 
     w = np.ascontiguousarray(bodies.to_principal(omega).T)
     q = np.ascontiguousarray(bodies.attitude_to_principal(q0).T)
@@ -268,7 +261,8 @@ def simulate_batch(
 
     final_w, final_q = to_body(w, q)
     if record_every is None:
-        return BatchResult(final_w, final_q, np.array([total_time]), None, None, step, method)
+        return BatchResult(final_w, final_q, np.array([total_time]), None, None, step, method,
+                           np.zeros((n, 0)))  # fmt: skip
     pairs = [to_body(a, b) for a, b in zip(run.omega_history, run.quaternion_history, strict=True)]
     return BatchResult(
         final_w,
@@ -278,6 +272,7 @@ def simulate_batch(
         np.stack([p[1] for p in pairs]),
         step,
         method,
+        np.zeros((n, 0)),
     )
 
 
