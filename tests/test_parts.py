@@ -203,7 +203,7 @@ def test_the_exact_symmetric_gyrostat_follows_an_independent_integration(moments
 # real roots (s = sn²) with each placement of sn, cn, dn in x and y, and a
 # complex pair (s = cn); the rotor on each principal axis; the platform moment
 # about the rotor equal to another (locked 3.2 less J = 0.2: a root at infinity);
-# a start with H1 = 0; and a motion near the separatrix (m = 0.9999964).
+# a start with H1 = 0; and a motion near a steady spin (m = 3.6e-6).
 GYROSTATS = [
     ((2.0, 3.0, 4.0), (0, 0, 1), (0.2, -0.1, 0.7), 5.0),
     ((2.0, 3.0, 4.0), (1, 0, 0), (0.2, -0.1, 0.7), 5.0),
@@ -279,6 +279,24 @@ def test_the_exact_gyrostat_s_special_motions_follow_an_independent_integration(
     assert np.max(np.abs(run.omega - omega)) < 1e-11
     assert attitude_error(run.quaternion, matrices) < 1e-11
     assert np.max(np.abs(run.rotor_speed[:, 0] - speeds[:, 0])) < 1e-10
+
+
+def test_the_exact_gyrostat_follows_an_independent_integration_near_the_separatrix() -> None:
+    # Rotor on axis 3 with h = 0.1 kg·m²/s: ω = (0, 1, −0.125) rad/s is the
+    # unstable steady spin (ω ∥ H: I2 ω3 = I3 ω3 + h, platform moments 3 and
+    # 3.8). 1e-3 rad/s off it the motion passes 1.5e-6 (in 1 − m) from the
+    # separatrix and swings ω2 through 1.9 rad/s. Against DOP853 over 30 s: the
+    # reference's error grows with the motion's sensitivity to its state, and
+    # the roots' round-off with 1/ε: 3e-11 (measured 9e-12).
+    body = tb.MassProperties(10.0, [0, 0, 0], np.diag([2.0, 3.0, 4.0]))
+    w0, rotor = (1e-3, 1.0, -0.125), ((0, 0, 1), 0.2, 0.625)
+    run = tb.simulate(body, w0, duration=30.0, dt=0.1, internal=[Rotor(*rotor)])
+    assert run.method == "exact" and np.ptp(run.omega[:, 1]) > 1.8
+    omega, matrices, _, _ = gyrostat_reference(
+        body, w0, np.array([1.0, 0, 0, 0]), 30.0, rotors=[(*rotor, lambda t: 0.0)], times=run.t
+    )
+    assert np.max(np.abs(run.omega - omega)) < 3e-11
+    assert attitude_error(run.quaternion, matrices) < 3e-11
 
 
 def test_the_exact_gyrostat_refuses_another_body() -> None:

@@ -48,6 +48,12 @@ Q2 at one interior point, λ by ``ż = k x y`` (``λ = k X Y / (2 det)`` for
 ``s = sn²``, ``−k X Y / det`` for ``s = cn``, ``det = α δ − β γ``), and u0 by
 the signs of x0, y0. z repeats after ``u`` advances by ``2K`` (``s = sn²``)
 or ``4K`` (``s = cn``).
+
+Accuracy: against an independent integration, 1e-11 of |H| away from a
+separatrix. At a distance ε (relative, in ω) from the unstable steady spin the
+roots, formed from the state, lose digits as ε shrinks: measured 9e-12 at
+ε = 1e-3 and 2e-6 at ε = 1e-6 over 30 s (the rigid body's solution carries
+these differences in double-double; this one does not).
 """
 
 from __future__ import annotations
@@ -214,7 +220,14 @@ def _complex_pair(p, q, pair, tag, c1, b1, x0, c2, b2, y0):  # type: ignore[no-u
     alpha, beta = p * big_a - q * big_b, q * big_b + p * big_a
     gamma, delta = big_a - big_b, big_a + big_b
     m = ((q - p) ** 2 - (big_a - big_b) ** 2) / (4.0 * big_a * big_b)
-    mc = ((big_a + big_b) ** 2 - (q - p) ** 2) / (4.0 * big_a * big_b)
+    # mc = ((A + B)² − (q − p)²) / 4AB. Near the separatrix the pair nears the
+    # segment [p, q] (â → 0) and A + B − (q − p) cancels: there it is
+    # â² / (A + q − b̂) + â² / (B + b̂ − p), each term without cancellation.
+    if p < pair.real < q:
+        excess = pair.imag**2 * (1.0 / (big_a + q - pair.real) + 1.0 / (big_b + pair.real - p))
+    else:
+        excess = big_a + big_b - (q - p)
+    mc = excess * (big_a + big_b + q - p) / (4.0 * big_a * big_b)
     powers = np.zeros((2, 3))
     powers[1 - tag, 0] = 1.0  # the real roots' variable: sn
     powers[tag, 2] = 1.0  # the complex pair's: dn
