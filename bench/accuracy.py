@@ -21,9 +21,7 @@ STARTS = ([0.01, 2.0, 0.01], [0.3, 1.0, -0.5], [1.0, 0.2, 0.1])
 
 def main() -> None:
     body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
-    print(
-        f"{'omega0':>20s} {'T s':>6s}  adaptive 1e-10  adaptive 1e-12     rk4 1e-2     rk4 1e-3"
-    )
+    print(f"{'omega0':>20s} {'T s':>6s}  adaptive 1e-10  adaptive 1e-12     rk4 1e-2     rk4 1e-3")
     for omega0 in STARTS:
         for duration in (100.0, 1000.0):
             exact = tb.simulate(body, omega0, duration=duration, dt=duration, method="exact")

@@ -4,8 +4,9 @@ Body-steps per second for N = 1e4, 1e5, 1e6 (Euler's equations + attitude
 quaternion, renormalised each step): tumble.simulate_batch with RK4 (compiled,
 parallel over blocks of 128 bodies, vectorised across the bodies of a block)
 and with the fourth-order splitting (one body per thread at a time), against
-the same RK4 written with numpy arrays over all bodies. All in one run;
-medians of repeats.
+the same RK4 written with numpy arrays over all bodies; and the closed form
+(``method="exact"``, one evaluation a body whatever the duration), as a cost a
+body and the number of RK4 steps it equals. All in one run; medians of repeats.
 
 Peak estimate: RK4 on this state costs about 200 floating-point operations per
 body-step (4 evaluations of ~40 flops, the combination and renormalisation).
@@ -105,6 +106,8 @@ def main() -> None:
         f"{'N':>9s} {'rk4 body-steps/s':>17s} {'splitting':>10s} {'numpy rk4':>10s} "
         f"{'rk4/numpy':>9s} {'split/numpy':>11s} {'rk4 % peak':>10s}"
     )
+    rows = []
+    tb.simulate_batch(np.ones((2, 3)), np.ones((2, 3)), duration=1e-3, dt=1e-3, method="exact")
     for n in (10**4, 10**5, 10**6):
         moments = np.sort(rng.uniform(1.0, 3.0, size=(n, 3)), axis=1)
         moments[:, 2] = np.minimum(moments[:, 2], moments[:, 0] + moments[:, 1])
@@ -131,6 +134,18 @@ def main() -> None:
             f"{n:9d} {a:17.3g} {c:10.3g} {b:10.3g} {a / b:9.1f} {c / b:11.1f} "
             f"{100 * a * FLOP_PER_BODY_STEP / peak:9.1f}%"
         )
+        exact_times = []
+        for _ in range(args.repeat):
+            start = time.perf_counter()
+            tb.simulate_batch(moments, omega, duration=1e3, dt=1e-3, method="exact")
+            exact_times.append(time.perf_counter() - start)
+        per_body = statistics.median(exact_times) / n
+        rows.append((n, per_body, per_body * a))
+    # The closed form's cost does not depend on the duration: one evaluation a
+    # body. It equals this many RK4 steps of the same batch.
+    print(f"{'N':>9s} {'exact µs a body (any duration)':>31s} {'= RK4 steps':>12s}")
+    for n, per_body, steps in rows:
+        print(f"{n:9d} {1e6 * per_body:31.2f} {steps:12.0f}")
 
 
 if __name__ == "__main__":

@@ -117,8 +117,8 @@ def _user_torque(t, omega, quaternion, params, out):
         ({"duration": -1.0}, r"Expected `duration` > 0 s, got -1.0"),
         ({"dt": 0.0}, r"Expected `dt` > 0 s, got 0.0"),
         (
-            {"method": "exact"},
-            r"Expected `method` to be one of splitting, strang, rk4, got 'exact'",
+            {"method": "adaptive"},
+            r"Expected `method` to be one of exact, splitting, strang, rk4, got 'adaptive'",
         ),
         (
             {"torque": tb.torques.Gravity()},
@@ -231,3 +231,53 @@ def test_batch_splitting_reports_divergence() -> None:
             method="splitting",
             torque=tb.torques.ConstantBodyTorque([[0, 0, 0], [1e308, 1e308, 0]]),
         )
+
+
+# ------------------------------------------------------------------ the closed form
+def test_the_exact_batch_equals_separate_exact_simulations() -> None:
+    # Asymmetric, oblate and prolate bodies, a sphere, spins exactly about a
+    # principal axis (the unstable middle one too), and tensors whose axes are
+    # not principal: the same closed form per body, evaluated once at t = 50 s,
+    # agrees with simulate(method="exact") to round-off: the attitude is
+    # composed in compiled code here and by scipy there, 1e-13 after ~50 rad.
+    moments, omega, attitude = random_bodies(40)
+    moments[:4] = [[1.0, 1.0, 2.0], [1.0, 2.0, 2.0], [2.0, 2.0, 2.0], [1.0, 2.0, 3.0]]
+    omega[3:6] = [[0.0, 1.0, 0.0], [0.0, 0.0, 2.0], [0.5, 0.0, 0.0]]
+    turns = Rotation.random(40, random_state=8).as_matrix()
+    tensors = np.einsum("nij,nj,nkj->nik", turns, moments, turns)
+    for inertia in (moments, tensors):
+        batch = tb.simulate_batch(
+            inertia, omega, attitude0=attitude, duration=50.0, dt=0.5, method="exact"
+        )
+        for k in range(40):
+            body = np.diag(inertia[k]) if inertia.ndim == 2 else inertia[k]
+            one = tb.simulate(tb.MassProperties(1.0, [0, 0, 0], body), omega[k],
+                              attitude0=attitude[k], duration=50.0, dt=50.0, method="exact")  # fmt: skip
+            assert_allclose(batch.omega[k], one.omega[-1], rtol=0, atol=1e-13)
+            sign = np.sign(batch.quaternion[k] @ one.quaternion[-1])
+            assert_allclose(sign * batch.quaternion[k], one.quaternion[-1], rtol=0, atol=1e-13)
+
+
+def test_the_exact_batch_records_every_kth_state() -> None:
+    # Recorded every 5 s, each record starting from the one before: the
+    # restarts add round-off, 1e-12 after 10 of them.
+    moments, omega, attitude = random_bodies(20)
+    batch = tb.simulate_batch(moments, omega, attitude0=attitude, duration=50.0, dt=0.5,
+                              method="exact", record_every=10)  # fmt: skip
+    assert_allclose(batch.t, np.linspace(0.0, 50.0, 11))
+    for k in range(20):
+        one = tb.simulate(tb.MassProperties(1.0, [0, 0, 0], np.diag(moments[k])), omega[k],
+                          attitude0=attitude[k], duration=50.0, dt=5.0, method="exact")  # fmt: skip
+        assert_allclose(batch.omega_history[:, k], one.omega, rtol=0, atol=1e-12)
+        dots = np.abs(np.einsum("ni,ni->n", batch.quaternion_history[:, k], one.quaternion))
+        assert np.max(np.abs(dots - 1.0)) < 1e-12
+
+
+def test_the_exact_batch_refuses_a_torque() -> None:
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected torque-free bodies for method 'exact' \(the closed form\), got "
+        r"LinearDamping\(.*\): use 'rk4' or a splitting\.$",
+    ):
+        tb.simulate_batch([[1.0, 2.0, 3.0]], [[0.1, 0.2, 0.3]], duration=1.0, dt=0.1,
+                          method="exact", torque=tb.torques.LinearDamping(0.1))  # fmt: skip

@@ -113,7 +113,8 @@ def step_batch(
         run.quaternion_history.append(batch.q.copy())
     kernel = integrator.kernel("batch", batch.torque)
     torque = batch.torque
-    chunk = record_every or PROGRESS_CHUNK
+    # A closed form jumps to each recorded time (or to the end) in one call.
+    chunk = record_every or (n_steps if integrator.kind == "sampling" else PROGRESS_CHUNK)
     done = 0
     while done < n_steps:
         count = min(chunk, n_steps - done)
@@ -189,7 +190,9 @@ def simulate_batch(
     method : an integrator of the registry with batch kernels
         (:func:`tumble.integrators.batch_integrators`): ``"rk4"`` (vectorised
         across bodies: the fastest per step), ``"splitting"`` or ``"strang"``
-        (as in :func:`tumble.simulate`).
+        (as in :func:`tumble.simulate`), or ``"exact"`` for torque-free
+        bodies (the closed form at each recorded time, O(1) a body whatever
+        the duration; ``dt`` then only sets the recorded times).
     torque : a torque model that batches accept (its class's ``in_batches``:
         constant body and space torques and linear damping), each either one
         value for all bodies or one per body (``ConstantBodyTorque(array (N,
@@ -218,6 +221,10 @@ def simulate_batch(
     n = values.shape[0]
     omega = vector_to_si(omega0, "angular_velocity", "omega0", (n, 3))
     q0 = _attitudes(attitude0, n)
+    if integrator.kind == "sampling" and values.ndim == 2:
+        # The closed form needs the moments ascending: the decomposition of the
+        # diagonal tensors orders them, with axes that make a proper rotation.
+        values = np.einsum("ni,ij->nij", values, np.eye(3))
     bodies = BodyBatch.from_inertia(values)
     _check_moments(bodies.moments)
     total_time = to_si(duration, "time", "duration")
@@ -250,6 +257,11 @@ def simulate_batch(
     if rotor_speed is not None:
         raise InputError("Expected `rotor_speed` with Rotor parts in `internal`, got no parts.")
     bound = bind(torque, bodies, bodies=n)
+    if integrator.torque_free_only and not bound.torque_free:
+        raise InputError(
+            f"Expected torque-free bodies for method {method!r} (the closed form), got "
+            f"{torque!r}: use 'rk4' or a splitting."
+        )
 
     w = np.ascontiguousarray(bodies.to_principal(omega).T)
     q = np.ascontiguousarray(bodies.attitude_to_principal(q0).T)

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from tumble.core._jit import njit
+from tumble.core._jit import njit, njit_parallel, prange, specialise
 from tumble.core.elliptic import (
     dd_add,
     dd_mul,
@@ -237,6 +237,11 @@ def elliptic_rate_and_mc(moments, omega0):  # type: ignore[no-untyped-def]
 #: degree 16 reaches round-off, as the 16-point Gauss–Legendre rule does.
 _CHEB_DEGREE = 16
 
+#: cos(π i k / degree), the discrete cosine transform of the Lobatto samples.
+_CHEB_COSINES = np.cos(
+    np.pi * np.outer(np.arange(_CHEB_DEGREE + 1), np.arange(_CHEB_DEGREE + 1)) / _CHEB_DEGREE
+)
+
 
 @njit
 def panel_nodes(width, panels):  # type: ignore[no-untyped-def]
@@ -269,7 +274,7 @@ def panel_series(rates, width, panels):  # type: ignore[no-untyped-def]
             total = 0.0
             for k in range(n + 1):
                 weight = 0.5 if k == 0 or k == n else 1.0
-                total += weight * rates[j * (n + 1) + k] * math.cos(math.pi * i * k / n)
+                total += weight * rates[j * (n + 1) + k] * _CHEB_COSINES[i, k]
             c[i] = 2.0 * total / n
         c[n] *= 0.5  # the series is c0/2 + Σ c_i T_i with the last term halved
         c[n + 1] = 0.0
@@ -389,3 +394,61 @@ def free_attitude(moments, omega0, frame, times):  # type: ignore[no-untyped-def
         for i in range(4):
             out[n, i] = r[i]
     return w, out
+
+
+@njit
+def advance_exact(moments, w, q, t):  # type: ignore[no-untyped-def]
+    """One torque-free body advanced exactly by ``t`` s: ω (3,) rad/s and the
+    attitude q (4,), principal → space, of the body with ascending principal
+    ``moments`` (kg·m²), replaced in place. A rotation about a principal axis
+    (or of a spherical body) turns q about the constant ω; any other motion is
+    :func:`free_attitude` from the frame whose z axis is along L."""
+    zeros = 0
+    for i in range(3):
+        if w[i] == 0.0:
+            zeros += 1
+    if zeros >= 2 or moments[0] == moments[2]:
+        rate = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+        if rate == 0.0:
+            return
+        half = 0.5 * rate * t
+        scale = math.sin(half) / rate
+        r = multiply(q[0], q[1], q[2], q[3], math.cos(half), w[0] * scale, w[1] * scale,
+                     w[2] * scale)  # fmt: skip
+        norm = math.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3])
+        for i in range(4):
+            q[i] = r[i] / norm
+        return
+    l1, l2, l3 = moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]
+    theta, psi = math.atan2(math.hypot(l1, l2), l3), math.atan2(l1, l2)
+    b0, b1 = math.cos(0.5 * theta), math.sin(0.5 * theta)
+    c0, c3 = math.cos(0.5 * psi), math.sin(0.5 * psi)
+    # The frame with z along L: q ⊗ (qx(θ) ⊗ qz(ψ))⁻¹, where
+    # qx(θ) ⊗ qz(ψ) = (b0 c0, b1 c0, −b1 c3, b0 c3).
+    frame = np.array(multiply(q[0], q[1], q[2], q[3], b0 * c0, -b1 * c0, b1 * c3, -b0 * c3))
+    times = np.array([t])
+    omega, attitude = free_attitude(moments, w.copy(), frame, times)
+    for i in range(3):
+        w[i] = omega[0, i]
+    for i in range(4):
+        q[i] = attitude[0, i]
+
+
+def exact_batch_kernel(torque, identity):  # type: ignore[no-untyped-def]
+    """``batch(w, q, inertia, params, context, t0, dt, n_steps, status)``: N
+    torque-free bodies ((3, N), (4, N), moments (3, N), principal frames)
+    advanced in place exactly by ``n_steps · dt`` s (:func:`advance_exact`), in
+    parallel, O(1) a body whatever the duration. ``torque`` is unused (the
+    bodies are torque-free); ``status`` is left as is."""
+
+    @specialise(njit_parallel, f"freebody.exact_batch|{identity}")
+    def batch(w, q, inertia, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
+        t = dt * n_steps
+        for body in prange(w.shape[1]):
+            one_w = w[:, body].copy()
+            one_q = q[:, body].copy()
+            advance_exact(inertia[:, body].copy(), one_w, one_q, t)
+            w[:, body] = one_w
+            q[:, body] = one_q
+
+    return batch

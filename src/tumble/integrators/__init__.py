@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from functools import partial
 from typing import Any, Literal
 
-from tumble.core import adaptive, splitting, stepping
+from tumble.core import adaptive, freebody, splitting, stepping
 from tumble.core import parts as part_kernels
 from tumble.core.rk4 import rk4_step
 from tumble.errors import InputError
@@ -225,6 +225,7 @@ register_integrator(
         order=0,
         preserves="everything, to round-off",
         run=drivers.run_exact,
+        batch=freebody.exact_batch_kernel,
         torque_free_only=True,
         auto=_exact_when,
         parts=ROTORS,
