@@ -45,6 +45,7 @@ chunk_size = 65536
 [base]
 duration = {duration}
 dt = {dt}
+method = "{method}"
 moment_1 = 1.0
 ratio_3 = 2.0
 spin_axis = 2
@@ -75,15 +76,17 @@ initial_state = {state}
 
 
 def sweep_file(
-    folder: Path, bodies: int, steps: int, state: bool, grid: int, dt: float = 0.005
-) -> Path:
+    folder: Path, bodies: int, steps: int, state: bool, grid: int, dt: float = 0.005,
+    method: str = "rk4",
+) -> Path:  # fmt: skip
     """The flip map with a grid × grid of I2/I1 × perturbation, bodies / grid² random
     azimuths at each point."""
     if bodies < grid * grid:
         grid = round(bodies**0.5)
-    path = folder / f"sweep-{bodies}.toml"
+    path = folder / f"sweep-{bodies}-{method}.toml"
     path.write_text(
         SWEEP.format(
+            method=method,
             samples=max(1, bodies // (grid * grid)),
             grid=grid,
             dt=dt,
@@ -192,10 +195,10 @@ def backends(folder: Path, bodies: int, steps: int) -> None:
         )
 
 
-def big(folder: Path, bodies: int, steps: int) -> dict[str, float]:
+def big(folder: Path, bodies: int, steps: int, method: str = "rk4") -> dict[str, float]:
     """A flip map of ``bodies`` bodies in a child process; its peak RSS."""
-    source = sweep_file(folder, bodies, steps, state=False, grid=1000, dt=0.01)
-    out = folder / f"big-{bodies}"
+    source = sweep_file(folder, bodies, steps, state=False, grid=1000, dt=0.01, method=method)
+    out = folder / f"big-{bodies}-{method}"
     code = (
         "import json, resource, sys, time\n"
         "from tumble.sweep import run_sweep\n"
@@ -235,16 +238,21 @@ def main() -> None:
         if "big" not in args.skip:
             print(f"\nflip map, metrics only, {args.big_steps} steps, each in a fresh process:")
             print(
-                f"  {'bodies':>10s} {'chunks':>6s} {'wall s':>8s} {'body-steps/s':>13s} "
-                f"{'peak RSS MiB':>13s} {'store MiB':>10s} {'flipped':>8s}"
+                f"  {'method':>6s} {'bodies':>10s} {'chunks':>6s} {'wall s':>8s} "
+                f"{'body-steps/s':>13s} {'peak RSS MiB':>13s} {'store MiB':>10s} {'flipped':>8s}"
             )
             for bodies in sorted({args.big // 10, args.big}):
-                r = big(folder, bodies, args.big_steps)
-                print(
-                    f"  {int(r['bodies']):10d} {int(r['chunks']):6d} {r['wall']:8.1f} "
-                    f"{r['rate']:13.3g} {r['peak_mib']:13.0f} {r['store_mib']:10.0f} "
-                    f"{100 * r['flipped']:7.1f}%"
-                )
+                walls = {}
+                # The stepped map, and the same map in closed form (O(1) a body).
+                for method in ("rk4", "exact"):
+                    r = big(folder, bodies, args.big_steps, method)
+                    walls[method] = r["wall"]
+                    print(
+                        f"  {method:>6s} {int(r['bodies']):10d} {int(r['chunks']):6d} "
+                        f"{r['wall']:8.1f} {r['rate']:13.3g} {r['peak_mib']:13.0f} "
+                        f"{r['store_mib']:10.0f} {100 * r['flipped']:7.1f}%"
+                    )
+                print(f"  closed form {walls['rk4'] / walls['exact']:.1f}× faster than RK4")
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
         print(f"\n(this process: peak RSS {peak:.0f} MiB)")
     finally:

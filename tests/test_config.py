@@ -343,6 +343,6 @@ def test_methods_are_read_from_the_integrator_registry() -> None:
     # Files for batches may name only integrators with batch kernels that measure.
     with pytest.raises(
         tb.InputError,
-        match=r"Expected `method` to be one of splitting, strang, rk4, got 'adaptive'\.$",
+        match=r"Expected `method` to be one of exact, splitting, strang, rk4, got 'adaptive'\.$",
     ):
         method_choice("adaptive", batch=True)

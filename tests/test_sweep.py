@@ -122,7 +122,7 @@ def reference(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str,
 
 
 # ------------------------------------------------------------------ oracles
-def flip_sweep(method: str = "rk4") -> Plan:
+def flip_sweep(method: str = "rk4", dt: float = 1e-3) -> Plan:
     # ω tilted from axis 2 towards axis 3 only (azimuth 0), so ω1 = 0 at t = 0: in
     # the Jacobi solution (L² > 2 E I2 there) cn = 0, ω2 is at its extreme, and
     # ω2 first crosses zero after exactly a quarter period.
@@ -132,7 +132,7 @@ def flip_sweep(method: str = "rk4") -> Plan:
         name = "flip"
         [base]
         duration = 12.0
-        dt = 1e-3
+        dt = {dt}
         method = "{method}"
         moment_1 = 1.0
         moment_3 = 2.0
@@ -147,11 +147,12 @@ def flip_sweep(method: str = "rk4") -> Plan:
     )
 
 
-@pytest.mark.parametrize("method", ["rk4", "splitting"])
+@pytest.mark.parametrize("method", ["rk4", "splitting", "exact"])
 def test_first_flip_is_a_quarter_of_the_flip_period(method: str) -> None:
     # Oracle: Landau & Lifshitz §37 via tb.theory.flip_period; flips then follow every
-    # half period (12 s spans 2 to 7 of them here). RK4 and the splitting at dt = 1e-3 s (1000 steps a turn) keep the
-    # phase to ~1e-10, and the linear interpolation at a zero of sn errs by O(dt³).
+    # half period (12 s spans 2 to 7 of them here). RK4 and the splitting at dt = 1e-3 s
+    # (1000 steps a turn) keep the phase to ~1e-10, and the linear interpolation at a
+    # zero of sn errs by O(dt³); the closed form counts the zeros of sn itself.
     plan = flip_sweep(method)
     result = compute_chunk(plan, 0)
     bodies = plan.bodies(plan.chunk_parameters(0))
@@ -168,20 +169,23 @@ def test_first_flip_is_a_quarter_of_the_flip_period(method: str) -> None:
         assert result["metrics/max_nutation"][k] == pytest.approx(math.pi - start, abs=1e-6)
 
 
-def test_largest_nutation_of_a_stable_spin_matches_the_closed_form() -> None:
+@pytest.mark.parametrize("method", ["rk4", "exact"])
+def test_largest_nutation_of_a_stable_spin_matches_the_closed_form(method: str) -> None:
     # Spun near the largest axis 3: L and E conserved, the angle between axis 3 and L
     # is largest where ω3 is smallest, which is where ω1 = 0 (cn = 0 in the Jacobi
     # solution): there I2 ω2² + I3 ω3² = 2E and I2² ω2² + I3² ω3² = L², so
     # cos θ_max = I3 ω3 / |L| = sqrt(I3 (L² − 2 E I2) / (I3 − I2)) / |L|.
     # Sampled every step (dt = 1e-3 s), the maximum of a smooth angle is missed by
-    # at most ½ θ'' (dt/2)², below 1e-6 rad here.
+    # at most ½ θ'' (dt/2)², below 1e-6 rad here; the closed form takes the
+    # extremum of the Jacobi function itself.
     plan = parse_sweep(
-        """
+        f"""
         [sweep]
         name = "nutation"
         [base]
         duration = 8.0
         dt = 1e-3
+        method = "{method}"
         moment_1 = 1.0
         moment_2 = 1.5
         moment_3 = 2.0
@@ -206,6 +210,29 @@ def test_largest_nutation_of_a_stable_spin_matches_the_closed_form() -> None:
         assert result["metrics/max_nutation"][k] == pytest.approx(expected, abs=1e-6)
         assert result["metrics/flips"][k] == 0
         assert math.isnan(result["metrics/first_flip_time"][k])
+
+
+def test_the_closed_form_metrics_need_no_fine_step() -> None:
+    # The flip sweep in closed form at dt = 1e-3 s and at dt = 3 s (longer than
+    # a turn; for the closed form it only sets the final time): the same
+    # counts, first flips and nutation, to round-off, and no drift at all.
+    fine = compute_chunk(flip_sweep("exact"), 0)
+    coarse = compute_chunk(flip_sweep("exact", dt=3.0), 0)
+    assert_allclose(coarse["metrics/flips"], fine["metrics/flips"])
+    assert_allclose(coarse["metrics/first_flip_time"], fine["metrics/first_flip_time"], rtol=1e-12)
+    assert_allclose(coarse["metrics/max_nutation"], fine["metrics/max_nutation"], atol=1e-12)
+    assert np.all(fine["metrics/energy_drift"] == 0.0)
+    assert np.all(fine["metrics/momentum_drift"] == 0.0)
+
+
+def test_the_closed_form_refuses_a_sweep_with_torques() -> None:
+    plan = parse_sweep(sweep_text(SMALL, **{"moment_1 = 1.0": 'moment_1 = 1.0\nmethod = "exact"'}))
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected torque-free bodies for method 'exact' \(the closed form\), got a "
+        r"torque: use 'rk4' or a splitting\.$",
+    ):
+        compute_chunk(plan, 0)
 
 
 def test_symmetric_top_nutation_is_constant_and_exact_with_splitting() -> None:
@@ -556,7 +583,7 @@ def test_unknown_builtin_is_refused() -> None:
         ),
         (
             {"dt = 0.01": 'dt = 0.01\nmethod = "euler"'},
-            r"line 11, `base.method`: Expected `method` to be one of splitting, strang, rk4, got 'euler'.",
+            r"line 11, `base.method`: Expected `method` to be one of exact, splitting, strang, rk4, got 'euler'.",
         ),
         (
             {"spin_axis = 2": "spin_axis = 4"},

@@ -180,3 +180,42 @@ def test_a_million_periods_later_omega_is_still_exact() -> None:
     )  # fmt: skip
     got = free_omega(np.array([1.0, 2.0, 3.0]), np.array([0.01, 2.0, 0.01]), np.array([t]))[0]
     assert np.max(np.abs(got - expected)) < 1e-15 * np.linalg.norm(expected)
+
+
+def test_the_closed_form_metrics_count_what_dense_samples_of_omega_show() -> None:
+    # free_metrics reads the flips, the first flip and the largest nutation off
+    # the lattice of zeros and extrema of ω's Jacobi functions. Against ω from
+    # free_omega sampled densely (5e3 points): the same number of sign changes
+    # of ω_j, the first one within a sample (duration / 5e3), and the least
+    # I_j ω_j / |L| within what samples can miss of a minimum (½ f'' h², with
+    # |f''| ≲ |ω|² ≲ 4 s⁻² and h ≤ 6 ms: 1e-4). Bodies on both sides of the separatrix (the relabelled side runs
+    # λ < 0), every nominal axis and both signs of it.
+    from tumble.core.freebody import free_metrics
+
+    rng = np.random.default_rng(4)
+    checked = 0
+    for moments in [*BODIES[:2], (0.5, 1.7, 2.0)]:
+        for omega in OMEGAS:
+            for j in range(3):
+                for sign in (1.0, -1.0):
+                    moments_a = np.asarray(moments, dtype=float)
+                    omega_a = np.asarray(omega, dtype=float)
+                    duration = float(rng.uniform(5.0, 30.0))
+                    axis = np.zeros(3)
+                    axis[j] = sign
+                    flips, first, least, _, _ = free_metrics(moments_a, omega_a, axis, duration)
+                    times = np.linspace(0.0, duration, 5001)
+                    w = free_omega(moments_a, omega_a, times)
+                    along = sign * w[:, j]
+                    changes = np.flatnonzero(along[:-1] * along[1:] < 0)
+                    assert flips == len(changes)
+                    if len(changes):
+                        assert abs(first - times[changes[0]]) <= duration / 5e3
+                    else:
+                        assert math.isinf(first)
+                    size = np.linalg.norm(moments_a * omega_a)
+                    sampled = np.min(sign * moments_a[j] * w[:, j] / size)
+                    assert least <= sampled + 1e-12
+                    assert sampled - least < 1e-4
+                    checked += 1
+    assert checked == 3 * len(OMEGAS) * 6

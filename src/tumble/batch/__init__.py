@@ -142,12 +142,15 @@ def measure_batch(
     *,
     first_body: int = 0,
     where: str = "",
+    final_state: bool = True,
 ) -> Array:
     """Advance a batch in place by ``n_steps`` steps of ``dt`` s, measuring each
     body about its nominal axis ``axis`` (3, N) after every step: the measures
     (``N_METRICS``, N) of :mod:`tumble.core.metrics`. One call of the
     integrator's metrics kernel: the measures keep running extremes and the
-    first flip in registers, not in arrays.
+    first flip in registers, not in arrays. A closed form (``"exact"``)
+    measures without stepping, and advances the states only if
+    ``final_state`` (they are needed).
 
     Raises
     ------
@@ -158,8 +161,33 @@ def measure_batch(
     metrics = np.empty((N_METRICS, len(batch)))
     kernel = integrator.kernel("metrics", batch.torque)
     torque = batch.torque
-    kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, axis, 0.0, dt, n_steps,
-           metrics, status)  # fmt: skip
+    if integrator.torque_free_only and not torque.torque_free:
+        raise InputError(
+            f"Expected torque-free bodies for method {integrator.name!r} (the closed form), "
+            "got a torque: use 'rk4' or a splitting."
+        )
+    if integrator.kind == "sampling":
+        # The closed form needs the moments ascending: where they are not, the
+        # principal frames of the diagonal tensors order them (a proper
+        # relabelling of the axes).
+        ordered = bool(np.all(np.diff(batch.inertia, axis=0) >= 0.0))
+        bodies = BodyBatch(batch.inertia.T.copy()) if ordered else BodyBatch.from_inertia(
+            np.einsum("in,ij->nij", batch.inertia, np.eye(3))
+        )  # fmt: skip
+        w = np.ascontiguousarray(bodies.to_principal(batch.w.T).T)
+        turned = np.ascontiguousarray(bodies.to_principal(axis.T).T)
+        moments = np.ascontiguousarray(bodies.moments.T)
+        kernel(w, batch.q, moments, torque.params, torque.context, turned, 0.0, dt, n_steps,
+               metrics, status)  # fmt: skip
+        if final_state:  # the measures leave the states; the closed form advances them
+            q = np.ascontiguousarray(bodies.attitude_to_principal(batch.q.T).T)
+            advance = integrator.kernel("batch", torque)
+            advance(w, q, moments, torque.params, torque.context, 0.0, dt, n_steps, status)
+            batch.w[:] = bodies.from_principal(w.T).T
+            batch.q[:] = bodies.attitude_from_principal(q.T).T
+    else:
+        kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, axis, 0.0, dt,
+               n_steps, metrics, status)  # fmt: skip
     batch.check_finite(status, dt, first_body, where)
     return metrics
 

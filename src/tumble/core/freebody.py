@@ -452,3 +452,157 @@ def exact_batch_kernel(torque, identity):  # type: ignore[no-untyped-def]
             q[:, body] = one_q
 
     return batch
+
+
+@njit
+def free_components(moments, omega0):  # type: ignore[no-untyped-def]
+    """The closed form of :func:`free_omega` as data: ω_j(t) = c_j f_j(λ t + u0),
+    with f_j sn, cn or dn. Returns the kinds (3,) (0: cn, 1: sn, 2: dn), the
+    signed amplitudes c (3,) rad/s, λ (signed, 1/s), u0, and mc = 1 − m. Not
+    for a rotation exactly about a principal axis or a spherical body."""
+    i1, i2, i3 = moments[0], moments[1], moments[2]
+    w1, w2, w3 = omega0[0], omega0[1], omega0[2]
+    kinds = np.empty(3, dtype=np.int64)
+    amplitudes = np.empty(3)
+    middle = i1 * w1 * w1 * (i1 - i2) + i3 * w3 * w3 * (i3 - i2)
+    ascending = middle >= 0.0 and i3 > i2
+    if not ascending:  # the relabelled body (I3, I2, I1) with (ω3, −ω2, ω1), as in free_omega
+        i1, i3 = i3, i1
+        w1, w2, w3 = w3, -w2, w1
+    p1, p2, p3 = i1 * w1 * w1, i2 * w2 * w2, i3 * w3 * w3
+    upper = p1 * (i3 - i1) + p2 * (i3 - i2)
+    lower = p2 * (i2 - i1) + p3 * (i3 - i1)
+    middle = p1 * (i1 - i2) + p3 * (i3 - i2)
+    a1 = math.sqrt(upper / (i1 * (i3 - i1)))
+    a2 = math.sqrt(upper / (i2 * (i3 - i2)))
+    a3 = math.sqrt(lower / (i3 * (i3 - i1)))
+    denominator = (i3 - i2) * lower
+    m = (i2 - i1) * upper / denominator
+    mc = (i3 - i1) * middle / denominator
+    s = 1.0 if w3 >= 0.0 else -1.0
+    sn0 = w2 / a2 if a2 > 0.0 else 0.0
+    cn0 = s * w1 / a1 if a1 > 0.0 else 1.0
+    phase = incomplete_first_kind(math.atan2(sn0, cn0), m, mc)
+    rate = math.sqrt((i3 - i2) * lower / (i1 * i2 * i3))
+    if ascending:
+        kinds[0], kinds[1], kinds[2] = 0, 1, 2
+        amplitudes[0], amplitudes[1], amplitudes[2] = s * a1, a2, s * a3
+    else:
+        kinds[0], kinds[1], kinds[2] = 2, 1, 0
+        amplitudes[0], amplitudes[1], amplitudes[2] = s * a3, -a2, s * a1
+        rate = -rate
+    return kinds, amplitudes, rate, phase, mc
+
+
+@njit
+def _jacobi(kind, u, mc):  # type: ignore[no-untyped-def]
+    sn, cn, dn = ellipj_mc(u, mc)
+    return cn if kind == 0 else (sn if kind == 1 else dn)
+
+
+@njit
+def _lattice_in(first, period, lo, hi):  # type: ignore[no-untyped-def]
+    """How many of the points first + n·period lie strictly inside (lo, hi)."""
+    if not math.isfinite(period):
+        return 1 if lo < first < hi else 0
+    return max(0, math.ceil((hi - first) / period) - math.floor((lo - first) / period) - 1)
+
+
+@njit
+def _extreme(kind, lo, hi, mc, quarter, lowest):  # type: ignore[no-untyped-def]
+    """The least (``lowest``) or greatest value of cn, sn or dn on [lo, hi]:
+    the extremum where the window holds one of its points, else an end (the
+    functions are monotone between consecutive extrema). ``quarter`` is K (inf
+    on the separatrix, where cn = dn = sech and sn = tanh)."""
+    # Where each function reaches its maxima and minima, and their values.
+    if kind == 0:
+        top, bottom, at_top, at_bottom, period = 1.0, -1.0, 0.0, 2.0 * quarter, 4.0 * quarter
+    elif kind == 1:
+        top, bottom, at_top, at_bottom, period = 1.0, -1.0, quarter, 3.0 * quarter, 4.0 * quarter
+    else:
+        top, bottom, at_top, at_bottom, period = (
+            1.0, math.sqrt(mc), 0.0, quarter, 2.0 * quarter
+        )  # fmt: skip
+    if not math.isfinite(quarter):  # sech has its maximum at 0 only; tanh none
+        period = math.inf
+        at_top = 0.0 if kind != 1 else math.inf
+        at_bottom = math.inf
+    target, where = (bottom, at_bottom) if lowest else (top, at_top)
+    if math.isfinite(where) and _lattice_in(where, period, lo, hi) > 0:
+        return target  # (an extremum exactly at an end is that end's value)
+    ends = (_jacobi(kind, lo, mc), _jacobi(kind, hi, mc))
+    return min(ends) if lowest else max(ends)
+
+
+@njit
+def free_metrics(moments, omega0, axis, duration):  # type: ignore[no-untyped-def]
+    """The sweep's measures of :mod:`tumble.core.metrics` over [0, ``duration``]
+    (s), in closed form: (flips, first flip time, least a·L/|L|, 0, 0) for the
+    nominal ``axis`` a, a principal axis (a unit vector, ascending principal
+    ``moments``, ω0 in the principal frame). With ω_j = c_j f_j(λ t + u0):
+    the flips are the zeros of f_j in the open window of u (cn at K + 2nK, sn
+    at 2nK, dn none), the first flip the first of them, and the largest
+    nutation the extremum of c_j f_j on the window; energy and |L| are kept
+    exactly."""
+    j = 0
+    for i in range(3):
+        if abs(axis[i]) > abs(axis[j]):
+            j = i
+    sign = 1.0 if axis[j] > 0.0 else -1.0
+    size = math.sqrt(
+        (moments[0] * omega0[0]) ** 2 + (moments[1] * omega0[1]) ** 2
+        + (moments[2] * omega0[2]) ** 2
+    )  # fmt: skip
+    zeros = 0
+    for i in range(3):
+        if omega0[i] == 0.0:
+            zeros += 1
+    if size == 0.0:
+        return 0.0, math.inf, 1.0, 0.0, 0.0
+    if zeros >= 2 or moments[0] == moments[2]:  # ω constant
+        return 0.0, math.inf, sign * moments[j] * omega0[j] / size, 0.0, 0.0
+    kinds, amplitudes, rate, phase, mc = free_components(moments, omega0)
+    kind = kinds[j]
+    amplitude = sign * amplitudes[j]
+    quarter = ellipk_mc(mc) if mc > 0.0 else math.inf
+    end = phase + rate * duration
+    lo, hi = min(phase, end), max(phase, end)
+    flips = 0.0
+    first = math.inf
+    if kind != 2:
+        # Zeros: cn at K + 2nK, sn at 2nK (sn at 0 only on the separatrix).
+        zero = quarter if kind == 0 else 0.0
+        period = 2.0 * quarter
+        if kind == 0 and not math.isfinite(quarter):
+            zero = math.inf
+        if math.isfinite(zero):
+            flips = float(_lattice_in(zero, period, lo, hi))
+            if flips > 0.0:
+                if math.isfinite(period):
+                    steps = (phase - zero) / period
+                    n = math.floor(steps) + 1 if rate > 0.0 else math.ceil(steps) - 1
+                    first = (zero + n * period - phase) / rate
+                else:
+                    first = (zero - phase) / rate
+    least = _extreme(kind, lo, hi, mc, quarter, amplitude > 0.0)
+    return flips, first, moments[j] * amplitude * least / size, 0.0, 0.0
+
+
+def exact_metrics_kernel(torque, identity):  # type: ignore[no-untyped-def]
+    """``batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status)``:
+    the measures of :mod:`tumble.core.metrics` of N torque-free bodies over
+    ``n_steps · dt`` s in closed form (:func:`free_metrics`), in parallel.
+    Unlike the stepping kernels it leaves the states as they are (the caller
+    advances them with :func:`exact_batch_kernel` when it keeps them). Moments
+    ascending, nominal axes principal axes (unit vectors, principal frames)."""
+
+    @specialise(njit_parallel, f"freebody.exact_metrics|{identity}")
+    def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
+        t = dt * n_steps
+        for body in prange(w.shape[1]):
+            values = free_metrics(inertia[:, body].copy(), w[:, body].copy(),
+                                  axis[:, body].copy(), t)  # fmt: skip
+            for row in range(5):
+                out[row, body] = values[row]
+
+    return batch

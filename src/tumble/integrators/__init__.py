@@ -226,6 +226,7 @@ register_integrator(
         preserves="everything, to round-off",
         run=drivers.run_exact,
         batch=freebody.exact_batch_kernel,
+        metrics=freebody.exact_metrics_kernel,
         torque_free_only=True,
         auto=_exact_when,
         parts=ROTORS,

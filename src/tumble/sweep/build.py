@@ -17,6 +17,7 @@ import numpy as np
 
 from tumble.config import validate_toml, where
 from tumble.errors import InputError
+from tumble.integrators import INTEGRATORS
 from tumble.sweep.plan import (
     DISTRIBUTIONS,
     PARAMETERS,
@@ -150,7 +151,8 @@ class PlanBuilder:
         if not dt > 0:
             raise self.fail(("base", "dt"), f"Expected `dt` > 0 s, got {dt!r}.")
         n_steps = max(1, math.ceil(duration / dt * (1 - 1e-12)))
-        self.warn_coarse(ranges, duration / n_steps)
+        if INTEGRATORS[base.method].kind != "sampling":  # a closed form takes no steps
+            self.warn_coarse(ranges, duration / n_steps)
 
         maps = self.maps(tuple(spec.vary), tuple(spec.outputs.metrics))
         scheduler = spec.dask.scheduler

@@ -91,7 +91,7 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
     with _KERNEL_LOCK:
         out = measure_batch(
             integrator, batch, plan.dt, plan.n_steps, bodies.axis, first_body=start,
-            where=f"of chunk {index}",
+            where=f"of chunk {index}", final_state=plan.final_state,
         )  # fmt: skip
 
     result: dict[str, NDArray[np.generic]] = {}
