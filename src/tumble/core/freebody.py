@@ -105,12 +105,11 @@ def _rate_and_mc_double_double(i1, i2, i3, w1, w2, w3):  # type: ignore[no-untyp
     return rate[0], rate[1], mc[0], mc[1]
 
 
-@njit
-def _solve_side(i1, i2, i3, w1, w2, w3, times, out, k1, k2, k3, flip2, direction):  # type: ignore[no-untyped-def]
-    """ω(t) on the side L² ≥ 2 E I2 of the body (i1, i2, i3); writes component a
-    to ``out[:, k_a]``, with ω2 negated if ``flip2``. ``direction`` is +1 for
-    ascending moments and −1 for descending ones (the relabelled body), whose
-    signed differences reverse the sense of the motion along the solution."""
+@njit(inline="always")
+def _side_constants(i1, i2, i3, w1, w2, w3):  # type: ignore[no-untyped-def]
+    """The amplitudes A1, A2, A3, the sign s of ω3, mc, the phase u0 and
+    L² − 2EI1 on the side L² ≥ 2 E I2 of the body (i1, i2, i3) (the module
+    docstring's formulas, each difference formed from the components)."""
     p1 = i1 * w1 * w1
     p2 = i2 * w2 * w2
     p3 = i3 * w3 * w3
@@ -127,6 +126,16 @@ def _solve_side(i1, i2, i3, w1, w2, w3, times, out, k1, k2, k3, flip2, direction
     sn0 = w2 / a2 if a2 > 0.0 else 0.0
     cn0 = s * w1 / a1 if a1 > 0.0 else 1.0
     phase = incomplete_first_kind(math.atan2(sn0, cn0), m, mc)
+    return a1, a2, a3, s, mc, phase, lower
+
+
+@njit
+def _solve_side(i1, i2, i3, w1, w2, w3, times, out, k1, k2, k3, flip2, direction):  # type: ignore[no-untyped-def]
+    """ω(t) on the side L² ≥ 2 E I2 of the body (i1, i2, i3); writes component a
+    to ``out[:, k_a]``, with ω2 negated if ``flip2``. ``direction`` is +1 for
+    ascending moments and −1 for descending ones (the relabelled body), whose
+    signed differences reverse the sense of the motion along the solution."""
+    a1, a2, a3, s, mc, phase, _ = _side_constants(i1, i2, i3, w1, w2, w3)
     rate_hi, rate_lo, mc_hi, mc_lo = _rate_and_mc_double_double(i1, i2, i3, w1, w2, w3)
     table = jacobi_table(mc_hi, mc_lo) if mc > 0.0 else np.zeros(1)
     rate_hi *= direction
@@ -469,20 +478,7 @@ def free_components(moments, omega0):  # type: ignore[no-untyped-def]
     if not ascending:  # the relabelled body (I3, I2, I1) with (ω3, −ω2, ω1), as in free_omega
         i1, i3 = i3, i1
         w1, w2, w3 = w3, -w2, w1
-    p1, p2, p3 = i1 * w1 * w1, i2 * w2 * w2, i3 * w3 * w3
-    upper = p1 * (i3 - i1) + p2 * (i3 - i2)
-    lower = p2 * (i2 - i1) + p3 * (i3 - i1)
-    middle = p1 * (i1 - i2) + p3 * (i3 - i2)
-    a1 = math.sqrt(upper / (i1 * (i3 - i1)))
-    a2 = math.sqrt(upper / (i2 * (i3 - i2)))
-    a3 = math.sqrt(lower / (i3 * (i3 - i1)))
-    denominator = (i3 - i2) * lower
-    m = (i2 - i1) * upper / denominator
-    mc = (i3 - i1) * middle / denominator
-    s = 1.0 if w3 >= 0.0 else -1.0
-    sn0 = w2 / a2 if a2 > 0.0 else 0.0
-    cn0 = s * w1 / a1 if a1 > 0.0 else 1.0
-    phase = incomplete_first_kind(math.atan2(sn0, cn0), m, mc)
+    a1, a2, a3, s, mc, phase, lower = _side_constants(i1, i2, i3, w1, w2, w3)
     rate = math.sqrt((i3 - i2) * lower / (i1 * i2 * i3))
     if ascending:
         kinds[0], kinds[1], kinds[2] = 0, 1, 2
