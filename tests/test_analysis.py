@@ -540,3 +540,64 @@ SPHERE = tb.shapes.solid_sphere(1.0, 0.1)
 def test_bad_input_is_refused(call, message: str) -> None:
     with pytest.raises(tb.InputError, match=message):
         call()
+
+
+# ------------------------------------------------------------------ the Poinsot construction
+def test_omega_stays_on_the_invariable_plane_of_an_exact_run() -> None:
+    # Poinsot: ω · L̂ = 2T/|L| at every instant of torque-free motion (the
+    # contact point of the rolling inertia ellipsoid). Along the closed form
+    # over 50 s (several flips) it holds to round-off: 1e-14 of 2T/|L|.
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    run = tb.simulate(body, [0.3, 1.0, 0.2], duration=50.0, dt=0.01)
+    assert run.method == "exact"
+    plane = tb.analysis.herpolhode(run)
+    assert np.max(np.abs(plane.omega_space @ plane.normal - plane.height)) < 1e-14 * plane.height
+    frame = np.column_stack([plane.plane_axes, plane.normal])
+    np.testing.assert_allclose(frame.T @ frame, np.eye(3), atol=1e-15)
+    assert np.linalg.det(frame) > 0.0
+
+
+def test_the_herpolhode_of_a_symmetric_body_is_a_circle_of_the_radius_theory_gives() -> None:
+    # A symmetric body (A, A, C): ω = (|L|/A) L̂ − λ e with λ = (C − A) ω3 / A and
+    # e the symmetry axis precessing about L̂, so ω's part in the plane has the
+    # constant length |λ| sin θ = |C − A| |ω3| |ω⊥| / |L| (sin θ = A |ω⊥| / |L|).
+    # Along the closed form: 1e-13 of it.
+    a, c = 2.0, 3.0
+    w0 = np.array([0.3, 0.4, 1.2])
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([a, a, c]))
+    plane = tb.analysis.herpolhode(tb.simulate(body, w0, duration=20.0, dt=0.01))
+    momentum = np.linalg.norm([a * w0[0], a * w0[1], c * w0[2]])
+    radius = abs(c - a) * abs(w0[2]) * np.hypot(w0[0], w0[1]) / momentum
+    np.testing.assert_allclose(np.linalg.norm(plane.in_plane, axis=1), radius, rtol=1e-13)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        (
+            {"torque": tb.torques.LinearDamping(0.1)},
+            r"^Expected a torque-free rigid body for the Poinsot construction \(energy and the "
+            r"angular momentum vector conserved, no internal parts\), got a motion with "
+            r"conserved \[\]\.$",
+        ),
+        (
+            {"internal": [tb.Rotor([0, 0, 1], 0.1, speed=5.0)]},
+            r"got a motion with internal parts\.$",
+        ),
+    ],
+)
+def test_the_poinsot_construction_refuses_motions_without_a_fixed_plane(kwargs, message) -> None:
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    run = tb.simulate(body, [0.3, 1.0, 0.2], duration=1.0, dt=0.01, **kwargs)
+    with pytest.raises(tb.InputError, match=message):
+        tb.analysis.herpolhode(run)
+
+
+def test_the_poinsot_construction_refuses_a_body_at_rest() -> None:
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    run = tb.simulate(body, [0.0, 0.0, 0.0], duration=1.0, dt=0.1)
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected a body that turns for the Poinsot construction, got L = 0\.$",
+    ):
+        tb.analysis.herpolhode(run)

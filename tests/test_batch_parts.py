@@ -120,6 +120,11 @@ def test_a_batch_with_a_damper_keeps_each_body_s_momentum_and_loses_energy() -> 
             r"rotor_speed",
         ),
         (
+            {"internal": rotors(), "method": "exact"},
+            r"^Expected a method that integrates batches carrying rotor parts \(splitting, "
+            r"strang, rk4\), got 'exact'\.$",
+        ),
+        (
             {"internal": [KaneDamper(0.1, 0.1)], "method": "splitting"},
             r"^Expected a method that integrates batches carrying kane-damper parts \(rk4\), "
             r"got 'splitting'\.$",

@@ -187,6 +187,17 @@ def test_plot_and_view(tmp_path: Path) -> None:
     # The ω figure shows the three body components (and |ω|).
     lines = figures["omega"].axes[0].get_lines()
     assert_allclose(lines[1].get_ydata(), traj.omega[:, 1])
+    # Torque-free: the herpolhode beside the polhode, the curve ω draws on the
+    # invariable plane (tumble.analysis.herpolhode); under a torque, the polhode alone.
+    polhode_axes = figures["polhode"].axes
+    assert len(polhode_axes) == 2
+    plane = tb.analysis.herpolhode(traj)
+    drawn = polhode_axes[1].get_lines()[0]
+    assert_allclose(drawn.get_xdata(), plane.in_plane[:, 0])
+    assert_allclose(drawn.get_ydata(), plane.in_plane[:, 1])
+    damped = tb.simulate(tb.shapes.box(1, [1, 2, 3]), [0.1, 1, 0.1], duration=1.0, dt=1e-2,
+                         torque=tb.torques.LinearDamping(0.01))  # fmt: skip
+    assert len(damped.plot()["polhode"].axes) == 1
     viewer = traj.view(frames=50)
     assert "srcdoc=" in viewer._repr_html_()
     saved = viewer.save(tmp_path / "v.html")

@@ -13,6 +13,8 @@ depends as little as possible on the sampling interval, and says how:
   (the tennis-racket flips), by linear interpolation between samples.
 * :func:`polhode` — L in the principal axes with the energy ellipsoid and the
   momentum sphere it lies on.
+* :func:`herpolhode` — ω in space on the invariable plane (the Poinsot
+  construction: the inertia ellipsoid rolling on that plane).
 * :func:`body_precession_rate` — the rate at which ω turns about a body axis.
 * :func:`drift` — the relative drift of the conserved quantities.
 * :func:`pointing_error` — the angle of the attitude from a target.
@@ -40,7 +42,7 @@ from tumble.analysis.angles import (
     precession,
 )
 from tumble.analysis.common import STEADY_SWING
-from tumble.analysis.motion import Flips, Polhode, drift, flips, polhode
+from tumble.analysis.motion import Flips, Herpolhode, Polhode, drift, flips, herpolhode, polhode
 from tumble.analysis.spacecraft import (
     exponential_rate,
     orbit_deviation,
@@ -51,6 +53,7 @@ from tumble.analysis.spacecraft import (
 __all__ = [
     "STEADY_SWING",
     "Flips",
+    "Herpolhode",
     "Nutation",
     "Polhode",
     "Precession",
@@ -58,6 +61,7 @@ __all__ = [
     "drift",
     "exponential_rate",
     "flips",
+    "herpolhode",
     "nutation",
     "orbit_deviation",
     "oscillation_frequency",

@@ -1,4 +1,5 @@
-"""Flips of a tumbling body, its polhode, the drift of what its motion conserves."""
+"""Flips of a tumbling body, its polhode and herpolhode (the Poinsot
+construction), the drift of what its motion conserves."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ from tumble.analysis.common import as_trajectory
 from tumble.errors import InputError
 from tumble.trajectory import Trajectory
 
-__all__ = ["Flips", "Polhode", "drift", "flips", "polhode"]
+__all__ = ["Flips", "Herpolhode", "Polhode", "drift", "flips", "herpolhode", "polhode"]
 
 Array = NDArray[np.float64]
 
@@ -129,6 +130,70 @@ def polhode(trajectory: Trajectory) -> Polhode:
         axes=axes,
         energy_ellipsoid=np.sqrt(2.0 * energy * moments),
         momentum_sphere=float(np.linalg.norm(momentum[0])),
+    )
+
+
+@dataclass(frozen=True, eq=False)
+class Herpolhode:
+    """The herpolhode: ω in space on the invariable plane (see :func:`herpolhode`).
+
+    Attributes
+    ----------
+    omega_space : (n, 3) ω in space coordinates, rad/s.
+    normal : (3,) the unit vector of the fixed L, space coordinates.
+    height : 2 T / |L|, rad/s: the distance of the invariable plane from the
+        body's fixed point, the same for every sample (``ω · normal``).
+    plane_axes : (3, 2) two unit vectors spanning the plane, space coordinates
+        (with ``normal`` a right-handed frame).
+    in_plane : (n, 2) ω's coordinates along ``plane_axes``, rad/s: the curve
+        the contact point traces on the plane.
+    """
+
+    omega_space: Array
+    normal: Array
+    height: float
+    plane_axes: Array
+    in_plane: Array
+
+
+def herpolhode(trajectory: Trajectory) -> Herpolhode:
+    """ω in space on the invariable plane: the Poinsot construction.
+
+    In torque-free motion the inertia ellipsoid ``ω · I ω = 2T`` rolls without
+    slipping on the plane normal to the fixed L at the distance ``2T / |L|``
+    from the fixed point; the contact point is ω itself, so ω·L̂ = 2T/|L| at
+    every instant (Landau & Lifshitz, *Mechanics*, §37; Goldstein §5.6). The
+    curve ω traces on the body is the polhode (:func:`polhode`), the one on
+    the plane the herpolhode. L̂ and T are taken at t = 0.
+
+    Raises
+    ------
+    InputError
+        A motion that does not keep its energy and its angular momentum vector
+        (a torque, gravity about a pivot, internal parts): no fixed plane.
+    """
+    traj = as_trajectory(trajectory)
+    kept = set(traj.conserved_quantities)
+    if traj.internal or not {"energy", "angular_momentum_vector"} <= kept:
+        what = "internal parts" if traj.internal else f"conserved {sorted(kept)}"
+        raise InputError(
+            "Expected a torque-free rigid body for the Poinsot construction (energy and the "
+            f"angular momentum vector conserved, no internal parts), got a motion with {what}."
+        )
+    momentum = traj.angular_momentum[0]
+    size = float(np.linalg.norm(momentum))
+    if size == 0.0:
+        raise InputError("Expected a body that turns for the Poinsot construction, got L = 0.")
+    normal = momentum / size
+    omega = traj.omega_space
+    height = float(2.0 * traj.energy[0] / size)
+    # Two unit vectors normal to L̂, with L̂ a right-handed frame.
+    first = np.cross(normal, np.eye(3)[int(np.argmin(np.abs(normal)))])
+    first /= np.linalg.norm(first)
+    second = np.cross(normal, first)
+    plane = np.column_stack([first, second])
+    return Herpolhode(
+        omega_space=omega, normal=normal, height=height, plane_axes=plane, in_plane=omega @ plane
     )
 
 

@@ -122,7 +122,7 @@ class PartsBatch:
         """Advance the bodies ``n_steps`` steps of ``dt`` s; the result as
         :func:`simulate_batch` returns it."""
         kinds = {part.kind for part in self.parts}
-        if not integrator.handles(kinds):
+        if not integrator.handles(kinds) or integrator.parts_batch is None:
             able = [
                 name for name, entry in INTEGRATORS.items()
                 if entry.parts_batch is not None and entry.handles(kinds)

@@ -121,7 +121,10 @@ _CAPTIONS = {
     "omega": "Angular velocity ω(t) in body axes.",
     "angular_momentum": "Angular momentum L(t) in space axes.",
     "drift": "Drift of the quantities the motion conserves: the numerical error.",
-    "polhode": "The polhode: L in principal axes on the energy ellipsoid.",
+    "polhode": (
+        "The polhode: L in principal axes on the energy ellipsoid; for a torque-free "
+        "body, beside it the herpolhode: ω on the invariable plane (Poinsot)."
+    ),
 }
 
 

@@ -13,8 +13,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from tumble.analysis import Herpolhode
     from tumble.checks import Panel
     from tumble.trajectory import Trajectory
 
@@ -100,15 +102,30 @@ def drift_figure(traj: Trajectory) -> Figure:
 
 
 def polhode_figure(traj: Trajectory) -> Figure:
-    """The polhode: L in principal body axes on the energy ellipsoid.
+    """The polhode: L in principal body axes on the energy ellipsoid; for a
+    torque-free rigid body, beside it the herpolhode (the Poinsot construction).
 
     Torque-free, L (body axes) stays on the sphere |L| = const and on the energy
     ellipsoid ``Σ L_i² / (2 E I_i) = 1``: its path is their intersection. Under
     torques the ellipsoid is drawn for the initial kinetic energy only as a guide.
+    The herpolhode is ω in space on the invariable plane
+    (:func:`tumble.analysis.herpolhode`), seen along L from the fixed point.
     """
-    figure = _figure(figsize=(6.0, 5.5))
-    figure.subplots_adjust(left=0.0, right=0.95, top=0.93, bottom=0.03)
-    axes = figure.add_subplot(projection="3d")
+    from tumble.analysis import herpolhode
+    from tumble.errors import InputError
+
+    try:
+        plane = herpolhode(traj)
+    except InputError:  # no fixed plane: the polhode alone
+        plane = None
+    figure = _figure(figsize=(6.0, 5.5) if plane is None else (11.0, 5.5))
+    if plane is None:
+        figure.subplots_adjust(left=0.0, right=0.95, top=0.93, bottom=0.03)
+    else:
+        figure.subplots_adjust(left=0.0, right=0.97, top=0.93, bottom=0.1, wspace=0.2)
+    axes = figure.add_subplot(1, 1 if plane is None else 2, 1, projection="3d")
+    if plane is not None:
+        _herpolhode_axes(figure.add_subplot(1, 2, 2), plane)
     mp = traj.mass_properties
     inertia = mp.inertia if traj.pivot is None else mp.inertia_about(traj.pivot)
     from tumble.massprops import principal_decomposition
@@ -140,6 +157,23 @@ def polhode_figure(traj: Trajectory) -> Figure:
     axes.set_title("Polhode: L in principal axes on the energy ellipsoid", fontsize="medium")
     axes.legend(loc="upper left", fontsize="small")
     return figure
+
+
+def _herpolhode_axes(axes: Axes, plane: Herpolhode) -> None:
+    """The herpolhode on the invariable plane, with the foot of L at the centre."""
+    points = plane.in_plane
+    axes.plot(points[:, 0], points[:, 1], color=_COLOURS[0], lw=1.0, label="ω (herpolhode)")
+    axes.scatter(points[0, 0], points[0, 1], color="k", s=12, label="t = 0", zorder=3)
+    axes.scatter(0.0, 0.0, marker="+", color="0.4", s=40, label="L through the fixed point")
+    axes.set_aspect("equal", adjustable="datalim")
+    axes.set(xlabel="ω along the plane's first axis (rad/s)",
+             ylabel="ω along its second axis (rad/s)")  # fmt: skip
+    axes.set_title(
+        f"Herpolhode: ω on the invariable plane, {plane.height:.4g} rad/s along L",
+        fontsize="medium",
+    )
+    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    axes.grid(alpha=0.3)
 
 
 def panel_figure(panel: Panel) -> Figure:
