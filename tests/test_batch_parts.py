@@ -10,6 +10,7 @@ from numpy.testing import assert_allclose
 from scipy.spatial.transform import Rotation
 
 import tumble as tb
+from tumble.errors import IntegrationError
 from tumble.parts import KaneDamper, Rotor, SpringMassDamper
 
 N = 5
@@ -148,3 +149,14 @@ def test_a_batch_with_a_damper_keeps_each_body_s_momentum_and_loses_energy() -> 
 def test_bad_batches_with_parts_are_refused(kwargs, message) -> None:
     with pytest.raises(tb.InputError, match=message):
         tb.simulate_batch(INERTIA, OMEGA, duration=1.0, dt=0.1, **kwargs)
+
+
+def test_a_diverging_batch_with_parts_names_the_body_and_the_step() -> None:
+    # RK4 at dt = 1 s on rates of ~60 rad/s: the state overflows in a few steps.
+    with pytest.raises(
+        IntegrationError,
+        match=r"^Expected every body's state to stay finite, got body 0 non-finite at step \d+ "
+        r"\(t = [0-9.]+ s\)\.$",
+    ):
+        tb.simulate_batch([[2.0, 3.0, 4.0]], [[30.0, 50.0, 20.0]], duration=2000.0, dt=1.0,
+                          internal=[Rotor([0, 0, 1], 0.1, speed=5.0)])  # fmt: skip

@@ -299,35 +299,32 @@ def test_the_exact_gyrostat_follows_an_independent_integration_near_the_separatr
     assert attitude_error(run.quaternion, matrices) < 3e-11
 
 
-def test_the_exact_gyrostat_refuses_another_body() -> None:
+@pytest.mark.parametrize(
+    ("solution", "axis", "message"),
+    [
+        # A rotor off every principal axis: its momentum turns the platform's
+        # principal frame away from any closed form.
+        (
+            "gyrostat_solution",
+            [0, 1, 1],
+            r"^Expected a gyrostat for the exact solution \(rotors without motors, all on one principal axis of the platform\), got another body\.$",
+        ),
+        # Three unequal moments: no axis of symmetry, so no steady precession.
+        (
+            "symmetric_gyrostat",
+            [0, 0, 1],
+            r"^Expected a symmetric gyrostat \(two equal platform moments, rotors without motors on the axis of symmetry\) for the exact solution, got another body\.$",
+        ),
+    ],
+)
+def test_the_exact_gyrostats_refuse_another_body(solution, axis, message) -> None:
     from tumble.body import RigidBody
-    from tumble.integrators.exact import gyrostat_solution
+    from tumble.integrators import exact
 
-    # A rotor off every principal axis: its momentum turns the platform's
-    # principal frame away from any closed form.
     body = RigidBody(tb.MassProperties(20.0, [0, 0, 0], np.diag([2.0, 3.0, 4.0])),
-                     parts=(Rotor([0, 1, 1], 0.1, speed=5.0),))  # fmt: skip
-    with pytest.raises(
-        tb.InputError,
-        match=r"^Expected a gyrostat for the exact solution \(rotors without motors, all on one principal axis of the platform\), got another body\.$",
-    ):
-        gyrostat_solution(
-            body, np.array([0.1, 0.2, 0.3]), np.array([1.0, 0, 0, 0]), np.array([0.0, 1.0])
-        )
-
-
-def test_the_exact_symmetric_gyrostat_refuses_another_body() -> None:
-    from tumble.body import RigidBody
-    from tumble.integrators.exact import symmetric_gyrostat
-
-    # Three unequal moments: no axis of symmetry, so no steady precession.
-    body = RigidBody(tb.MassProperties(20.0, [0, 0, 0], np.diag([2.0, 3.0, 4.0])),
-                     parts=(Rotor([0, 0, 1], 0.1, speed=5.0),))  # fmt: skip
-    with pytest.raises(
-        tb.InputError,
-        match=r"^Expected a symmetric gyrostat \(two equal platform moments, rotors without motors on the axis of symmetry\) for the exact solution, got another body\.$",
-    ):
-        symmetric_gyrostat(
+                     parts=(Rotor(axis, 0.1, speed=5.0),))  # fmt: skip
+    with pytest.raises(tb.InputError, match=message):
+        getattr(exact, solution)(
             body, np.array([0.1, 0.2, 0.3]), np.array([1.0, 0, 0, 0]), np.array([0.0, 1.0])
         )
 

@@ -180,7 +180,7 @@ def gyrostat_solution(
         attitude = start * Rotation.from_rotvec(np.outer(times, w0))
     else:
         w, attitude = _gyrostat_motion(
-            gyrostat_constants(moments, h, *h0), moments, h, start, times
+            gyrostat_constants(moments, h, *h0), moments, h0, rotor_momentum, start, times
         )
     omega = w @ frame.T
     quaternion = (attitude * to_body.inv()).as_quat(scalar_first=True)
@@ -196,16 +196,16 @@ def gyrostat_solution(
 
 
 def _gyrostat_motion(
-    constants: Array, moments: Array, h: float, start: Rotation, times: Array
-) -> tuple[Array, Rotation]:
+    constants: Array, moments: Array, h0: Array, rotor_momentum: Array, start: Rotation,
+    times: Array,
+) -> tuple[Array, Rotation]:  # fmt: skip
     """ω (n, 3) and the attitude of the gyrostat of :func:`gyrostat_solution`
-    in the frame of its rotor axis (``start``: that frame's attitude at t = 0)."""
+    in the frame of its rotor axis (``h0``: H at t = 0 there, ``rotor_momentum``
+    the rotors' part of it, along axis 3; ``start``: that frame's attitude at t = 0)."""
     from tumble.core.freebody import panel_nodes, panel_series, periodic_integral
     from tumble.core.gyrostat import gyrostat_momentum, gyrostat_period
 
-    rotor_momentum = np.array([0.0, 0.0, h])
     momentum = gyrostat_momentum(constants, times)
-    h0 = gyrostat_momentum(constants, np.zeros(1))[0]
     size = float(np.linalg.norm(h0))
     period = gyrostat_period(constants)
     # Panels a quarter wide in the elliptic argument, as for the rigid body.
