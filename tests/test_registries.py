@@ -186,9 +186,20 @@ def test_torque_free_integrators_refuse_torques() -> None:
         if entry.torque_free_only:
             with pytest.raises(
                 tb.InputError,
-                match=rf"Expected a torque-free body for method '{name}' .*, got ConstantBodyTorque",
+                match=rf"Expected a method that integrates this motion \(auto, .*\), got "
+                rf"'{name}': its closed forms solve torque-free bodies and a symmetric top .* "
+                r"only, and this motion has ConstantBodyTorque",
             ):
                 tb.simulate(TUMBLER, OMEGA0, duration=1.0, method=name, torque=FORCING)
+            # Gravity about a pivot: only on a symmetric top with its pivot on the axis.
+            with pytest.raises(
+                tb.InputError,
+                match=r"this motion has gravity on a body that is not such a top\.",
+            ):
+                tb.simulate(
+                    TUMBLER, OMEGA0, duration=1.0, method=name, pivot=[0, 0, 0.1],
+                    gravity=[0, 0, -9.81],
+                )  # fmt: skip
 
 
 # ============================================================ a torque model added here

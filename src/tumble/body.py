@@ -351,6 +351,29 @@ class RigidBody:
                 return True
         return False
 
+    def symmetric_top_axis(self) -> Array | None:
+        """The unit symmetry axis (body axes, from the pivot towards the centre of
+        mass) of a Lagrange top without parts: a body on a pivot whose principal
+        moments about the pivot are equal about two axes (as
+        :func:`tumble.massprops.principal_decomposition` makes repeated moments
+        equal) and whose centre of mass lies on the third, off the pivot. Its
+        motion under uniform gravity is in closed form
+        (:mod:`tumble.core.lagrange`). None for any other body."""
+        if self.pivot is None or self.parts:
+            return None
+        size = float(np.linalg.norm(self.lever))
+        if size == 0.0:
+            return None
+        moments, axes = self.moments, self.axes
+        if moments[0] == moments[2]:  # every axis through the pivot is principal
+            return np.asarray(self.lever / size)
+        for axis, (i, j) in ((0, (1, 2)), (2, (0, 1))):
+            if moments[i] == moments[j]:
+                along = float(axes[:, axis] @ self.lever) / size
+                if abs(along) >= 1.0 - 1e-12:
+                    return np.asarray(axes[:, axis] * math.copysign(1.0, along))
+        return None
+
     def conserved(self, torques: Any) -> tuple[str, ...]:
         """The quantities (keys of :data:`INVARIANTS`) the motion of this body conserves
         under the torque models ``torques`` (those that act on it; see

@@ -94,7 +94,10 @@ def simulate(
         * ``"exact"``: torque-free bodies (free, or on a pivot without gravity):
           the closed-form solution, sampled every ``dt``; no stepping error.
           With parts: rotors without motors on one principal axis of the
-          platform (:func:`tumble.integrators.exact.gyrostat_solution`).
+          platform (:func:`tumble.integrators.exact.gyrostat_solution`). Under
+          gravity: a symmetric top on a pivot (two equal moments about the
+          pivot, the pivot and the centre of mass on the symmetry axis), for
+          any ω0 and attitude (:func:`tumble.integrators.exact.lagrange_top`).
         * ``"splitting"``: fourth-order symplectic splitting (Yoshida's
           composition of ``"strang"``): exact rotations of the free motion
           composed with torque kicks (:mod:`tumble.core.splitting`); |L| kept
@@ -104,8 +107,9 @@ def simulate(
         * ``"rk4"``: classical Runge–Kutta, fixed step, quaternion renormalised.
         * ``"adaptive"``: Dormand–Prince 5(4) with step-size control to
           ``rtol``/``atol`` and dense output at every ``dt``.
-        * ``"auto"``: exact when torque-free, splitting when the torque is
-          conservative (gravity about a pivot), adaptive otherwise.
+        * ``"auto"``: exact when torque-free or for a symmetric top under
+          gravity, splitting when the torque is otherwise conservative
+          (gravity about a pivot), adaptive otherwise.
         ``Trajectory.reason`` says which ran and why.
     record_every : keep every k-th step (the final state is always kept).
     progress : None or a callable ``progress(done, total)`` (steps, or samples
@@ -255,24 +259,19 @@ def prepare(
         chosen, reason = auto_choice(bound, body)
     else:
         reason = "requested"
-        why = chosen.refuses(body)
+        why = chosen.refuses(body, bound)
         if why is not None:
             kinds = sorted({part.kind for part in parts})
-            able = [name for name, entry in INTEGRATORS.items() if entry.refuses(body) is None]
+            able = [n for n, entry in INTEGRATORS.items() if entry.refuses(body, bound) is None]
+            what = f"a body carrying {', '.join(kinds)} parts" if parts else "this motion"
             raise InputError(
-                f"Expected a method that integrates a body carrying {', '.join(kinds)} parts "
-                f"({', '.join(['auto', *able])}), got {chosen.name!r}: {why}."
+                f"Expected a method that integrates {what} ({', '.join(['auto', *able])}), "
+                f"got {chosen.name!r}: {why}."
             )
     if chosen.kicks and "omega" in bound.depends_on:
         reason += (
             f" (its kicks hold the torque, which depends on ω here: {chosen.name} is first "
             "order in it)"
-        )
-    if chosen.torque_free_only and not bound.torque_free:
-        raise InputError(
-            f"Expected a torque-free body for method {chosen.name!r} (no torque model other "
-            "than gravity, and no gravity with a pivot), got "
-            + ("gravity about a pivot." if bound.conservative else f"{model!r}.")
         )
     total = sum((np.asarray(term.acceleration) for term in gravities), np.zeros(3))
     return Setup(body, bound, chosen, reason, omega, q0, total)

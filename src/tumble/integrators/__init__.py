@@ -64,7 +64,9 @@ class Integrator:
     kind : see :data:`Kind`.
     order : its order of accuracy (0 for an exact solution).
     preserves : what it keeps exactly or bounded, in words.
-    torque_free_only : True when it solves torque-free motion only.
+    torque_free_only : True when its batch and sweep kernels take torque-free
+        bodies only (a closed form; for one body ``applies`` says which
+        torques it takes).
     exact_symmetric_spin : True when its free flow turns a symmetric body
         exactly (a step need not resolve the spin about the symmetry axis).
     kicks : True when it applies the torque in kicks that hold the attitude and
@@ -76,9 +78,10 @@ class Integrator:
         those that handle the body's parts).
     single, batch, metrics : kernel factories (see the module's docstring), or None.
     parts : the kinds of internal part it handles (empty: bodies without parts).
-    applies : None, or ``applies(body) -> None or why not``: a narrower rule on
-        the bodies it integrates (the exact solution of a body with rotors needs
-        a gyrostat: free rotors on one principal axis).
+    applies : None, or ``applies(body, torque) -> None or why not``: a narrower
+        rule on the bodies and bound torques it integrates (the exact solution
+        needs a torque-free body, a gyrostat if it carries rotors, or a
+        symmetric top under uniform gravity).
     parts_single, parts_batch : kernel factories for bodies carrying parts, or None.
     run : the single-body driver of its kind (:mod:`tumble.integrators.drivers`).
     """
@@ -97,7 +100,7 @@ class Integrator:
     batch: KernelFactory | None = None
     metrics: KernelFactory | None = None
     parts: frozenset[str] = frozenset()
-    applies: Callable[[Any], str | None] | None = None
+    applies: Callable[[Any, BoundTorque], str | None] | None = None
     parts_single: PartsKernelFactory | None = None
     parts_batch: PartsKernelFactory | None = None
     _kernels: dict[tuple[str, str, Any], Any] = field(default_factory=dict, repr=False)
@@ -111,12 +114,13 @@ class Integrator:
         """True when it integrates a body carrying parts of these kinds."""
         return set(kinds) <= self.parts
 
-    def refuses(self, body: Any) -> str | None:
-        """Why it does not integrate this body (:class:`tumble.body.RigidBody`), or None."""
+    def refuses(self, body: Any, torque: BoundTorque) -> str | None:
+        """Why it does not integrate this body (:class:`tumble.body.RigidBody`)
+        under this bound torque, or None."""
         kinds = {part.kind for part in getattr(body, "parts", ())}
         if not self.handles(kinds):
             return f"it does not integrate bodies carrying {', '.join(sorted(kinds))} parts"
-        return None if self.applies is None else self.applies(body)
+        return None if self.applies is None else self.applies(body, torque)
 
     def kernel(
         self,
@@ -177,7 +181,7 @@ def auto_choice(torque: BoundTorque, body: Any = None) -> tuple[Integrator, str]
     """The integrator ``method="auto"`` picks for this bound torque and body
     (:class:`tumble.body.RigidBody`, with its parts), and why."""
     for entry in INTEGRATORS.values():
-        if body is not None and entry.refuses(body) is not None:
+        if body is not None and entry.refuses(body, torque) is not None:
             continue
         reason = entry.auto(torque) if entry.auto is not None else None
         if reason is not None:
@@ -186,15 +190,38 @@ def auto_choice(torque: BoundTorque, body: Any = None) -> tuple[Integrator, str]
 
 
 def _exact_when(torque: BoundTorque) -> str | None:
+    if torque.torque_free:
+        return (
+            "torque-free, so the exact solution (Jacobi elliptic functions; with rotors, "
+            "those of the gyrostat, or a steady precession for a symmetric one)"
+        )
+    # Only gravity: the body passed _exact_applies, so it is a symmetric top.
     return (
-        "torque-free, so the exact solution (Jacobi elliptic functions; with rotors, "
-        "those of the gyrostat, or a steady precession for a symmetric one)"
-        if (torque.torque_free)
-        else None
+        "uniform gravity on a symmetric top about its pivot, so the exact solution "
+        "(the Lagrange top: Jacobi elliptic functions and Carlson's integrals)"
     )
 
 
-def _exact_applies(body: Any) -> str | None:
+def _only_gravity(torque: BoundTorque) -> bool:
+    from tumble.torques import Gravity
+
+    return bool(torque.terms) and all(isinstance(term, Gravity) for term in torque.terms)
+
+
+def _exact_applies(body: Any, torque: BoundTorque) -> str | None:
+    if not torque.torque_free:
+        if _only_gravity(torque) and body.symmetric_top_axis() is not None:
+            return None
+        return (
+            "its closed forms solve torque-free bodies and a symmetric top under uniform "
+            "gravity (two equal moments about the pivot, the pivot and the centre of mass "
+            "on the symmetry axis, no parts) only, and this motion has "
+            + (
+                "gravity on a body that is not such a top"
+                if _only_gravity(torque)
+                else " + ".join(type(term).__name__ for term in torque.terms)
+            )
+        )
     if not getattr(body, "parts", ()) or body.gyrostat_axis() is not None:
         return None
     return (

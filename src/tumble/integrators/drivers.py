@@ -23,8 +23,8 @@ from numpy.typing import NDArray
 from tumble.body import RigidBody
 from tumble.core._jit import FINITE
 from tumble.errors import CoarseStepWarning, InputError, IntegrationError
-from tumble.integrators.exact import exact_principal, gyrostat_solution
-from tumble.torques import BoundTorque
+from tumble.integrators.exact import exact_principal, gyrostat_solution, lagrange_top
+from tumble.torques import BoundTorque, Gravity
 from tumble.units import to_si
 
 __all__ = [
@@ -293,8 +293,20 @@ def _adaptive_chunks(
 
 
 def run_exact(integrator: Any, problem: Problem, schedule: Schedule, progress: Progress) -> Samples:
-    """The exact torque-free solution at ``schedule.times``; no steps."""
+    """The exact solution at ``schedule.times``: torque-free (a rigid body or a
+    gyrostat) or the Lagrange top under uniform gravity; no steps."""
     body = problem.body
+    if not problem.torque.torque_free:
+        terms = problem.torque.terms
+        gravity = sum(
+            (np.asarray(term.acceleration) for term in terms if isinstance(term, Gravity)),
+            np.zeros(3),
+        )
+        top = lagrange_top(body, gravity, problem.omega0, problem.attitude0)
+        omega, quaternion = top.at(schedule.times)
+        if progress is not None:
+            progress(schedule.n_steps, schedule.n_steps)
+        return Samples(omega, quaternion, np.zeros((len(omega), 0)), 0)
     if body.parts:
         omega, quaternion, values = gyrostat_solution(
             body, problem.omega0, problem.attitude0, schedule.times

@@ -1,4 +1,5 @@
-"""The exact torque-free motion of a rigid body, at any times, without stepping.
+"""Exact motions at any times, without stepping: the torque-free rigid body, the
+torque-free gyrostat and the heavy symmetric (Lagrange) top.
 
 ω from Jacobi elliptic functions (:func:`tumble.core.freebody.free_omega`); the
 attitude written with z-x-z Euler angles about the fixed L (Landau & Lifshitz,
@@ -11,6 +12,9 @@ follow from ω, and φ is the integral of
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
@@ -20,7 +24,15 @@ from tumble.errors import InputError
 from tumble.massprops import MassProperties
 from tumble.parts import Rotor
 
-__all__ = ["exact_principal", "exact_solution", "gyrostat_solution", "symmetric_gyrostat"]
+__all__ = [
+    "LagrangeTop",
+    "exact_principal",
+    "exact_solution",
+    "gyrostat_solution",
+    "lagrange_top",
+    "symmetric_gyrostat",
+    "symmetric_top",
+]
 
 Array = NDArray[np.float64]
 
@@ -223,3 +235,120 @@ def _gyrostat_motion(
     frame = start * initial.inv()  # space axes with z along H
     attitude = frame * Rotation.from_euler("ZXZ", np.column_stack([phi, theta, psi]))
     return (momentum - rotor_momentum) / moments, attitude
+
+
+@dataclass(frozen=True, eq=False)
+class LagrangeTop:
+    """The closed-form motion of a heavy symmetric top (:func:`lagrange_top`).
+
+    Attributes
+    ----------
+    constants : the constants of :mod:`tumble.core.lagrange` (None for a
+        sleeping top: a steady rotation about the vertical axis).
+    frame : (3, 3) columns e1, e2, e in body axes: a proper rotation whose third
+        column is the symmetry axis, from the pivot towards the centre of mass.
+    omega0 : (3,) ω at t = 0, body axes, rad/s.
+    attitude0 : (4,) the attitude at t = 0, body → space.
+    vertical : (3,) the upward vertical −g/|g|, space axes.
+    """
+
+    constants: Array | None
+    frame: Array
+    omega0: Array
+    attitude0: Array
+    vertical: Array
+
+    def at(self, times: Array) -> tuple[Array, Array]:
+        """ω (n, 3), body axes, rad/s, and the attitude (n, 4), body → space, at
+        ``times`` (s, any order and sign): O(1) a sample, compiled."""
+        from tumble.core.elliptic import jacobi_table
+        from tumble.core.lagrange import top_motion, top_start
+
+        times = np.ascontiguousarray(times, dtype=float)
+        if self.constants is None:  # a steady rotation about the vertical axis
+            turns = Rotation.from_rotvec(np.outer(times, self.omega0))
+            start = Rotation.from_quat(self.attitude0, scalar_first=True)
+            quaternion = (start * turns).as_quat(scalar_first=True)
+            return np.tile(self.omega0, (times.size, 1)), quaternion
+        theta0, psi0 = top_start(self.constants)
+        to_frame = Rotation.from_matrix(self.frame)
+        begin = Rotation.from_euler("ZXZ", [0.0, theta0, psi0])
+        left = Rotation.from_quat(self.attitude0, scalar_first=True) * to_frame * begin.inv()
+        mc = float(self.constants[2])
+        table = jacobi_table(mc, 0.0) if mc > 0.0 else np.zeros(1)
+        w = np.empty((times.size, 3))
+        q = np.empty((times.size, 4))
+        top_motion(
+            self.constants, times, table, left.as_quat(scalar_first=True),
+            to_frame.inv().as_quat(scalar_first=True), w, q,
+        )  # fmt: skip
+        return w @ self.frame.T, q
+
+    def mean_rates(self) -> tuple[float, float, float]:
+        """The nutation period (s; ``inf`` on a separatrix, where the axis tends to
+        the upright position, and for a motion without nutation, 0 is never
+        returned) and the mean precession rate of the axis about the upward
+        vertical and the mean spin rate ψ̇ over it, rad/s."""
+        from tumble.core.lagrange import top_mean_rates
+
+        if self.constants is None:
+            return math.inf, 0.0, float(self.omega0 @ self.frame[:, 2])
+        period, precession, spin = top_mean_rates(self.constants)
+        return float(period), float(precession), float(spin)
+
+
+def lagrange_top(body: RigidBody, gravity: Array, omega0: Array, attitude0: Array) -> LagrangeTop:
+    """The heavy symmetric top in closed form (:mod:`tumble.core.lagrange`): a
+    body on a pivot with equal moments about two axes through it and its
+    centre of mass on the third (:meth:`tumble.body.RigidBody.symmetric_top_axis`),
+    under uniform ``gravity`` (3,) m/s², space axes, from ω0 (body axes, rad/s)
+    and the attitude ``attitude0`` (body → space) at t = 0.
+
+    Raises
+    ------
+    InputError
+        A body that is not such a top, or no gravity.
+    """
+    axis = body.symmetric_top_axis()
+    if axis is None or not np.any(gravity):
+        raise InputError(
+            "Expected a symmetric top (two equal moments about the pivot, the pivot and "
+            "the centre of mass on the symmetry axis) under gravity for the closed form, "
+            "got " + ("no gravity." if axis is not None else "another body.")
+        )
+    plane = np.linalg.svd(axis[None, :])[2][1:].T  # (3, 2) orthonormal, normal to the axis
+    first, second = plane[:, 0], plane[:, 1]
+    if np.cross(first, second) @ axis < 0.0:
+        second = -second
+    frame = np.column_stack([first, second, axis])
+    inertia = body.inertia
+    transverse = 0.5 * float(first @ inertia @ first + second @ inertia @ second)
+    mass_lever = body.mass_properties.mass * float(body.lever @ axis)
+    return symmetric_top(
+        frame, transverse, float(axis @ inertia @ axis), mass_lever, gravity, omega0, attitude0
+    )
+
+
+def symmetric_top(
+    frame: Array, transverse: float, axial: float, mass_lever: float, gravity: Array,
+    omega0: Array, attitude0: Array,
+) -> LagrangeTop:  # fmt: skip
+    """The Lagrange top of :func:`lagrange_top` from its parts: ``frame`` (3, 3)
+    a proper rotation whose third column (body axes) is the symmetry axis from
+    the pivot towards the centre of mass, the moments A (``transverse``) and C
+    (``axial``) about the pivot (kg·m²), m l (``mass_lever``, kg·m, > 0) and
+    ``gravity`` (3,) m/s² in space axes (≠ 0)."""
+    g = np.asarray(gravity, dtype=float)
+    weight = float(np.linalg.norm(g))
+    up = -g / weight
+    omega0 = np.asarray(omega0, dtype=float)
+    attitude0 = np.asarray(attitude0, dtype=float)
+    w = frame.T @ omega0
+    k = frame.T @ Rotation.from_quat(attitude0, scalar_first=True).inv().apply(up)
+    if k[0] == 0.0 and k[1] == 0.0 and w[0] == 0.0 and w[1] == 0.0:
+        return LagrangeTop(None, frame, omega0, attitude0, up)  # a sleeping top
+    from tumble.core.lagrange import top_constants
+
+    beta = 2.0 * mass_lever * weight / transverse
+    constants = top_constants(beta, axial * w[2] / transverse, w[2], k[0], k[1], k[2], w[0], w[1])
+    return LagrangeTop(constants, frame, omega0, attitude0, up)
