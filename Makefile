@@ -54,6 +54,7 @@ bench: setup
 	$(BIN)/python bench/mass_properties.py
 	$(BIN)/python bench/free_body.py
 	$(BIN)/python bench/heavy_top.py
+	$(BIN)/python bench/lagrange_top.py
 	$(BIN)/python bench/batch.py
 	$(BIN)/python bench/sweep.py
 	$(BIN)/python bench/accuracy.py

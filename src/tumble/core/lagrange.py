@@ -207,6 +207,11 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
     if near_pole:
         amplitude = far - top
         below, above = -x1, w0 - top  # u0 − u1, u2 − u0
+        if above < below:
+            # Near the upper turning point w0 − top loses digits, and τ0 would lose
+            # half of them (cn ∝ √(u2 − u0)): take u2 − u0 from the product of the
+            # roots about u0 instead, d = β (u0 − u1)(u2 − u0)(u3 − u0).
+            above = d / (beta * below * x3) if below * x3 > 0.0 else 0.0
     else:
         below, above = -x1, x2
     below = max(below, 0.0)
@@ -423,9 +428,13 @@ def top_mean_rates(c):  # type: ignore[no-untyped-def]
 
 @njit
 def top_turning_points(c):  # type: ignore[no-untyped-def]
-    """``1 − u2`` and ``1 + u1``: the tilt's turning points θ_min, θ_max from
-    the vertical k as ``2 sin²(θ_min/2)`` and ``2 cos²(θ_max/2)``."""
-    return c[_TOP], c[_BOT]
+    """The tilt's turning points θ_min, θ_max from the vertical k, rad, each as
+    ``2 atan2(√(1 − u), √(1 + u))`` with both factors sums of positive terms, so
+    that neither loses digits near a pole."""
+    top, bottom, amplitude = c[_TOP], c[_BOT], c[_D]
+    low = 2.0 * math.atan2(math.sqrt(top), math.sqrt(bottom + amplitude))  # u2
+    high = 2.0 * math.atan2(math.sqrt(top + amplitude), math.sqrt(bottom))  # u1
+    return low, high
 
 
 @njit

@@ -13,7 +13,7 @@ follow from ω, and φ is the integral of
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -257,12 +257,31 @@ class LagrangeTop:
     omega0: Array
     attitude0: Array
     vertical: Array
+    # The quaternions around the motion in the frame (left ⊗ q(t) ⊗ right) and
+    # the Jacobi table of its modulus: computed once, used by every call of `at`.
+    _left: Array = field(init=False, repr=False)
+    _right: Array = field(init=False, repr=False)
+    _table: Array = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.constants is None:
+            return
+        from tumble.core.elliptic import jacobi_table
+        from tumble.core.lagrange import top_start
+
+        theta0, psi0 = top_start(self.constants)
+        to_frame = Rotation.from_matrix(self.frame)
+        begin = Rotation.from_euler("ZXZ", [0.0, theta0, psi0])
+        left = Rotation.from_quat(self.attitude0, scalar_first=True) * to_frame * begin.inv()
+        mc = float(self.constants[2])
+        object.__setattr__(self, "_left", left.as_quat(scalar_first=True))
+        object.__setattr__(self, "_right", to_frame.inv().as_quat(scalar_first=True))
+        object.__setattr__(self, "_table", jacobi_table(mc, 0.0) if mc > 0.0 else np.zeros(1))
 
     def at(self, times: Array) -> tuple[Array, Array]:
         """ω (n, 3), body axes, rad/s, and the attitude (n, 4), body → space, at
         ``times`` (s, any order and sign): O(1) a sample, compiled."""
-        from tumble.core.elliptic import jacobi_table
-        from tumble.core.lagrange import top_motion, top_start
+        from tumble.core.lagrange import top_motion
 
         times = np.ascontiguousarray(times, dtype=float)
         if self.constants is None:  # a steady rotation about the vertical axis
@@ -270,18 +289,9 @@ class LagrangeTop:
             start = Rotation.from_quat(self.attitude0, scalar_first=True)
             quaternion = (start * turns).as_quat(scalar_first=True)
             return np.tile(self.omega0, (times.size, 1)), quaternion
-        theta0, psi0 = top_start(self.constants)
-        to_frame = Rotation.from_matrix(self.frame)
-        begin = Rotation.from_euler("ZXZ", [0.0, theta0, psi0])
-        left = Rotation.from_quat(self.attitude0, scalar_first=True) * to_frame * begin.inv()
-        mc = float(self.constants[2])
-        table = jacobi_table(mc, 0.0) if mc > 0.0 else np.zeros(1)
         w = np.empty((times.size, 3))
         q = np.empty((times.size, 4))
-        top_motion(
-            self.constants, times, table, left.as_quat(scalar_first=True),
-            to_frame.inv().as_quat(scalar_first=True), w, q,
-        )  # fmt: skip
+        top_motion(self.constants, times, self._table, self._left, self._right, w, q)
         return w @ self.frame.T, q
 
     def mean_rates(self) -> tuple[float, float, float]:
@@ -316,11 +326,11 @@ def lagrange_top(body: RigidBody, gravity: Array, omega0: Array, attitude0: Arra
             "the centre of mass on the symmetry axis) under gravity for the closed form, "
             "got " + ("no gravity." if axis is not None else "another body.")
         )
-    plane = np.linalg.svd(axis[None, :])[2][1:].T  # (3, 2) orthonormal, normal to the axis
-    first, second = plane[:, 0], plane[:, 1]
-    if np.cross(first, second) @ axis < 0.0:
-        second = -second
-    frame = np.column_stack([first, second, axis])
+    # e1 normal to the axis, from the body axis least aligned with it; e2 = e × e1.
+    first = np.cross(axis, np.eye(3)[int(np.argmin(np.abs(axis)))])
+    first /= np.linalg.norm(first)
+    frame = np.column_stack([first, np.cross(axis, first), axis])
+    second = frame[:, 1]
     inertia = body.inertia
     transverse = 0.5 * float(first @ inertia @ first + second @ inertia @ second)
     mass_lever = body.mass_properties.mass * float(body.lever @ axis)

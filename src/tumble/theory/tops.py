@@ -335,9 +335,7 @@ def _heavy(
         if flip:
             low, high = math.pi - high, math.pi - low
     else:
-        top_gap, bottom_gap = top_turning_points(top.constants)
-        low = 2.0 * math.asin(min(math.sqrt(0.5 * top_gap), 1.0))
-        high = 2.0 * math.acos(min(math.sqrt(0.5 * bottom_gap), 1.0))
+        low, high = (float(limit) for limit in top_turning_points(top.constants))
         if flip:
             low, high = math.pi - high, math.pi - low
         if turning:  # released at a turning point: that limit is θ0 itself
