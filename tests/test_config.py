@@ -337,12 +337,12 @@ def test_methods_are_read_from_the_integrator_registry() -> None:
         assert method_choice(name) == name
     with pytest.raises(
         tb.InputError,
-        match=r"Expected `method` to be one of auto, exact, splitting, strang, rk4, adaptive, got 'strnag'\. Did you mean 'strang'\?",
+        match=r"Expected `method` to be one of auto, exact, splitting, strang, splitting-exact, strang-exact, rk4, adaptive, got 'strnag'\. Did you mean 'strang'\?",
     ):
         method_choice("strnag")
     # Files for batches may name only integrators with batch kernels that measure.
     with pytest.raises(
         tb.InputError,
-        match=r"Expected `method` to be one of exact, splitting, strang, rk4, got 'adaptive'\.$",
+        match=r"Expected `method` to be one of exact, splitting, strang, splitting-exact, strang-exact, rk4, got 'adaptive'\.$",
     ):
         method_choice("adaptive", batch=True)

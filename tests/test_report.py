@@ -49,7 +49,7 @@ def test_summary_json(folder: Path, gyroscope: object) -> None:
     summary = json.loads((folder / "summary.json").read_text())
     assert summary["scenario"] == "gyroscope"
     assert summary["tumble_version"] == tb.__version__
-    assert summary["method"] == "splitting"
+    assert summary["method"] == "exact"
     assert summary["comparisons"], "the gyroscope has a theory"
     for row in summary["comparisons"]:
         assert {"quantity", "theory", "measured", "relative_error", "unit"} <= set(row)
@@ -71,11 +71,11 @@ def test_parquet_round_trip_with_scenario_metadata(folder: Path, gyroscope: obje
     traj = gyroscope.trajectory  # type: ignore[attr-defined]
     assert_allclose(read.t, traj.t, rtol=0, atol=0)
     assert_allclose(read.omega, traj.omega, rtol=0, atol=0)
-    assert read.method == "splitting"
+    assert read.method == "exact"
     meta = json.loads(pq.read_schema(folder / "trajectory.parquet").metadata[b"tumble"])
     assert meta["scenario"] == "gyroscope"
     assert meta["tumble_version"] == tb.__version__
-    assert meta["method"] == "splitting"
+    assert meta["method"] == "exact"
 
 
 def test_report_is_self_contained(folder: Path, gyroscope: object) -> None:

@@ -131,7 +131,7 @@ def edited(old: str, new: str, text: str = GYRO) -> str:
         (
             'method = "auto"',
             'method = "euler"',
-            r"line 33, `simulation\.method`: Expected `method` to be one of auto, exact, splitting, strang, rk4, adaptive, got 'euler'\.",
+            r"line 33, `simulation\.method`: Expected `method` to be one of auto, exact, splitting, strang, splitting-exact, strang-exact, rk4, adaptive, got 'euler'\.",
         ),
         (
             'mass = "1 kg"',

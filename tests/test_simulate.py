@@ -270,7 +270,7 @@ def test_repr_reports_method_and_drift() -> None:
         ({"duration": 1.0, "pivot": [0, 0, -0.1]}, r"Expected `gravity` with `pivot`, got none"),
         (
             {"duration": 1.0, "method": "euler"},
-            r"Expected `method` to be one of auto, exact, splitting, strang, rk4, adaptive, got 'euler'",
+            r"Expected `method` to be one of auto, exact, splitting, strang, splitting-exact, strang-exact, rk4, adaptive, got 'euler'",
         ),
         (
             {"duration": 1.0, "record_every": 0},
@@ -382,7 +382,7 @@ def test_exact_steady_rotations(body, omega0) -> None:
     [
         (
             {"pivot": [0, 0, -0.1], "gravity": [0, 0, -9.81]},
-            r"Expected a method that integrates this motion \(auto, splitting, strang, rk4, adaptive\), got 'exact': its closed forms solve torque-free bodies and a symmetric top under uniform gravity \(two equal moments about the pivot, the pivot and the centre of mass on the symmetry axis, no parts\) only, and this motion has gravity on a body that is not such a top\.",
+            r"Expected a method that integrates this motion \(auto, splitting, strang, splitting-exact, strang-exact, rk4, adaptive\), got 'exact': its closed forms solve torque-free bodies and a symmetric top under uniform gravity \(two equal moments about the pivot, the pivot and the centre of mass on the symmetry axis, no parts\) only, and this motion has gravity on a body that is not such a top\.",
         ),
         (
             {"torque": tb.torques.ConstantSpaceTorque([0, 0, 1])},

@@ -118,7 +118,7 @@ def _user_torque(t, omega, quaternion, params, out):
         ({"dt": 0.0}, r"Expected `dt` > 0 s, got 0.0"),
         (
             {"method": "adaptive"},
-            r"Expected `method` to be one of exact, splitting, strang, rk4, got 'adaptive'",
+            r"Expected `method` to be one of exact, splitting, strang, splitting-exact, strang-exact, rk4, got 'adaptive'",
         ),
         (
             {"torque": tb.torques.Gravity()},

@@ -583,7 +583,7 @@ def test_unknown_builtin_is_refused() -> None:
         ),
         (
             {"dt = 0.01": 'dt = 0.01\nmethod = "euler"'},
-            r"line 11, `base.method`: Expected `method` to be one of exact, splitting, strang, rk4, got 'euler'.",
+            r"line 11, `base.method`: Expected `method` to be one of exact, splitting, strang, splitting-exact, strang-exact, rk4, got 'euler'.",
         ),
         (
             {"spin_axis = 2": "spin_axis = 4"},

@@ -415,9 +415,15 @@ class RigidBody:
         # body (I1 = I2) keeps |L| / I1.
         if exact_spin and not self.parts and moments[2] == moments[1]:  # prolate: axis 1
             rate = momentum / moments[1]
-        if self.pivot is not None:
-            rate += math.sqrt(weight * float(np.linalg.norm(self.lever)) / moments[0])
-        return rate
+        return rate + self.pendulum_rate(weight)
+
+    def pendulum_rate(self, weight: float) -> float:
+        """√(m g l / I1), rad/s: an upper estimate of the rate of the swing that a
+        weight ``weight`` (N) at the centre of mass drives about the pivot (0
+        for a free body)."""
+        if self.pivot is None:
+            return 0.0
+        return math.sqrt(weight * float(np.linalg.norm(self.lever)) / self.moments[0])
 
 
 @dataclass(frozen=True, eq=False)

@@ -175,7 +175,10 @@ def simulate(
     step = time_step(dt, fastest, total_time)
     schedule = Schedule.build(total_time, step, record_every, rtol=rtol, atol=atol)
     if dt is not None and integrator.kind == "stepping":
-        warn_if_coarse(schedule.step, fastest, "the fastest rotation")
+        if integrator.exact_free_motion:  # only the torque needs resolving
+            warn_if_coarse(schedule.step, body.pendulum_rate(weight), "the pendulum swing")
+        else:
+            warn_if_coarse(schedule.step, fastest, "the fastest rotation")
 
     problem = Problem(body, bound, omega, setup.attitude0)
     samples = integrator.run(integrator, problem, schedule, progress)

@@ -54,6 +54,7 @@ __all__ = [
     "elliprf",
     "elliprj",
     "fast_two_sum",
+    "inverse_period",
     "two_prod",
     "two_sum",
 ]
@@ -218,12 +219,12 @@ def _reduced_phase(u, mc, mc_lo):  # type: ignore[no-untyped-def]
     the second term is below the first unless the phase lies within
     ``2^-50 |u A|`` of zero, or ``|u|`` exceeds ``2^50 K``.
     """
-    fh, fl = _inverse_period(mc, mc_lo)
+    fh, fl = inverse_period(mc, mc_lo)
     return _reduce(u, fh, fl)
 
 
 @njit
-def _inverse_period(mc, mc_lo):  # type: ignore[no-untyped-def]
+def inverse_period(mc, mc_lo):  # type: ignore[no-untyped-def]
     """``1 / 4K = A / 2π`` in double-double, ``A = AGM(1, √(mc + mc_lo))``."""
     ah = 1.0
     al = 0.0
@@ -255,7 +256,7 @@ def _inverse_period(mc, mc_lo):  # type: ignore[no-untyped-def]
 @njit
 def _reduce(u, fh, fl):  # type: ignore[no-untyped-def]
     """``2π`` times the fractional part of ``u (fh + fl)``, with ``fh + fl = 1/4K``
-    in double-double (from :func:`_inverse_period`), in ``[-π, π]``."""
+    in double-double (from :func:`inverse_period`), in ``[-π, π]``."""
     scale = 1.0
     if abs(u) > _SPLIT_LIMIT:
         u *= 2.0**-64
@@ -319,7 +320,7 @@ def jacobi_table(mc, mc_lo, with_period=True):  # type: ignore[no-untyped-def]
 
 @njit
 def _fill_period(table):  # type: ignore[no-untyped-def]
-    fh, fl = _inverse_period(table[_TABLE_TOP + 4], table[_TABLE_TOP + 5])
+    fh, fl = inverse_period(table[_TABLE_TOP + 4], table[_TABLE_TOP + 5])
     table[_TABLE_TOP + 2] = fh
     table[_TABLE_TOP + 3] = fl
 

@@ -213,13 +213,14 @@ def _phi_rate(moments, w, momentum):  # type: ignore[no-untyped-def]
 @njit
 def _phi_integral(moments, omega0, momentum, start, stop):  # type: ignore[no-untyped-def]
     """∫ φ̇ dt from ``start`` to ``stop`` (one Gauss–Legendre panel), rad."""
+    first = _about_first_axis(moments, omega0)
     half = 0.5 * (stop - start)
     middle = 0.5 * (stop + start)
     times = middle + half * _GL_NODES
     w = free_omega(moments, omega0, times)
     total = 0.0
     for k in range(times.shape[0]):
-        total += _GL_WEIGHTS[k] * _phi_rate(moments, w[k], momentum)
+        total += _GL_WEIGHTS[k] * _phi_rate_about(moments, w[k], momentum, first)
     return half * total
 
 
@@ -343,14 +344,17 @@ def free_precession_angle(moments, omega0, times):  # type: ignore[no-untyped-de
     separatrix itself (P infinite) every time is integrated from 0 by
     16-point Gauss–Legendre panels.
 
-    Parameters as :func:`free_omega`; not for rotations exactly about a
-    principal axis or a spherical body (the caller handles those).
+    Euler angles about the third axis, or about the first
+    (:func:`_about_first_axis`). Parameters as :func:`free_omega`; not for
+    rotations exactly about a principal axis or a spherical body (the caller
+    handles those).
     """
     w0 = omega0
     momentum = math.sqrt(
         (moments[0] * w0[0]) ** 2 + (moments[1] * w0[1]) ** 2 + (moments[2] * w0[2]) ** 2
     )
     rate, mc = elliptic_rate_and_mc(moments, omega0)
+    first = _about_first_axis(moments, omega0)  # the Euler angles' axis (free_attitude)
     out = np.empty(times.shape[0])
     if mc <= 0.0:
         for n in range(times.shape[0]):
@@ -369,8 +373,67 @@ def free_precession_angle(moments, omega0, times):  # type: ignore[no-untyped-de
     w = free_omega(moments, omega0, nodes)
     rates = np.empty(nodes.shape[0])
     for k in range(nodes.shape[0]):
-        rates[k] = _phi_rate(moments, w[k], momentum)
+        rates[k] = _phi_rate_about(moments, w[k], momentum, first)
     return periodic_integral(panel_series(rates, period / panels, panels), period, times)
+
+
+@njit(inline="always")
+def _attitude(frame, phi, l1, l2, l3):  # type: ignore[no-untyped-def]
+    """``frame ⊗ qz(φ) ⊗ qx(θ) ⊗ qz(ψ)`` with ``cos θ = L3/|L|`` and
+    ``tan ψ = L1/L2`` (L in principal axes): the attitude of :func:`free_attitude`."""
+    theta = math.atan2(math.hypot(l1, l2), l3)
+    psi = math.atan2(l1, l2)
+    a0, a3 = math.cos(0.5 * phi), math.sin(0.5 * phi)
+    b0, b1 = math.cos(0.5 * theta), math.sin(0.5 * theta)
+    c0, c3 = math.cos(0.5 * psi), math.sin(0.5 * psi)
+    # qz(φ) ⊗ qx(θ) = (a0 b0, a0 b1, a3 b1, a3 b0), then ⊗ qz(ψ)
+    p0, p1, p2, p3 = a0 * b0, a0 * b1, a3 * b1, a3 * b0
+    return multiply(frame[0], frame[1], frame[2], frame[3], p0 * c0 - p3 * c3,
+                    c0 * p1 + p2 * c3, c0 * p2 - p1 * c3, p0 * c3 + c0 * p3)  # fmt: skip
+
+
+#: The body's axes taken cyclically, (x', y', z') = (2, 3, 1): a proper rotation
+#: (2π/3 about (1, 1, 1)/√3), as a quaternion from those axes to the body's.
+_CYCLE = (0.5, 0.5, 0.5, 0.5)
+
+
+@njit(inline="always")
+def _about_first_axis(moments, w):  # type: ignore[no-untyped-def]
+    """True when the Euler angles are better taken about the first principal
+    axis than about the third. With either axis, φ̇ has the denominator
+    L² − L_k², smallest where L2 = 0, where ``L1² ∝ (2EI3 − L²) I1`` and
+    ``L3² ∝ (L² − 2EI1) I3``: the axis whose component is the smaller there is
+    the one L stays farthest from. About the other, a nearly prolate (or
+    oblate) body's L passes close to the axis, where the angles turn abruptly
+    and φ̇ has a peak that no quadrature of fixed panels resolves. Both
+    differences are sums of terms of one sign."""
+    i1, i2, i3 = moments[0], moments[1], moments[2]
+    w1, w2, w3 = w[0], w[1], w[2]
+    upper = i1 * w1 * w1 * (i3 - i1) + i2 * w2 * w2 * (i3 - i2)  # 2EI3 − L²
+    lower = i2 * w2 * w2 * (i2 - i1) + i3 * w3 * w3 * (i3 - i1)  # L² − 2EI1
+    return lower * i3 > upper * i1
+
+
+@njit(inline="always")
+def _phi_rate_about(moments, w, momentum, first):  # type: ignore[no-untyped-def]
+    """φ̇ of Euler angles about the third axis (:func:`_phi_rate`), or about the
+    first (``first``: the same formula in the axes (2, 3, 1))."""
+    if not first:
+        return _phi_rate(moments, w, momentum)
+    a = moments[1] * w[1] * w[1]
+    b = moments[2] * w[2] * w[2]
+    return momentum * (a + b) / (moments[1] * a + moments[2] * b)
+
+
+@njit(inline="always")
+def _attitude_about(frame, phi, l1, l2, l3, first):  # type: ignore[no-untyped-def]
+    """:func:`_attitude` about the third axis, or about the first (``first``):
+    the attitude of the axes (2, 3, 1), turned back to the body's axes."""
+    if not first:
+        return _attitude(frame, phi, l1, l2, l3)
+    r = _attitude(frame, phi, l2, l3, l1)
+    c0, c1, c2, c3 = _CYCLE
+    return multiply(r[0], r[1], r[2], r[3], c0, -c1, -c2, -c3)
 
 
 @njit
@@ -379,30 +442,65 @@ def free_attitude(moments, omega0, frame, times):  # type: ignore[no-untyped-def
 
     With z-x-z Euler angles about the fixed L (Landau & Lifshitz §37), the
     attitude is ``frame ⊗ qz(φ) ⊗ qx(θ) ⊗ qz(ψ)``, where ``frame`` (4,) turns
-    space axes with z along L into space axes, ``cos θ = L3/|L|``,
-    ``tan ψ = L1/L2`` and φ from :func:`free_precession_angle`. Not for
+    space axes with z along L into space axes (:func:`momentum_frame`),
+    ``cos θ = L3/|L|``, ``tan ψ = L1/L2`` and φ from
+    :func:`free_precession_angle`; or the same with the axes taken as (2, 3, 1)
+    (about the first axis: :func:`_about_first_axis`). Not for
     rotations exactly about a principal axis or a spherical body.
     """
+    first = _about_first_axis(moments, omega0)
     w = free_omega(moments, omega0, times)
     phi = free_precession_angle(moments, omega0, times)
     out = np.empty((times.shape[0], 4))
-    f0, f1, f2, f3 = frame[0], frame[1], frame[2], frame[3]
     for n in range(times.shape[0]):
-        l1 = moments[0] * w[n, 0]
-        l2 = moments[1] * w[n, 1]
-        l3 = moments[2] * w[n, 2]
-        theta = math.atan2(math.hypot(l1, l2), l3)
-        psi = math.atan2(l1, l2)
-        a0, a3 = math.cos(0.5 * phi[n]), math.sin(0.5 * phi[n])
-        b0, b1 = math.cos(0.5 * theta), math.sin(0.5 * theta)
-        c0, c3 = math.cos(0.5 * psi), math.sin(0.5 * psi)
-        # qz(φ) ⊗ qx(θ) = (a0 b0, a0 b1, a3 b1, a3 b0), then ⊗ qz(ψ)
-        p0, p1, p2, p3 = a0 * b0, a0 * b1, a3 * b1, a3 * b0
-        r = multiply(f0, f1, f2, f3, p0 * c0 - p3 * c3, c0 * p1 + p2 * c3,
-                     c0 * p2 - p1 * c3, p0 * c3 + c0 * p3)  # fmt: skip
+        r = _attitude_about(frame, phi[n], moments[0] * w[n, 0], moments[1] * w[n, 1],
+                            moments[2] * w[n, 2], first)  # fmt: skip
         for i in range(4):
             out[n, i] = r[i]
     return w, out
+
+
+@njit(inline="always")
+def _turns_steadily(moments, w):  # type: ignore[no-untyped-def]
+    """True when ω stays constant: a rotation about a principal axis, or a spherical body."""
+    zeros = 0
+    for i in range(3):
+        if w[i] == 0.0:
+            zeros += 1
+    return zeros >= 2 or moments[0] == moments[2]
+
+
+@njit(inline="always")
+def _turn_steadily(w, q, t):  # type: ignore[no-untyped-def]
+    """q turned in place about the constant body axis ω by |ω| t."""
+    rate = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    if rate == 0.0:
+        return
+    half = 0.5 * rate * t
+    scale = math.sin(half) / rate
+    r = multiply(q[0], q[1], q[2], q[3], math.cos(half), w[0] * scale, w[1] * scale,
+                 w[2] * scale)  # fmt: skip
+    norm = math.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3])
+    for i in range(4):
+        q[i] = r[i] / norm
+
+
+@njit(inline="always")
+def momentum_frame(moments, w, q):  # type: ignore[no-untyped-def]
+    """The quaternion (4,) that turns space axes with z along L into space axes,
+    of the attitude q (principal → space) and ω (principal axes), with the
+    Euler angles of :func:`free_attitude` (φ = 0 now)."""
+    l1, l2, l3 = moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    if _about_first_axis(moments, w):  # the axes (2, 3, 1)
+        l1, l2, l3 = l2, l3, l1
+        c0, c1, c2, c3 = _CYCLE
+        q0, q1, q2, q3 = multiply(q0, q1, q2, q3, c0, c1, c2, c3)
+    theta, psi = math.atan2(math.hypot(l1, l2), l3), math.atan2(l1, l2)
+    b0, b1 = math.cos(0.5 * theta), math.sin(0.5 * theta)
+    c0, c3 = math.cos(0.5 * psi), math.sin(0.5 * psi)
+    # q ⊗ (qx(θ) ⊗ qz(ψ))⁻¹, where qx(θ) ⊗ qz(ψ) = (b0 c0, b1 c0, −b1 c3, b0 c3).
+    return np.array(multiply(q0, q1, q2, q3, b0 * c0, -b1 * c0, b1 * c3, -b0 * c3))
 
 
 @njit
@@ -412,35 +510,61 @@ def advance_exact(moments, w, q, t):  # type: ignore[no-untyped-def]
     ``moments`` (kg·m²), replaced in place. A rotation about a principal axis
     (or of a spherical body) turns q about the constant ω; any other motion is
     :func:`free_attitude` from the frame whose z axis is along L."""
-    zeros = 0
-    for i in range(3):
-        if w[i] == 0.0:
-            zeros += 1
-    if zeros >= 2 or moments[0] == moments[2]:
-        rate = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-        if rate == 0.0:
-            return
-        half = 0.5 * rate * t
-        scale = math.sin(half) / rate
-        r = multiply(q[0], q[1], q[2], q[3], math.cos(half), w[0] * scale, w[1] * scale,
-                     w[2] * scale)  # fmt: skip
-        norm = math.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3])
-        for i in range(4):
-            q[i] = r[i] / norm
+    if _turns_steadily(moments, w):
+        _turn_steadily(w, q, t)
         return
-    l1, l2, l3 = moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]
-    theta, psi = math.atan2(math.hypot(l1, l2), l3), math.atan2(l1, l2)
-    b0, b1 = math.cos(0.5 * theta), math.sin(0.5 * theta)
-    c0, c3 = math.cos(0.5 * psi), math.sin(0.5 * psi)
-    # The frame with z along L: q ⊗ (qx(θ) ⊗ qz(ψ))⁻¹, where
-    # qx(θ) ⊗ qz(ψ) = (b0 c0, b1 c0, −b1 c3, b0 c3).
-    frame = np.array(multiply(q[0], q[1], q[2], q[3], b0 * c0, -b1 * c0, b1 * c3, -b0 * c3))
-    times = np.array([t])
-    omega, attitude = free_attitude(moments, w.copy(), frame, times)
+    frame = momentum_frame(moments, w, q)
+    omega, attitude = free_attitude(moments, w.copy(), frame, np.array([t]))
     for i in range(3):
         w[i] = omega[0, i]
     for i in range(4):
         q[i] = attitude[0, i]
+
+
+#: A step longer than this many Gauss–Legendre panels takes the periodic
+#: expansion of φ over a whole period (:func:`advance_exact`) instead.
+_MAX_STEP_PANELS = 8
+
+
+@njit
+def free_step(moments, w, q, h):  # type: ignore[no-untyped-def]
+    """:func:`advance_exact` for a step ``h`` (s, either sign) short against the
+    period, as a splitting takes: the precession angle by 16-point
+    Gauss–Legendre panels over [0, h] (each ``_PANEL_U`` wide in u = λ t at
+    most, so to round-off), instead of the expansion over a whole period. ω
+    (3,) and q (4,) are replaced in place."""
+    if _turns_steadily(moments, w):
+        _turn_steadily(w, q, h)
+        return
+    rate, _ = elliptic_rate_and_mc(moments, w)
+    panels = max(1, int(math.ceil(abs(h) * rate / _PANEL_U)))  # noqa: RUF046 (numba)
+    if panels > _MAX_STEP_PANELS:
+        advance_exact(moments, w, q, h)
+        return
+    nodes = _GL_NODES.shape[0]
+    width = h / panels
+    times = np.empty(panels * nodes + 1)
+    for j in range(panels):
+        for k in range(nodes):
+            times[j * nodes + k] = width * (j + 0.5 + 0.5 * _GL_NODES[k])
+    times[-1] = h
+    omega = free_omega(moments, w, times)
+    momentum = math.sqrt(
+        (moments[0] * w[0]) ** 2 + (moments[1] * w[1]) ** 2 + (moments[2] * w[2]) ** 2
+    )
+    first = _about_first_axis(moments, w)
+    phi = 0.0
+    for n in range(panels * nodes):
+        phi += _GL_WEIGHTS[n % nodes] * _phi_rate_about(moments, omega[n], momentum, first)
+    phi *= 0.5 * width
+    frame = momentum_frame(moments, w, q)
+    last = omega[-1]
+    r = _attitude_about(frame, phi, moments[0] * last[0], moments[1] * last[1],
+                        moments[2] * last[2], first)  # fmt: skip
+    for i in range(3):
+        w[i] = last[i]
+    for i in range(4):
+        q[i] = r[i]
 
 
 def exact_batch_kernel(torque, identity):  # type: ignore[no-untyped-def]

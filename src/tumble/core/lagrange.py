@@ -49,12 +49,12 @@ import numpy as np
 
 from tumble.core._jit import njit
 from tumble.core.elliptic import (
-    _inverse_period,
     dd_add,
     ellipk_mc,
     elliprc,
     elliprf,
     elliprj,
+    inverse_period,
     jacobi_from_table,
     jacobi_table,
     two_prod,
@@ -253,7 +253,7 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
     c[_UPPER], c[_LOWER], c[_THETA0] = 1.0 if upper else 0.0, lower, theta0
     if mc > 0.0:
         big_k = ellipk_mc(mc)
-        fh, fl = _inverse_period(mc, 0.0)  # 1 / 4K
+        fh, fl = inverse_period(mc, 0.0)  # 1 / 4K
         c[_K], c[_INV_HI], c[_INV_LO] = big_k, 2.0 * fh, 2.0 * fl
         # The integrals over a half period 2K of the argument.
         if e_top != 0.0:

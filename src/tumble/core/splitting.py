@@ -45,6 +45,7 @@ import numpy as np
 
 from tumble.core._jit import FINITE, njit, njit_parallel, prange, specialise
 from tumble.core.dynamics import is_finite, normalised, record
+from tumble.core.freebody import free_step
 from tumble.core.metrics import (
     ENERGY_DEVIATION,
     FIRST_FLIP,
@@ -128,6 +129,22 @@ def free_flow(h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3):  # type: ignore[no-unt
     return l1, l2, l3, q0, q1, q2, q3
 
 
+@njit
+def exact_free_flow(h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3):  # type: ignore[no-untyped-def]
+    """The free flow of :func:`free_flow` solved exactly for any body: Euler's
+    equations by Jacobi's elliptic functions and the attitude by the precession
+    angle about L (:func:`tumble.core.freebody.free_step`), so a splitting with
+    it errs only through the torque (Celledoni, Fassò, Säfström & Zanna, SIAM J.
+    Sci. Comput. 30 (2008) 2084; their printed solution has sign and separatrix
+    errors, so this uses tumble's own, checked against DOP853). Returns the new
+    (L, q)."""
+    moments = np.array([i1, i2, i3])
+    w = np.array([l1 / i1, l2 / i2, l3 / i3])
+    q = np.array([q0, q1, q2, q3])
+    free_step(moments, w, q, h)
+    return i1 * w[0], i2 * w[1], i3 * w[2], q[0], q[1], q[2], q[3]
+
+
 @njit(inline="always")
 def decay_integral(c, moment, h):  # type: ignore[no-untyped-def]
     """∫₀ʰ exp(−c s / I) ds = (1 − exp(−c h / I)) I / c, and h when c = 0."""
@@ -148,10 +165,11 @@ def _kick(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # 
 
 
 @njit(inline="always")
-def _strang(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # type: ignore[no-untyped-def]
-    """One Strang step of length h (may be negative) from time t."""
+def _strang(torque, flow, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # type: ignore[no-untyped-def]
+    """One Strang step of length h (may be negative) from time t, with the free
+    flow ``flow`` (:func:`free_flow` or :func:`exact_free_flow`)."""
     l1, l2, l3 = _kick(torque, t, 0.5 * h, l1, l2, l3, q, i1, i2, i3, params, column, context)
-    l1, l2, l3, q0, q1, q2, q3 = free_flow(h, l1, l2, l3, q[0], q[1], q[2], q[3], i1, i2, i3)
+    l1, l2, l3, q0, q1, q2, q3 = flow(h, l1, l2, l3, q[0], q[1], q[2], q[3], i1, i2, i3)
     q = (q0, q1, q2, q3)
     l1, l2, l3 = _kick(torque, t + h, 0.5 * h, l1, l2, l3, q, i1, i2, i3, params, column, context)
     return l1, l2, l3, q
@@ -167,19 +185,21 @@ def sub_steps(order):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def splitting_step(torque, t, dt, order, state, inertia, params, column, context):  # type: ignore[no-untyped-def]
+def splitting_step(torque, flow, t, dt, order, state, inertia, params, column, context):  # type: ignore[no-untyped-def]
     """One step of ``dt`` s from time t of ``state`` = (L1, L2, L3, q0, … q3) (L in
     kg·m²/s, principal axes; ``inertia`` the principal moments): Strang
     (``order`` 2) or Yoshida's triple jump of it (4), as sub-steps at one call
-    site so the compiler inlines the Strang step once. Returns the new state,
-    the quaternion renormalised."""
+    site so the compiler inlines the Strang step once; ``flow`` is the free
+    flow. Returns the new state, the quaternion renormalised."""
     fractions, n_sub = sub_steps(order)
     l1, l2, l3, q0, q1, q2, q3 = state
     i1, i2, i3 = inertia
     q = (q0, q1, q2, q3)
     for j in range(n_sub):
         h = fractions[j] * dt
-        l1, l2, l3, q = _strang(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context)
+        l1, l2, l3, q = _strang(
+            torque, flow, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context
+        )
         t += h
     return normalised((l1, l2, l3, q[0], q[1], q[2], q[3]))
 
@@ -200,8 +220,8 @@ def _velocity(state, i1, i2, i3):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def _steps(  # type: ignore[no-untyped-def]
-    torque, w, q, inertia, params, column, context, t0, dt, n_steps, order, record_every, out_w,
-    out_q, first_step,
+    torque, flow, w, q, inertia, params, column, context, t0, dt, n_steps, order, record_every,
+    out_w, out_q, first_step,
 ):  # fmt: skip
     """``n_steps`` splitting steps of one body, in place; its status. The time of
     step k is ``t0 + k dt`` (global step ``first_step + k``)."""
@@ -210,7 +230,7 @@ def _steps(  # type: ignore[no-untyped-def]
     status = FINITE
     for k in range(n_steps):
         step = splitting_step(
-            torque, t0 + k * dt, dt, order, state, (i1, i2, i3), params, column, context
+            torque, flow, t0 + k * dt, dt, order, state, (i1, i2, i3), params, column, context
         )
         if not is_finite(step):
             status = first_step + k + 1
@@ -225,40 +245,49 @@ def _steps(  # type: ignore[no-untyped-def]
     return status
 
 
-def single_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
+def _flow(exact_flow):  # type: ignore[no-untyped-def]
+    """The free flow and the kernels' name: the rotations, or the exact flow."""
+    return (exact_free_flow, "splitting-exact") if exact_flow else (free_flow, "splitting")
+
+
+def single_kernel(torque, identity, order, exact_flow=False):  # type: ignore[no-untyped-def]
     """``run(w, q, inertia, params, context, dt, n_steps, first_step, record_every,
     out_w, out_q) -> status``: ``n_steps`` steps of ``order`` 2 (Strang) or 4
     (Yoshida), arguments, recording and status as
-    :func:`tumble.core.stepping.single_kernel`."""
+    :func:`tumble.core.stepping.single_kernel`; with ``exact_flow``, around the
+    exact free flow (:func:`exact_free_flow`)."""
+    flow, name = _flow(exact_flow)
 
-    @specialise(njit, f"splitting.single.{order}|{identity}")
+    @specialise(njit, f"{name}.single.{order}|{identity}")
     def run(w, q, inertia, params, context, dt, n_steps, first_step, record_every, out_w, out_q):  # type: ignore[no-untyped-def]
         return _steps(
-            torque, w, q, inertia, params, 0, context, first_step * dt, dt, n_steps, order,
+            torque, flow, w, q, inertia, params, 0, context, first_step * dt, dt, n_steps, order,
             record_every, out_w, out_q, first_step,
         )  # fmt: skip
 
     return run
 
 
-def batch_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
+def batch_kernel(torque, identity, order, exact_flow=False):  # type: ignore[no-untyped-def]
     """``batch(w, q, inertia, params, context, t0, dt, n_steps, status)``: N bodies
     (arrays as :func:`tumble.core.stepping.batch_kernel`) advanced in place, one body
     per thread at a time (the rotations' sines and cosines do not vectorise
     across bodies as RK4's products do); ``status`` (N,) int64 receives each
-    body's status (the body then keeps its last finite state)."""
+    body's status (the body then keeps its last finite state). ``exact_flow``
+    as :func:`single_kernel`."""
+    flow, name = _flow(exact_flow)
 
     # One body per call of a compiled function of its own: inlined into the
     # parallel loop, the stepping's tuples defeat numba's parfor analysis.
-    @specialise(njit, f"splitting.body.{order}|{identity}")
+    @specialise(njit, f"{name}.body.{order}|{identity}")
     def one_body(w, q, inertia, params, column, context, t0, dt, n_steps):  # type: ignore[no-untyped-def]
         never = np.iinfo(np.int64).max  # a record_every that no step number reaches
         return _steps(
-            torque, w, q, inertia, params, column, context, t0, dt, n_steps, order, never,
+            torque, flow, w, q, inertia, params, column, context, t0, dt, n_steps, order, never,
             np.zeros((1, 3)), np.zeros((1, 4)), 0,
         )  # fmt: skip
 
-    @specialise(njit_parallel, f"splitting.batch.{order}|{identity}")
+    @specialise(njit_parallel, f"{name}.batch.{order}|{identity}")
     def batch(w, q, inertia, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
         stride = 0 if params.shape[1] == 1 else 1  # shared or per-body params
         for body in prange(w.shape[1]):
@@ -270,19 +299,21 @@ def batch_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
     return batch
 
 
-def metrics_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
+def metrics_kernel(torque, identity, order, exact_flow=False):  # type: ignore[no-untyped-def]
     """``batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status)``:
     as :func:`batch_kernel`, measuring each body after every step into ``out``
     (``N_METRICS``, N) (see :mod:`tumble.core.metrics`); a body's measures stop
-    at its last finite state."""
+    at its last finite state. ``exact_flow`` as :func:`single_kernel`."""
+    flow, name = _flow(exact_flow)
 
-    @specialise(njit, f"splitting.measured.{order}|{identity}")
+    @specialise(njit, f"{name}.measured.{order}|{identity}")
     def one_body(w, q, inertia, params, column, context, axis, t0, dt, n_steps, out):  # type: ignore[no-untyped-def]
         return _measured(
-            torque, w, q, inertia, params, column, context, axis, t0, dt, n_steps, order, out
-        )
+            torque, flow, w, q, inertia, params, column, context, axis, t0, dt, n_steps, order,
+            out,
+        )  # fmt: skip
 
-    @specialise(njit_parallel, f"splitting.metrics.{order}|{identity}")
+    @specialise(njit_parallel, f"{name}.metrics.{order}|{identity}")
     def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
         stride = 0 if params.shape[1] == 1 else 1
         for body in prange(w.shape[1]):
@@ -295,7 +326,9 @@ def metrics_kernel(torque, identity, order):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _measured(torque, w, q, inertia, params, column, context, axis, t0, dt, n_steps, order, out):  # type: ignore[no-untyped-def]
+def _measured(  # type: ignore[no-untyped-def]
+    torque, flow, w, q, inertia, params, column, context, axis, t0, dt, n_steps, order, out
+):
     i1, i2, i3 = inertia[0], inertia[1], inertia[2]
     a1, a2, a3 = axis[0], axis[1], axis[2]
     state = _momentum(w, q, i1, i2, i3)
@@ -307,7 +340,7 @@ def _measured(torque, w, q, inertia, params, column, context, axis, t0, dt, n_st
     status = FINITE
     for k in range(n_steps):
         step = splitting_step(
-            torque, t0 + k * dt, dt, order, state, (i1, i2, i3), params, column, context
+            torque, flow, t0 + k * dt, dt, order, state, (i1, i2, i3), params, column, context
         )
         if not is_finite(step):
             status = k + 1

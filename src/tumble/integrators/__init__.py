@@ -69,6 +69,8 @@ class Integrator:
         torques it takes).
     exact_symmetric_spin : True when its free flow turns a symmetric body
         exactly (a step need not resolve the spin about the symmetry axis).
+    exact_free_motion : True when its free flow is the exact torque-free motion
+        of any body (a step need not resolve the rotation at all).
     kicks : True when it applies the torque in kicks that hold the attitude and
         the torque: exact for torques whose τ depends on the attitude and time
         only (:attr:`tumble.torques.TorqueModel.depends_on`), first order in
@@ -94,6 +96,7 @@ class Integrator:
     run: Callable[..., Any]
     torque_free_only: bool = False
     exact_symmetric_spin: bool = False
+    exact_free_motion: bool = False
     kicks: bool = False
     auto: Callable[[BoundTorque], str | None] | None = None
     single: KernelFactory | None = None
@@ -262,8 +265,28 @@ register_integrator(
 )
 
 
-def _splitting(name: str, order: int, summary: str, auto: Any = None) -> Integrator:
-    """An entry for the splitting of order 2 (Strang) or 4 (Yoshida's composition)."""
+def _splitting(
+    name: str, order: int, summary: str, auto: Any = None, *, exact_flow: bool = False
+) -> Integrator:
+    """An entry for the splitting of order 2 (Strang) or 4 (Yoshida's composition),
+    around the rotations of the free motion or (``exact_flow``) its exact flow."""
+    kernels = partial(splitting.single_kernel, order=order, exact_flow=exact_flow)
+    if exact_flow:
+        return Integrator(
+            name=name,
+            summary=summary,
+            kind="stepping",
+            order=order,
+            preserves="the free motion exactly, so the error comes from the torque alone; "
+            "|L| to round-off when torque-free; bounded energy error under gravity",
+            run=drivers.run_stepping,
+            exact_symmetric_spin=True,
+            exact_free_motion=True,
+            kicks=True,
+            single=kernels,
+            batch=partial(splitting.batch_kernel, order=order, exact_flow=True),
+            metrics=partial(splitting.metrics_kernel, order=order, exact_flow=True),
+        )
     step = part_kernels.strang_step if order == 2 else part_kernels.yoshida_step
     return Integrator(
         name=name,
@@ -276,7 +299,7 @@ def _splitting(name: str, order: int, summary: str, auto: Any = None) -> Integra
         exact_symmetric_spin=True,
         kicks=True,
         auto=auto,
-        single=partial(splitting.single_kernel, order=order),
+        single=kernels,
         batch=partial(splitting.batch_kernel, order=order),
         metrics=partial(splitting.metrics_kernel, order=order),
         parts=ROTORS,
@@ -295,6 +318,24 @@ register_integrator(
 )
 register_integrator(
     _splitting("strang", 2, "second-order symplectic splitting: exact rotations and torque kicks")
+)
+register_integrator(
+    _splitting(
+        "splitting-exact",
+        4,
+        "fourth-order splitting around the exact free motion (Yoshida's composition of "
+        "strang-exact): steps set by the torque, not by the rotation",
+        exact_flow=True,
+    )
+)
+register_integrator(
+    _splitting(
+        "strang-exact",
+        2,
+        "second-order splitting: the exact free motion (Jacobi elliptic functions) and "
+        "torque kicks",
+        exact_flow=True,
+    )
 )
 register_integrator(
     Integrator(

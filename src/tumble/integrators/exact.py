@@ -59,20 +59,17 @@ def exact_principal(moments: Array, w0: Array, q0: Array, times: Array) -> tuple
     """Exact torque-free ω (principal frame, rad/s) and attitude (principal →
     space) at ``times`` (s), from ω0 and q0 in the principal frame of the
     ascending principal ``moments`` (kg·m²)."""
-    from tumble.core.freebody import free_attitude
+    from tumble.core.freebody import free_attitude, momentum_frame
 
-    start = Rotation.from_quat(q0, scalar_first=True)
     on_axis = np.count_nonzero(w0 == 0.0) >= 2 or moments[0] == moments[2]
     if on_axis:
         # Steady rotation about a principal axis, or any rotation of a sphere.
+        start = Rotation.from_quat(q0, scalar_first=True)
         attitude = start * Rotation.from_rotvec(np.outer(times, w0))
         return np.tile(w0, (times.size, 1)), attitude.as_quat(scalar_first=True)
-    l0 = moments * w0
-    initial = Rotation.from_euler(
-        "ZXZ", [0.0, np.arctan2(np.hypot(l0[0], l0[1]), l0[2]), np.arctan2(l0[0], l0[1])]
-    )
-    frame = (start * initial.inv()).as_quat(scalar_first=True)  # R_L: its z axis along L
-    w, q = free_attitude(moments, w0, np.asarray(frame, dtype=float), times)
+    w0 = np.asarray(w0, dtype=float)
+    frame = momentum_frame(moments, w0, np.asarray(q0, dtype=float))  # its z axis along L
+    w, q = free_attitude(moments, w0, frame, times)
     return w, q
 
 
