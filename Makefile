@@ -55,6 +55,7 @@ bench: setup
 	$(BIN)/python bench/free_body.py
 	$(BIN)/python bench/heavy_top.py
 	$(BIN)/python bench/lagrange_top.py
+	$(BIN)/python bench/exact_splitting.py
 	$(BIN)/python bench/batch.py
 	$(BIN)/python bench/sweep.py
 	$(BIN)/python bench/accuracy.py

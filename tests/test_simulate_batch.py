@@ -164,7 +164,7 @@ def test_batch_divergence_is_reported() -> None:
         )
 
 
-@pytest.mark.parametrize("method", ["rk4", "splitting", "strang"])
+@pytest.mark.parametrize("method", ["rk4", "splitting", "strang", "splitting-exact"])
 def test_per_body_torques_equal_separate_simulations(method) -> None:
     # Tensors (non-principal body axes), per-body body torques, space torques and
     # damping: each body must move as simulate() moves it alone with its own model.

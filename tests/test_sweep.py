@@ -266,7 +266,7 @@ def test_symmetric_top_nutation_is_constant_and_exact_with_splitting() -> None:
     assert np.all(result["metrics/momentum_drift"] < 1e-13)
 
 
-@pytest.mark.parametrize("method", ["rk4", "splitting", "strang"])
+@pytest.mark.parametrize("method", ["rk4", "splitting", "strang", "splitting-exact"])
 def test_chunk_equals_single_body_simulations(method: str) -> None:
     # Per-body random perturbations, damping and body torques: each sampled body
     # must end where tb.simulate takes it alone with the same method and dt (same
