@@ -105,3 +105,42 @@ def test_report_renders(browser: Any, folder: Path) -> None:
     assert _not_blank(page.screenshot(full_page=True)) > 5
     assert errors == []
     page.close()
+
+
+@pytest.fixture(scope="module")
+def racket(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_run(run("tennis-racket"), tmp_path_factory.mktemp("browser") / "racket")
+
+
+def test_poinsot_panel_rolls_the_ellipsoid_on_the_plane(browser: Any, racket: Path) -> None:
+    page, errors = _open(browser, racket / "viewer.html")
+    page.wait_for_function(
+        "window.tumbleViewer && window.tumbleViewer.ready === true", timeout=120_000
+    )
+    panel = page.locator("#poinsot")
+    names = page.evaluate("document.getElementById('poinsot').data.map(t => t.name)")
+    assert names[0].startswith("inertia ellipsoid") and names[1].startswith("invariable plane")
+    first = panel.screenshot()
+    ellipsoid = "document.getElementById('poinsot').data[0].x.slice(0, 5)"
+    trail = "document.getElementById('poinsot').data[3].x.length"
+    before = page.evaluate(ellipsoid)
+    assert page.evaluate(trail) == 1
+    page.eval_on_selector("#slider", "s => { s.value = 150; s.dispatchEvent(new Event('input')); }")
+    # The ellipsoid has turned with the body, and the herpolhode has grown on the plane.
+    assert page.evaluate(ellipsoid) != before
+    assert page.evaluate(trail) == 151
+    later = panel.screenshot()
+    assert _not_blank(first) > 5 and _not_blank(later) > 5
+    assert _changed(first, later) > 0.01
+    assert errors == []
+    page.close()
+
+
+def _changed(a: bytes, b: bytes) -> float:
+    """The fraction of pixels that differ between two screenshots of one size."""
+    import numpy as np
+    from PIL import Image
+
+    x = np.asarray(Image.open(io.BytesIO(a)).convert("L"), dtype=float)
+    y = np.asarray(Image.open(io.BytesIO(b)).convert("L"), dtype=float)
+    return float(np.mean(np.abs(x - y) > 8))

@@ -271,3 +271,33 @@ def test_drawn_solids_are_closed_and_centred(shape: dict, volume: float) -> None
     # Like tumble.shapes, centred on the centre of mass; polygons of 16-48 sides lose < 3 %.
     assert_allclose(mesh.center_mass, 0, atol=1e-9)
     assert abs(mesh.volume) == pytest.approx(volume, rel=0.03)
+
+
+def test_the_viewer_draws_the_poinsot_construction_of_a_torque_free_body(
+    gyroscope: object,
+) -> None:
+    from scipy.spatial.transform import Rotation
+
+    from tumble.report.viewer import viewer_data
+
+    # Under gravity about a pivot there is no fixed plane: no Poinsot panel.
+    assert viewer_data(gyroscope.trajectory)["poinsot"] is None  # type: ignore[attr-defined]
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    traj = tb.simulate(body, [0.4, 2.0, 0.3], duration=10.0, dt=0.01, method="exact")
+    data = viewer_data(traj)
+    poinsot = data["poinsot"]
+    assert poinsot is not None
+    polhode, herpolhode = np.array(poinsot["polhode"]), np.array(poinsot["herpolhode"])
+    scale = float(np.max(np.linalg.norm(herpolhode, axis=1)))
+    # The page keeps 5 significant digits of each array (q to 1e-5, ω to 1e-4 of
+    # its largest value): the relations hold to a few 1e-4 of |ω|.
+    turned = Rotation.from_quat(np.array(data["q"]), scalar_first=True).apply(polhode)
+    assert np.max(np.abs(turned - herpolhode)) < 5e-4 * scale  # the contact point is ω
+    height = herpolhode @ np.array(poinsot["normal"])
+    assert np.max(np.abs(height - poinsot["height"])) < 5e-4 * scale  # on the plane
+    energy = 0.5 * np.einsum("ni,ij,nj->n", polhode, body.inertia, polhode)
+    assert np.max(np.abs(energy / traj.energy[0] - 1)) < 1e-3  # on the ellipsoid ω·Jω = 2T
+    # The mesh is that ellipsoid: its points satisfy ω·Jω = 2T.
+    mesh = np.array(poinsot["ellipsoid"])
+    on = np.einsum("ni,ij,nj->n", mesh, body.inertia, mesh) / (2 * traj.energy[0])
+    assert np.max(np.abs(on - 1)) < 1e-3

@@ -5,6 +5,9 @@ coordinates) and the attitude quaternion of each frame; a small script turns the
 mesh, the principal axes and the ω and L arrows frame by frame, so the file
 stays small however fine the mesh. A body's rotors are discs with a stripe,
 turned by the body and by their own spin angle (the integral of their speed).
+For a torque-free body a second panel draws the Poinsot construction in
+ω-space: the inertia ellipsoid turning with the body and rolling on the
+invariable plane, with the polhode and the herpolhode (:func:`poinsot_data`).
 Controls: play / pause, a time slider and the time shown. The script keeps the
 current frame in ``window.tumbleViewer.frame``.
 """
@@ -25,7 +28,7 @@ if TYPE_CHECKING:
     from tumble.report.geometry import Geometry, RotorDrawing
     from tumble.trajectory import Trajectory
 
-__all__ = ["Viewer", "viewer_html"]
+__all__ = ["Viewer", "poinsot_data", "viewer_html"]
 
 Array = NDArray[np.float64]
 
@@ -101,6 +104,51 @@ def _rotor_data(
     return rotors
 
 
+def poinsot_data(traj: Trajectory, index: Any) -> dict[str, Any] | None:
+    """The Poinsot construction of a torque-free motion, in ω-space (rad/s, space
+    axes), for the frames ``index``; None where it does not apply (a torque,
+    gravity about a pivot, internal parts).
+
+    The inertia ellipsoid ``ω · J ω = 2T`` (J the inertia about the fixed point,
+    body axes; a mesh in body axes that the page turns with the body) touches
+    the invariable plane ``ω · L̂ = 2T/|L|`` at ω and rolls on it without
+    slipping (Landau & Lifshitz §37): the polhode is ω's path on the ellipsoid
+    (body axes), the herpolhode its path on the plane (space axes)."""
+    from tumble.analysis import herpolhode
+    from tumble.errors import InputError
+    from tumble.report.geometry import sphere
+
+    try:
+        plane = herpolhode(traj)
+    except InputError:
+        return None
+    energy = float(traj.energy[0])
+    inertia = traj.body.inertia
+    moments, axes = np.linalg.eigh(inertia)
+    semi = np.sqrt(2.0 * energy / moments)  # rad/s along each principal axis
+    unit, faces = sphere(rings=18, sections=36)
+    ellipsoid = (unit * semi) @ axes.T
+    herpolhode_points = plane.omega_space[index]
+    centre = plane.height * plane.normal
+    # The plane drawn as a square about the foot of the normal, wide enough for
+    # the herpolhode and the ellipsoid's shadow on it.
+    half = 1.15 * max(
+        float(np.max(semi)), float(np.max(np.linalg.norm(herpolhode_points - centre, axis=1)))
+    )
+    corners = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]) * half
+    square = centre + corners @ plane.plane_axes.T
+    return {
+        "ellipsoid": _rounded(ellipsoid),
+        "ellipsoid_faces": np.asarray(faces, dtype=np.int64).T.tolist(),
+        "polhode": _rounded(traj.omega[index]),
+        "herpolhode": _rounded(herpolhode_points),
+        "plane": _rounded(square),
+        "normal": [float(v) for v in plane.normal],
+        "height": plane.height,
+        "reach": float(max(np.max(semi), plane.height, half)),
+    }
+
+
 def viewer_data(
     traj: Trajectory,
     geometry: Geometry | None = None,
@@ -144,6 +192,7 @@ def viewer_data(
 
     drawings = _rotor_drawings(traj, reach) if rotors is None else rotors
     return {
+        "poinsot": poinsot_data(traj, index),
         "rotors": _rotor_data(traj, drawings, origin, index),
         "t": _rounded(traj.t[index]),
         "q": _rounded(traj.quaternion[index]),
@@ -167,7 +216,8 @@ body { font-family: system-ui, sans-serif; margin: 0; background: #fafafa; color
 header { padding: 8px 14px; }
 h1 { font-size: 1.1rem; margin: 0 0 2px 0; }
 p.note { margin: 0; font-size: 0.85rem; color: #555; }
-#plot { width: 100%; height: calc(100vh - 120px); min-height: 420px; }
+#views { display: flex; flex-wrap: wrap; }
+#plot, #poinsot { flex: 1 1 420px; height: calc(100vh - 120px); min-height: 420px; }
 #controls { display: flex; gap: 12px; align-items: center; padding: 6px 14px; }
 #controls input[type=range] { flex: 1; }
 #time { font-variant-numeric: tabular-nums; min-width: 9em; }
@@ -178,6 +228,8 @@ _SCRIPT = """
 (function () {
   const D = JSON.parse(document.getElementById('tumble-data').textContent);
   const gd = document.getElementById('plot');
+  const poinsot = document.getElementById('poinsot');
+  const P = D.poinsot;
   const slider = document.getElementById('slider');
   const play = document.getElementById('play');
   const clock = document.getElementById('time');
@@ -235,6 +287,22 @@ _SCRIPT = """
       traces.push(8 + k);
     });
     Plotly.restyle(gd, { x: xs, y: ys, z: zs }, traces);
+    if (P) {
+      // The ellipsoid and the polhode turn with the body; the herpolhode grows on the plane.
+      const ex = [], ey = [], ez = [];
+      for (const v of P.ellipsoid) {
+        const p = rotate(q, v);
+        ex.push(p[0]); ey.push(p[1]); ez.push(p[2]);
+      }
+      const pol = P.polhode.map(v => rotate(q, v));
+      const her = P.herpolhode.slice(0, i + 1);
+      const tip = P.herpolhode[i];
+      Plotly.restyle(poinsot, {
+        x: [ex, pol.map(p => p[0]), her.map(p => p[0]), [0, tip[0]], [tip[0]]],
+        y: [ey, pol.map(p => p[1]), her.map(p => p[1]), [0, tip[1]], [tip[1]]],
+        z: [ez, pol.map(p => p[2]), her.map(p => p[2]), [0, tip[2]], [tip[2]]],
+      }, [0, 2, 3, 4, 5]);
+    }
     state.frame = i;
     slider.value = i;
     clock.textContent = 't = ' + D.t[i].toFixed(3) + ' s  (' + (i + 1) + ' / ' + n + ')';
@@ -259,7 +327,12 @@ _SCRIPT = """
 
   const figure = JSON.parse(document.getElementById('tumble-figure').textContent);
   const config = { responsive: true, displaylogo: false };
-  Plotly.newPlot(gd, figure.data, figure.layout, config).then(function () {
+  const shown = [Plotly.newPlot(gd, figure.data, figure.layout, config)];
+  if (P) {
+    const second = JSON.parse(document.getElementById('tumble-poinsot').textContent);
+    shown.push(Plotly.newPlot(poinsot, second.data, second.layout, config));
+  }
+  Promise.all(shown).then(function () {
     draw(0);
     state.ready = true;
   });
@@ -383,6 +456,80 @@ def _figure(data: dict[str, Any]) -> dict[str, Any]:
     return {"data": traces, "layout": layout}
 
 
+def _poinsot_figure(data: dict[str, Any]) -> dict[str, Any]:
+    """The plotly figure of the Poinsot construction at frame 0 (ω-space, rad/s)."""
+    ellipsoid = np.asarray(data["ellipsoid"])
+    faces = data["ellipsoid_faces"]
+    square = np.asarray(data["plane"])
+    foot = np.asarray(data["normal"]) * data["height"]
+    half = 1.1 * data["reach"]
+
+    def line(name: str, colour: str, width: int, **extra: Any) -> dict[str, Any]:
+        return {
+            "type": "scatter3d", "mode": "lines", "name": name, "x": [0], "y": [0], "z": [0],
+            "line": {"color": colour, "width": width}, **extra,
+        }  # fmt: skip
+
+    traces: list[dict[str, Any]] = [
+        {
+            "type": "mesh3d",
+            "name": "inertia ellipsoid ω·Jω = 2T (turns with the body)",
+            "x": ellipsoid[:, 0].tolist(),
+            "y": ellipsoid[:, 1].tolist(),
+            "z": ellipsoid[:, 2].tolist(),
+            "i": faces[0],
+            "j": faces[1],
+            "k": faces[2],
+            "color": "#9fb7d9",
+            "opacity": 0.6,
+            "flatshading": True,
+            "showlegend": True,
+            "hoverinfo": "skip",
+        },
+        {
+            "type": "mesh3d",
+            "name": f"invariable plane ω·L̂ = 2T/|L| = {data['height']:.4g} rad/s",
+            "x": square[:, 0].tolist(),
+            "y": square[:, 1].tolist(),
+            "z": square[:, 2].tolist(),
+            "i": [0, 0],
+            "j": [1, 2],
+            "k": [2, 3],
+            "color": "#c8c8c8",
+            "opacity": 0.45,
+            "showlegend": True,
+            "hoverinfo": "skip",
+        },
+        line("polhode (ω on the body)", "#d62728", 4),
+        line("herpolhode (ω on the plane)", "#2ca02c", 4),
+        line("ω", "#ff7f0e", 8),
+        {
+            "type": "scatter3d", "mode": "markers", "name": "contact point (ω)",
+            "x": [0], "y": [0], "z": [0], "marker": {"size": 4, "color": "#000000"},
+        },
+        {
+            "type": "scatter3d", "mode": "lines", "name": "L̂ (fixed)",
+            "x": [0, float(foot[0])], "y": [0, float(foot[1])], "z": [0, float(foot[2])],
+            "line": {"color": "#9467bd", "width": 6, "dash": "dash"},
+        },
+    ]  # fmt: skip
+    axis = {"range": [-half, half]}
+    layout = {
+        "margin": {"l": 0, "r": 0, "t": 30, "b": 0},
+        "uirevision": "keep",
+        "title": {"text": "Poinsot construction: the ellipsoid rolls on the plane", "x": 0.5},
+        "legend": {"x": 0, "y": 1, "bgcolor": "rgba(255,255,255,0.6)"},
+        "scene": {
+            "aspectmode": "cube",
+            "xaxis": {**axis, "title": {"text": "ωx (rad/s)"}},
+            "yaxis": {**axis, "title": {"text": "ωy (rad/s)"}},
+            "zaxis": {**axis, "title": {"text": "ωz (rad/s)"}},
+            "camera": {"eye": {"x": 1.5, "y": -1.5, "z": 0.9}},
+        },
+    }
+    return {"data": traces, "layout": layout}
+
+
 def _json_script(value: Any) -> str:
     # "</" must not end the <script> element early.
     return json.dumps(value, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
@@ -422,6 +569,13 @@ def viewer_html(
             if data["rotors"]
             else ""
         )
+        + (
+            "Beside it, the Poinsot construction: the inertia ellipsoid turns with the body and "
+            "rolls without slipping on the invariable plane, touching it at ω; the polhode is "
+            "ω's path on the ellipsoid, the herpolhode its path on the plane. "
+            if data["poinsot"]
+            else ""
+        )
         + f"{len(data['t'])} frames over {data['t'][-1]:.4g} s."
     )
     return (
@@ -432,11 +586,19 @@ def viewer_html(
         '<div id="controls"><button id="play" type="button">Play</button>'
         f'<input id="slider" type="range" min="0" max="{len(data["t"]) - 1}" value="0" step="1" '
         'aria-label="time"><span id="time">t = 0 s</span></div>\n'
-        '<div id="plot"></div>\n'
+        '<div id="views"><div id="plot"></div>'
+        + ('<div id="poinsot"></div>' if data["poinsot"] else "")
+        + "</div>\n"
         f'<script type="application/json" id="tumble-data">{_json_script(data)}</script>\n'
         '<script type="application/json" id="tumble-figure">'
         f"{_json_script(_figure(data))}</script>\n"
-        f"<script>{_SCRIPT}</script>\n</body>\n</html>\n"
+        + (
+            '<script type="application/json" id="tumble-poinsot">'
+            f"{_json_script(_poinsot_figure(data['poinsot']))}</script>\n"
+            if data["poinsot"]
+            else ""
+        )
+        + f"<script>{_SCRIPT}</script>\n</body>\n</html>\n"
     )
 
 
