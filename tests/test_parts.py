@@ -203,8 +203,12 @@ def test_the_exact_symmetric_gyrostat_follows_an_independent_integration(moments
 # real roots (s = sn²) with each placement of sn, cn, dn in x and y, and a
 # complex pair (s = cn); the rotor on each principal axis; the platform moment
 # about the rotor equal to another (locked 3.2 less J = 0.2: a root at infinity);
-# a start with H1 = 0; and a motion near a steady spin (m = 3.6e-6).
+# a start with H1 = 0; a motion near a steady spin (m = 3.6e-6); and nearly
+# prolate platforms whose H passes close to a principal axis (Euler angles
+# about it would turn abruptly: the closed form takes them about another).
 GYROSTATS = [
+    ((1.0, 2.99, 3.0), (0, 0, 1), (0.02, 0.5, 2.0), 1.0),
+    ((1.0, 2.99, 3.0), (0, 1, 0), (0.02, 0.5, 2.0), 1.0),
     ((2.0, 3.0, 4.0), (0, 0, 1), (0.2, -0.1, 0.7), 5.0),
     ((2.0, 3.0, 4.0), (1, 0, 0), (0.2, -0.1, 0.7), 5.0),
     ((2.0, 3.0, 4.0), (0, 1, 0), (0.2, -0.1, 0.7), 5.0),

@@ -221,16 +221,29 @@ def _gyrostat_motion(
     panels = max(8, int(np.ceil(period * abs(constants[8]) / 0.25)))
     nodes = panel_nodes(period / panels, panels)
     at_nodes = gyrostat_momentum(constants, nodes)
-    x, y = at_nodes[:, 0], at_nodes[:, 1]
-    rates = size * (x * x / moments[0] + y * y / moments[1]) / (x * x + y * y)
-    phi = periodic_integral(panel_series(rates, period / panels, panels), period, times)
-    theta = np.arctan2(np.hypot(momentum[:, 0], momentum[:, 1]), momentum[:, 2])
-    psi = np.arctan2(momentum[:, 0], momentum[:, 1])
-    initial = Rotation.from_euler(
-        "ZXZ", [0.0, np.arctan2(np.hypot(h0[0], h0[1]), h0[2]), np.arctan2(h0[0], h0[1])]
+    rates_at_nodes = (at_nodes - rotor_momentum) / moments
+    # Euler angles about the axis (third or first) H stays farthest from, as
+    # for the rigid body (tumble.core.freebody.free_attitude): about an axis H
+    # passes close to, φ̇ = |H| (ω_i H_i + ω_j H_j) / (H_i² + H_j²) has a sharp peak.
+    first = np.min(at_nodes[:, 1] ** 2 + at_nodes[:, 2] ** 2) > np.min(
+        at_nodes[:, 0] ** 2 + at_nodes[:, 1] ** 2
     )
-    frame = start * initial.inv()  # space axes with z along H
-    attitude = frame * Rotation.from_euler("ZXZ", np.column_stack([phi, theta, psi]))
+    order = [1, 2, 0] if first else [0, 1, 2]  # the axes (x', y', z') of the angles
+    cycle = Rotation.from_quat([0.5, 0.5, 0.5, 0.5] if first else [1.0, 0, 0, 0], scalar_first=True)
+    x, y = at_nodes[:, order[0]], at_nodes[:, order[1]]
+    wx, wy = rates_at_nodes[:, order[0]], rates_at_nodes[:, order[1]]
+    rates = size * (wx * x + wy * y) / (x * x + y * y)
+    phi = periodic_integral(panel_series(rates, period / panels, panels), period, times)
+    turned, turned0 = momentum[:, order], h0[order]
+    theta = np.arctan2(np.hypot(turned[:, 0], turned[:, 1]), turned[:, 2])
+    psi = np.arctan2(turned[:, 0], turned[:, 1])
+    initial = Rotation.from_euler(
+        "ZXZ",
+        [0.0, np.arctan2(np.hypot(turned0[0], turned0[1]), turned0[2]),
+         np.arctan2(turned0[0], turned0[1])],
+    )  # fmt: skip
+    frame = start * cycle * initial.inv()  # space axes with z along H
+    attitude = frame * Rotation.from_euler("ZXZ", np.column_stack([phi, theta, psi])) * cycle.inv()
     return (momentum - rotor_momentum) / moments, attitude
 
 
