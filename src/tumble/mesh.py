@@ -9,8 +9,14 @@ does not bound a solid are meaningless rather than approximately right:
 
 * vertices with bit-identical coordinates are merged (STL files repeat them)
   and triangles that then have a repeated corner (zero area) are dropped;
-  vertices that differ by round-off are not merged, and show as holes;
-* every edge must be shared by exactly two triangles (watertight and manifold);
+* where edges are left with one triangle (a seam whose two sides differ by
+  round-off, as CAD exports write them), the vertices of those edges closer
+  than ``merge_tolerance`` are welded (:func:`tumble.core.topology.weld`:
+  deterministic, whatever the vertex order), with a :class:`MeshRepairWarning`;
+* every edge must be shared by exactly two triangles (watertight), or split
+  the mesh into closed pieces: coincident triangles of opposite winding (two
+  solids sharing a face) cancel and are removed, and closed pieces that touch
+  along edges or at vertices (a convex decomposition) are accepted;
 * the two triangles of every edge must traverse it in opposite directions
   (consistent winding);
 * the signed volume must be non-zero; a negative one (an inside-out mesh, all
@@ -31,7 +37,9 @@ from numpy.typing import NDArray
 
 from tumble.core.polyhedron import mesh_integrals
 from tumble.core.topology import (
+    boundary_vertices,
     bounds_and_mean,
+    closed_pieces,
     count_nonfinite_rows,
     directed_edge_keys,
     edge_defects,
@@ -39,12 +47,13 @@ from tumble.core.topology import (
     index_range,
     merge_by_key,
     renumber_faces,
+    weld,
 )
 from tumble.errors import InputError, MeshError
 from tumble.massprops import MassProperties
 from tumble.units import length_scale, to_si
 
-__all__ = ["MeshOrientationWarning", "from_mesh"]
+__all__ = ["MeshOrientationWarning", "MeshRepairWarning", "from_mesh"]
 
 #: A mesh whose |volume| is below this fraction of (surface area × largest
 #: extent) encloses nothing: the volume of a flat or self-cancelling surface is
@@ -54,12 +63,33 @@ __all__ = ["MeshOrientationWarning", "from_mesh"]
 ZERO_VOLUME_FRACTION = 1e-9
 
 
+#: The default ``merge_tolerance``, as a fraction of the bounding box's diagonal:
+#: far above the round-off of coordinates (~1e-16 of their size), far below any
+#: feature a mesh draws.
+DEFAULT_MERGE_FRACTION = 1e-9
+
+#: A gap wider than this fraction of the diagonal is a hole, not a seam: no
+#: larger ``merge_tolerance`` is suggested for it.
+LARGEST_SUGGESTED_FRACTION = 1e-5
+
+
 class MeshOrientationWarning(UserWarning):
     """An inside-out mesh (inward normals) was reversed before integrating."""
 
 
+class MeshRepairWarning(UserWarning):
+    """A mesh was read as a closed solid after a repair it should be told of:
+    vertices welded across a seam, coincident triangles of opposite winding
+    removed, or closed pieces that touch along edges."""
+
+
 def from_mesh(
-    mesh: Any, density: Any = None, mass: Any = None, units: Any = None
+    mesh: Any,
+    density: Any = None,
+    mass: Any = None,
+    units: Any = None,
+    *,
+    merge_tolerance: Any = None,
 ) -> MassProperties:
     """Mass properties of the uniform solid bounded by a closed triangle mesh.
 
@@ -74,6 +104,10 @@ def from_mesh(
     units : length unit of the mesh coordinates, e.g. ``"mm"`` for most CAD
         files. Default: the unit the file declares (glTF/GLB may), else metres;
         given, it overrides what the file declares.
+    merge_tolerance : the largest distance at which the vertices of edges with
+        one triangle are welded, a length (m, or e.g. ``"0.01 mm"``; after
+        ``units``). Default :data:`DEFAULT_MERGE_FRACTION` of the bounding
+        box's diagonal (round-off only); 0 welds nothing.
 
     Returns
     -------
@@ -87,13 +121,19 @@ def from_mesh(
         density or mass, a unit that is not a length.
     MeshError
         No triangles, non-finite vertices, holes (the message counts the
-        boundary edges), edges shared by more than two triangles, inconsistent
+        boundary edges, gives their length, and suggests the
+        ``merge_tolerance`` that closes a seam), edges shared by more than two
+        triangles that do not split the mesh into closed pieces, inconsistent
         winding, or zero volume.
 
     Warns
     -----
     MeshOrientationWarning
         If the mesh is inside out; its winding is reversed (never a silent abs()).
+    MeshRepairWarning
+        If vertices were welded (how many, and the largest distance moved),
+        coincident triangles removed, or the mesh is closed pieces touching
+        along edges (how many).
     """
     if (density is None) == (mass is None):
         raise InputError(
@@ -104,15 +144,22 @@ def from_mesh(
     units = units if units is not None else file_units
     if units is not None:
         vertices = vertices * length_scale(units, "units")
+    tolerance = None
+    if merge_tolerance is not None:
+        tolerance = to_si(merge_tolerance, "length", "merge_tolerance")
+        if not tolerance >= 0:
+            raise InputError(f"Expected `merge_tolerance` >= 0 m, got {tolerance!r}.")
     if density is not None:
         rho = to_si(density, "density", "density")
         if rho <= 0:
             raise InputError(f"Expected `density` > 0 kg/m^3, got {rho!r}.")
-        return mesh_mass_properties(vertices, faces, density=rho, label=label)
+        return mesh_mass_properties(
+            vertices, faces, density=rho, label=label, merge_tolerance=tolerance
+        )
     total = to_si(mass, "mass", "mass")
     if total <= 0:
         raise InputError(f"Expected `mass` > 0 kg, got {total!r}.")
-    return mesh_mass_properties(vertices, faces, mass=total, label=label)
+    return mesh_mass_properties(vertices, faces, mass=total, label=label, merge_tolerance=tolerance)
 
 
 def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str | None]:
@@ -159,10 +206,12 @@ def mesh_mass_properties(
     density: float | None = None,
     mass: float | None = None,
     label: str = "mesh",
+    merge_tolerance: float | None = None,
 ) -> MassProperties:
     """Mass properties from SI arrays (``vertices`` (n, 3) m, ``faces`` (k, 3));
-    exactly one of ``density`` (kg/m³) and ``mass`` (kg). See :func:`from_mesh`."""
-    vertices, faces = _checked_topology(vertices, faces, label)
+    exactly one of ``density`` (kg/m³) and ``mass`` (kg); ``merge_tolerance``
+    in m (None: the default). See :func:`from_mesh`."""
+    vertices, faces = _checked_topology(vertices, faces, label, merge_tolerance)
     low, high, reference = bounds_and_mean(vertices)
     size = float(np.max(high - low))
     # Integrate in units of the mesh's own size about a point near it: the sums
@@ -252,9 +301,13 @@ def _check_parts(
 
 
 def _checked_topology(
-    vertices: NDArray[np.float64], faces: NDArray[np.int64], label: str
+    vertices: NDArray[np.float64],
+    faces: NDArray[np.int64],
+    label: str,
+    merge_tolerance: float | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """Merge duplicate vertices, drop zero-area triangles, check the mesh is closed and oriented."""
+    """Merge duplicate vertices, drop zero-area triangles, weld seams, check the
+    mesh is closed (or closed pieces) and oriented."""
     if faces.ndim != 2 or faces.shape[1] != 3:
         raise MeshError(f"Expected {label} to have triangles, got faces of shape {faces.shape}.")
     if faces.shape[0] == 0:
@@ -274,8 +327,103 @@ def _checked_topology(
     faces = renumber_faces(faces, inverse)
     if faces.shape[0] == 0:
         raise MeshError(f"Expected {label} to have triangles of non-zero area, got none.")
-    _check_edges(faces, unique.shape[0], label)
+    keys = directed_edge_keys(faces, unique.shape[0])
+    keys.sort()
+    boundary, crowded, _ = (int(n) for n in edge_defects(keys))
+    corner_low, corner_high, _ = bounds_and_mean(unique)
+    diagonal = float(np.linalg.norm(corner_high - corner_low))
+    tolerance = DEFAULT_MERGE_FRACTION * diagonal if merge_tolerance is None else merge_tolerance
+    if boundary and tolerance > 0:
+        welded, welded_faces, count, largest = _weld_seams(unique, faces, keys, tolerance)
+        if count:
+            unique, faces = welded, welded_faces
+            warnings.warn(
+                f"{label}: welded {count} vertices of its seams, moved by at most "
+                f"{largest:.3g} m (merge_tolerance {tolerance:.3g} m).",
+                MeshRepairWarning,
+                stacklevel=4,
+            )
+            keys = directed_edge_keys(faces, unique.shape[0])
+            keys.sort()
+    if crowded or boundary:
+        faces, cancelled = _drop_cancelling(faces)
+        if cancelled:
+            warnings.warn(
+                f"{label}: removed {cancelled} pairs of coincident triangles of opposite "
+                "winding (solids sharing a face; their integrals cancel).",
+                MeshRepairWarning,
+                stacklevel=4,
+            )
+            if faces.shape[0] == 0:
+                raise MeshError(f"Expected {label} to enclose a volume, got triangles that cancel.")
+            keys = directed_edge_keys(faces, unique.shape[0])
+            keys.sort()
+    _check_edges(faces, unique.shape[0], label, keys, unique, diagonal, tolerance)
     return unique, faces
+
+
+def _weld_seams(
+    vertices: NDArray[np.float64],
+    faces: NDArray[np.int64],
+    sorted_keys: NDArray[np.int64],
+    tolerance: float,
+) -> tuple[NDArray[np.float64], NDArray[np.int64], int, float]:
+    """Weld the vertices of the edges used once that lie within ``tolerance`` of
+    each other; other vertices are kept as they are (welding a closed fan to
+    another would make the mesh non-manifold). Returns the vertices, the faces
+    (zero-area triangles dropped), how many vertices were welded away and the
+    largest distance one moved (m)."""
+    seam = boundary_vertices(sorted_keys, vertices.shape[0])
+    merged, groups, largest = weld(np.ascontiguousarray(vertices[seam]), tolerance)
+    count = seam.shape[0] - merged.shape[0]
+    if count == 0:
+        return vertices, faces, 0, 0.0
+    # Each seam vertex becomes its group's point; the others keep their number.
+    target = np.arange(vertices.shape[0])
+    first = np.full(merged.shape[0], -1, dtype=np.int64)
+    for vertex, group in zip(seam, groups, strict=True):
+        if first[group] < 0:
+            first[group] = vertex
+        target[vertex] = first[group]
+    points = vertices.copy()
+    points[first] = merged
+    kept = np.unique(target)
+    renumber = np.full(vertices.shape[0], -1, dtype=np.int64)
+    renumber[kept] = np.arange(kept.shape[0])
+    return (
+        np.ascontiguousarray(points[kept]),
+        renumber_faces(faces, renumber[target]),
+        count,
+        float(largest),
+    )
+
+
+def _drop_cancelling(faces: NDArray[np.int64]) -> tuple[NDArray[np.int64], int]:
+    """Remove pairs of triangles on the same three vertices wound opposite ways
+    (their contributions to every integral cancel): the faces left and the
+    number of pairs removed."""
+    ordered = np.sort(faces, axis=1)
+    # +1 when the triangle runs (low, middle, high) cyclically, −1 the other way.
+    start = np.argmin(faces, axis=1)
+    after = faces[np.arange(faces.shape[0]), (start + 1) % 3]
+    sense = np.where(after == ordered[:, 1], 1, -1)
+    order = np.lexsort((sense, ordered[:, 2], ordered[:, 1], ordered[:, 0]))
+    same = np.all(ordered[order][1:] == ordered[order][:-1], axis=1)
+    if not same.any():
+        return faces, 0
+    drop = np.zeros(faces.shape[0], dtype=bool)
+    pairs = 0
+    runs = np.split(order, np.flatnonzero(~same) + 1)
+    for run in runs:
+        if len(run) < 2:
+            continue
+        plus = run[sense[run] > 0]
+        minus = run[sense[run] < 0]
+        n = min(len(plus), len(minus))
+        drop[plus[:n]] = True
+        drop[minus[:n]] = True
+        pairs += n
+    return np.ascontiguousarray(faces[~drop]), pairs
 
 
 def _merge_identical_vertices(
@@ -303,24 +451,38 @@ def _merge_identical_vertices(
     return unique, inverse.reshape(-1).astype(np.int64)
 
 
-def _check_edges(faces: NDArray[np.int64], n_vertices: int, label: str) -> None:
-    """Every edge in exactly two triangles, traversed once in each direction.
+def _check_edges(
+    faces: NDArray[np.int64],
+    n_vertices: int,
+    label: str,
+    keys: NDArray[np.int64],
+    vertices: NDArray[np.float64],
+    diagonal: float,
+    tolerance: float,
+) -> None:
+    """Every edge in exactly two triangles, traversed once in each direction, or
+    in closed pieces that touch along edges.
 
-    One sort of integer edge keys (see :func:`tumble.core.topology.directed_edge_keys`)
-    rather than trimesh's graph helpers, so the errors can count what is wrong.
+    ``keys``: the sorted directed edge keys (:func:`tumble.core.topology.directed_edge_keys`)
+    of ``faces``, so the errors can count what is wrong.
     """
-    keys = directed_edge_keys(faces, n_vertices)
-    keys.sort()
     boundary, crowded, same_direction = (int(n) for n in edge_defects(keys))
     if boundary:
-        raise MeshError(
-            f"Expected {label} to be closed (watertight), got {boundary} boundary edges "
-            "(edges of only one triangle): it has holes, so it bounds no solid."
-        )
+        raise MeshError(_holes_message(faces, vertices, keys, label, boundary, diagonal, tolerance))
     if crowded:
-        raise MeshError(
-            f"Expected {label} to be manifold, got {crowded} edges shared by more than two "
-            "triangles."
+        unsorted = directed_edge_keys(faces, n_vertices)
+        n_pieces, _, open_edges = closed_pieces(vertices, faces, unsorted, np.argsort(unsorted))
+        if open_edges:
+            raise MeshError(
+                f"Expected {label} to be manifold, got {crowded} edges shared by more than two "
+                f"triangles, {open_edges} of which do not split it into closed pieces."
+            )
+        warnings.warn(
+            f"{label}: {crowded} edges are shared by more than two triangles; read as "
+            f"{n_pieces} closed piece{'s' if n_pieces > 1 else ''} touching there (solids "
+            "sharing edges or faces; pieces that overlap in volume would count twice).",
+            MeshRepairWarning,
+            stacklevel=5,
         )
     if same_direction:
         raise MeshError(
@@ -328,3 +490,54 @@ def _check_edges(faces: NDArray[np.int64], n_vertices: int, label: str) -> None:
             "in the same direction by both of their triangles (some triangles are flipped; "
             "trimesh.repair.fix_normals can repair it)."
         )
+
+
+def _holes_message(
+    faces: NDArray[np.int64],
+    vertices: NDArray[np.float64],
+    keys: NDArray[np.int64],
+    label: str,
+    boundary: int,
+    diagonal: float,
+    tolerance: float,
+) -> str:
+    """What is open, how much, and the ``merge_tolerance`` that would close it
+    if a seam narrower than :data:`LARGEST_SUGGESTED_FRACTION` of the mesh is all
+    that is open."""
+    from scipy.spatial import cKDTree
+
+    n = vertices.shape[0]
+    edges, uses = np.unique(keys >> 1, return_counts=True)
+    edges = edges[uses == 1]
+    starts, ends = edges // n, edges % n
+    length = float(np.sum(np.linalg.norm(vertices[starts] - vertices[ends], axis=1)))
+    message = (
+        f"Expected {label} to be closed (watertight), got {boundary} boundary edges (edges of "
+        f"only one triangle, {length:.3g} m long in all, {length / diagonal:.2g} of the "
+        f"mesh's diagonal) "
+        + (f"after welding vertices closer than {tolerance:.3g} m" if tolerance > 0 else "")
+        + ("without welding (merge_tolerance 0)" if tolerance == 0 else "")
+        + ": it has holes, so it bounds no solid."
+    )
+    seam = np.unique(np.concatenate([starts, ends]))
+    if seam.shape[0] < 2:
+        return message
+    # The seam's near pairs: vertices with another within the largest gap
+    # suggested; welding those at twice their largest distance must close it.
+    distances, _ = cKDTree(vertices[seam]).query(vertices[seam], k=2)
+    near = distances[:, 1][distances[:, 1] <= 0.5 * LARGEST_SUGGESTED_FRACTION * diagonal]
+    if near.shape[0] == 0:
+        return message
+    gap = float(np.max(near))
+    suggestion = 2.0 * gap
+    if not suggestion > tolerance:
+        return message
+    welded, welded_faces, _, _ = _weld_seams(vertices, faces, keys, suggestion)
+    closed = directed_edge_keys(welded_faces, welded.shape[0])
+    closed.sort()
+    if edge_defects(closed)[0]:
+        return message
+    return (
+        message + f" Its vertices at the holes are at most {gap:.3g} m from one another: "
+        f"merge_tolerance = {suggestion:.2g} m welds them and closes it."
+    )

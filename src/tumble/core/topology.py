@@ -219,3 +219,244 @@ def face_components(faces, n_vertices):  # type: ignore[no-untyped-def]
             n_parts += 1
         labels[f] = number[r]
     return n_parts, labels
+
+
+@njit(inline="always")
+def _cell_key(cx, cy, cz):  # type: ignore[no-untyped-def]
+    """A uint64 hash of an integer grid cell (collisions are checked by the caller)."""
+    return (
+        np.uint64(cx) * np.uint64(0x9E3779B97F4A7C15)
+        ^ np.uint64(cy) * np.uint64(0xC2B2AE3D27D4EB4F)
+        ^ np.uint64(cz) * np.uint64(0x165667B19E3779F9)
+    )
+
+
+#: Grid cells this many tolerances wide: a point then needs the neighbouring
+#: cells only along the axes where it lies within the tolerance of its cell's
+#: side, so most points look in their own cell alone.
+_CELL_TOLERANCES = 64.0
+
+
+@njit
+def weld(points, tolerance):  # type: ignore[no-untyped-def]
+    """Weld points closer than ``tolerance``: the connected groups of the graph
+    "within ``tolerance`` of each other" (Euclidean distance), each replaced by
+    its lexicographically smallest point, so the result depends neither on the
+    order of the points nor on the grid.
+
+    Parameters
+    ----------
+    points : (n, 3) float64, distinct.
+    tolerance : > 0, in the units of ``points``.
+
+    Returns
+    -------
+    unique : (n_groups, 3), one point per group, groups in order of first appearance.
+    inverse : (n,) int64, the group of each point.
+    largest : float, the largest distance from a point to its group's point.
+    """
+    n = points.shape[0]
+    width = _CELL_TOLERANCES * tolerance
+    low = points[0].copy()
+    for i in range(n):
+        for c in range(3):
+            low[c] = min(low[c], points[i, c])
+    cells = np.empty((n, 3), dtype=np.int64)
+    keys = np.empty(n, dtype=np.uint64)
+    for i in range(n):
+        for c in range(3):
+            cells[i, c] = np.int64(np.floor((points[i, c] - low[c]) / width))
+        keys[i] = _cell_key(cells[i, 0], cells[i, 1], cells[i, 2])
+    order = np.argsort(keys)
+    ordered = keys[order]
+    parent = np.arange(n)
+    squared = tolerance * tolerance
+    reach = np.empty((3, 2), dtype=np.int64)  # per axis, the neighbour offsets to look at
+    for i in range(n):
+        for c in range(3):
+            offset = points[i, c] - low[c] - cells[i, c] * width
+            reach[c, 0] = -1 if offset <= tolerance else 0
+            reach[c, 1] = 1 if width - offset <= tolerance else 0
+        for dx in range(reach[0, 0], reach[0, 1] + 1):
+            for dy in range(reach[1, 0], reach[1, 1] + 1):
+                for dz in range(reach[2, 0], reach[2, 1] + 1):
+                    cx, cy, cz = cells[i, 0] + dx, cells[i, 1] + dy, cells[i, 2] + dz
+                    key = _cell_key(cx, cy, cz)
+                    k = np.searchsorted(ordered, key)
+                    while k < n and ordered[k] == key:
+                        j = order[k]
+                        k += 1
+                        if j == i or cells[j, 0] != cx or cells[j, 1] != cy or cells[j, 2] != cz:
+                            continue
+                        d0 = points[i, 0] - points[j, 0]
+                        d1 = points[i, 1] - points[j, 1]
+                        d2 = points[i, 2] - points[j, 2]
+                        if d0 * d0 + d1 * d1 + d2 * d2 <= squared:
+                            a, b = _root(parent, i), _root(parent, j)
+                            if a != b:
+                                parent[max(a, b)] = min(a, b)
+    # Each group's point: its lexicographically smallest member.
+    best = np.arange(n)
+    for i in range(n):
+        r = _root(parent, i)
+        b = best[r]
+        if (points[i, 0], points[i, 1], points[i, 2]) < (points[b, 0], points[b, 1], points[b, 2]):
+            best[r] = i
+    number = np.full(n, -1, dtype=np.int64)
+    inverse = np.empty(n, dtype=np.int64)
+    count = 0
+    for i in range(n):
+        r = _root(parent, i)
+        if number[r] < 0:
+            number[r] = count
+            count += 1
+        inverse[i] = number[r]
+    unique = np.empty((count, 3))
+    largest = 0.0
+    for i in range(n):
+        r = _root(parent, i)
+        b = best[r]
+        for c in range(3):
+            unique[inverse[i], c] = points[b, c]
+        d0 = points[i, 0] - points[b, 0]
+        d1 = points[i, 1] - points[b, 1]
+        d2 = points[i, 2] - points[b, 2]
+        largest = max(largest, np.sqrt(d0 * d0 + d1 * d1 + d2 * d2))
+    return unique, inverse, largest
+
+
+@njit
+def boundary_vertices(sorted_keys, n_vertices):  # type: ignore[no-untyped-def]
+    """The vertices of the edges used once in sorted directed edge keys
+    (:func:`directed_edge_keys`), each once, ascending."""
+    seen = np.zeros(n_vertices, dtype=np.bool_)
+    n = sorted_keys.shape[0]
+    k = 0
+    while k < n:
+        edge = sorted_keys[k] >> 1
+        run = 1
+        while k + run < n and (sorted_keys[k + run] >> 1) == edge:
+            run += 1
+        if run == 1:
+            seen[edge // n_vertices] = True
+            seen[edge % n_vertices] = True
+        k += run
+    return np.flatnonzero(seen)
+
+
+@njit
+def _third_vertex(faces, f, a, b):  # type: ignore[no-untyped-def]
+    """The corner of triangle ``f`` that is neither ``a`` nor ``b``."""
+    for c in range(3):
+        v = faces[f, c]
+        if v != a and v != b:
+            return v
+    return faces[f, 0]
+
+
+@njit
+def _pair_around_edge(vertices, faces, keys, order, start, run, n_vertices, parent):  # type: ignore[no-untyped-def]
+    """Join the triangles around one edge of more than two triangles in pairs
+    that bound the same solid wedge: sorted by their angle about the edge, a
+    triangle whose outward normal faces back, against the direction of
+    increasing angle, has its solid on the side of the next triangle."""
+    edge = keys[order[start]] >> 1
+    a, b = edge // n_vertices, edge % n_vertices
+    d = vertices[b] - vertices[a]
+    d = d / np.sqrt(d @ d)
+    # A unit vector normal to the edge, from the axis least aligned with it.
+    axis = np.zeros(3)
+    axis[np.argmin(np.abs(d))] = 1.0
+    e1 = np.cross(d, axis)
+    e1 = e1 / np.sqrt(e1 @ e1)
+    e2 = np.cross(d, e1)
+    angles = np.empty(run)
+    backward = np.empty(run, dtype=np.bool_)
+    for i in range(run):
+        f = order[start + i] // 3
+        u = vertices[_third_vertex(faces, f, a, b)] - vertices[a]
+        angles[i] = np.arctan2(u @ e2, u @ e1)
+        w = u - (u @ d) * d
+        tangent = np.cross(d, w)  # towards increasing angle
+        p0, p1, p2 = vertices[faces[f, 0]], vertices[faces[f, 1]], vertices[faces[f, 2]]
+        backward[i] = np.cross(p1 - p0, p2 - p0) @ tangent < 0.0
+    around = np.argsort(angles)
+    for i in range(run):
+        if backward[around[i]]:
+            f = order[start + around[i]] // 3
+            g = order[start + around[(i + 1) % run]] // 3
+            x, y = _root(parent, f), _root(parent, g)
+            if x != y:
+                parent[max(x, y)] = min(x, y)
+
+
+@njit
+def closed_pieces(vertices, faces, keys, order):  # type: ignore[no-untyped-def]
+    """Split a mesh into pieces along its edges of more than two triangles.
+
+    Triangles are joined across every edge they share with exactly one other
+    triangle traversing it the other way, and around an edge of more than two
+    triangles in pairs bounding the same solid wedge (by angle about the edge).
+    A piece is closed when, at each such edge, its triangles traverse the edge
+    as often one way as the other.
+
+    Parameters
+    ----------
+    vertices : (n, 3); faces : (n_faces, 3).
+    keys : (3 n_faces,) the directed edge keys of :func:`directed_edge_keys`.
+    order : ``argsort(keys)``.
+
+    Returns
+    -------
+    n_pieces : int.
+    labels : (n_faces,) int64, the piece of each triangle, in order of first appearance.
+    open_edges : int, edges of more than two triangles at which some piece is not closed.
+    """
+    n_faces = faces.shape[0]
+    n_vertices = vertices.shape[0]
+    parent = np.arange(n_faces)
+    n = keys.shape[0]
+    k = 0
+    while k < n:
+        edge = keys[order[k]] >> 1
+        run = 1
+        while k + run < n and (keys[order[k + run]] >> 1) == edge:
+            run += 1
+        if run == 2 and (keys[order[k]] & 1) != (keys[order[k + 1]] & 1):
+            a = _root(parent, order[k] // 3)
+            b = _root(parent, order[k + 1] // 3)
+            if a != b:
+                parent[max(a, b)] = min(a, b)
+        elif run > 2:
+            _pair_around_edge(vertices, faces, keys, order, k, run, n_vertices, parent)
+        k += run
+    number = np.full(n_faces, -1, dtype=np.int64)
+    labels = np.empty(n_faces, dtype=np.int64)
+    n_pieces = 0
+    for f in range(n_faces):
+        r = _root(parent, f)
+        if number[r] < 0:
+            number[r] = n_pieces
+            n_pieces += 1
+        labels[f] = number[r]
+    open_edges = 0
+    k = 0
+    while k < n:
+        edge = keys[order[k]] >> 1
+        run = 1
+        while k + run < n and (keys[order[k + run]] >> 1) == edge:
+            run += 1
+        if run > 2:
+            balanced = True
+            for i in range(run):
+                piece = labels[order[k + i] // 3]
+                turns = 0
+                for j in range(run):
+                    if labels[order[k + j] // 3] == piece:
+                        turns += 1 if (keys[order[k + j]] & 1) else -1
+                if turns != 0:
+                    balanced = False
+            if not balanced:
+                open_edges += 1
+        k += run
+    return n_pieces, labels, open_edges

@@ -1,0 +1,220 @@
+"""Real CAD meshes: seams that differ by round-off are welded, closed pieces that
+touch are accepted, and an open mesh is refused with a message that says how
+much is open and, for a seam, which ``merge_tolerance`` closes it.
+
+Oracles: the same solid written without the defect, the closed forms of boxes,
+and the convex hull of the pieces of a decomposition.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+import trimesh
+from scipy.spatial import Delaunay
+
+import tumble
+from tumble import InputError, MeshError
+from tumble.core.topology import weld
+from tumble.mesh import MeshRepairWarning, mesh_mass_properties
+
+SIZE = (0.1, 0.2, 0.3)  # m
+
+
+def stl_box(size=SIZE, lo=(0.0, 0.0, 0.0)):
+    """A box as CAD STL exports write it: every triangle's corners separately,
+    its lowest corner at ``lo``."""
+    box = trimesh.creation.box(bounds=[lo, np.add(lo, size)])
+    vertices = box.vertices[box.faces].reshape(-1, 3).copy()
+    return vertices, np.arange(len(vertices)).reshape(-1, 3)
+
+
+def quiet(vertices, faces, **kwargs):
+    """Mass properties (density 1000) and the messages of the repair warnings."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mp = mesh_mass_properties(vertices, faces, density=1000.0, **kwargs)
+    return mp, [str(w.message) for w in caught if issubclass(w.category, MeshRepairWarning)]
+
+
+def box_inertia(mass, size):
+    a, b, c = size
+    return mass / 12 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
+
+
+def test_a_seam_that_differs_by_round_off_is_welded() -> None:
+    # One repeated corner at z = 5.36e-18 m instead of 0: a hole of zero area.
+    vertices, faces = stl_box()
+    exact, _ = quiet(vertices, faces)
+    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
+    vertices[corner, 2] = 5.36e-18
+    mp, said = quiet(vertices, faces)
+    assert said == [
+        "mesh: welded 1 vertices of its seams, moved by at most 5.36e-18 m "
+        "(merge_tolerance 3.74e-10 m)."
+    ]
+    assert mp.mass == exact.mass
+    np.testing.assert_array_equal(mp.inertia, exact.inertia)
+    # With no welding it is refused, and the message says what closes it.
+    with pytest.raises(
+        MeshError,
+        match=r"^Expected mesh to be closed \(watertight\), got 4 boundary edges \(edges of only "
+        r"one triangle, 1\.32 m long in all, 3\.5 of the mesh's diagonal\) without welding "
+        r"\(merge_tolerance 0\): it has holes, so it bounds no solid\. Its vertices at the "
+        r"holes are at most 5\.36e-18 m from one another: merge_tolerance = 1\.1e-17 m welds "
+        r"them and closes it\.$",
+    ):
+        mesh_mass_properties(vertices, faces, density=1000.0, merge_tolerance=0.0)
+
+
+def test_a_gap_far_above_round_off_needs_a_larger_tolerance_which_the_message_names() -> None:
+    vertices, faces = stl_box()
+    exact, _ = quiet(vertices, faces)
+    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
+    vertices[corner, 2] = 1e-6 * SIZE[2]  # 3e-7 m: 1e-6 of the box
+    with pytest.raises(
+        MeshError,
+        match=r"after welding vertices closer than 3\.74e-10 m: it has holes, so it bounds no "
+        r"solid\. Its vertices at the holes are at most 3e-07 m from one another: "
+        r"merge_tolerance = 6e-07 m welds them and closes it\.$",
+    ):
+        mesh_mass_properties(vertices, faces, density=1000.0)
+    mp, said = quiet(vertices, faces, merge_tolerance=6e-7)
+    assert said == [
+        "mesh: welded 1 vertices of its seams, moved by at most 3e-07 m (merge_tolerance 6e-07 m)."
+    ]
+    # The corner is welded to its exact position (the lexicographically smallest).
+    assert mp.mass == exact.mass
+
+
+def test_a_real_hole_gets_no_suggestion() -> None:
+    vertices, faces = stl_box()
+    with pytest.raises(MeshError, match=r"it has holes, so it bounds no solid\.$"):
+        mesh_mass_properties(vertices, faces[1:], density=1000.0)
+
+
+def test_welding_does_not_depend_on_the_vertex_order() -> None:
+    rng = np.random.default_rng(3)
+    points = rng.uniform(size=(200, 3))
+    jittered = np.vstack([points, points + rng.normal(scale=1e-13, size=points.shape)])
+    unique, inverse, largest = weld(jittered, 1e-9)
+    assert unique.shape == (200, 3) and largest < 1e-12
+    order = rng.permutation(len(jittered))
+    unique2, inverse2, largest2 = weld(jittered[order], 1e-9)
+    # Each point goes to the same place, whatever the order.
+    np.testing.assert_array_equal(unique[inverse][order], unique2[inverse2])
+    assert largest2 == largest
+
+
+def test_welding_joins_chains_near_a_grid_cell_boundary() -> None:
+    # Points straddling a cell side (the grid starts at the smallest point):
+    # the neighbouring cells are searched too.
+    tolerance = 1e-3
+    width = 64 * tolerance
+    points = np.array([[0.0, 0.0, 0.0], [width - 1e-4, 0.0, 0.0], [width + 1e-4, 0.0, 0.0]])
+    unique, inverse, largest = weld(points, tolerance)
+    assert unique.shape[0] == 2 and inverse[1] == inverse[2]
+    assert largest == pytest.approx(2e-4, rel=1e-12)
+
+
+def test_two_solids_sharing_a_face_are_their_union() -> None:
+    # Two unit cubes side by side: the shared face's edges are four-fold (its
+    # triangles have different diagonals in the two cubes, so they do not
+    # cancel). The pair is a 2 × 1 × 1 box: mass 2, I = m/12 (b² + c², a² + c², a² + b²).
+    first, first_faces = stl_box((1.0, 1.0, 1.0))
+    second, second_faces = stl_box((1.0, 1.0, 1.0), lo=(1.0, 0.0, 0.0))
+    vertices = np.vstack([first, second])
+    faces = np.vstack([first_faces, second_faces + len(first)])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mp = mesh_mass_properties(vertices, faces, density=1.0)
+    said = [str(w.message) for w in caught if issubclass(w.category, MeshRepairWarning)]
+    assert said == [
+        "mesh: 4 edges are shared by more than two triangles; read as 1 closed piece touching "
+        "there (solids sharing edges or faces; pieces that overlap in volume would count twice)."
+    ]
+    assert mp.mass == pytest.approx(2.0, rel=1e-15)
+    np.testing.assert_allclose(mp.center_of_mass, [1.0, 0.5, 0.5], rtol=1e-15)
+    np.testing.assert_allclose(mp.inertia, box_inertia(2.0, (2.0, 1.0, 1.0)), atol=1e-14)
+
+
+def test_a_mirrored_pair_sharing_a_face_cancels_the_face() -> None:
+    # A cube and its mirror image across x = 1 (winding reversed to stay
+    # outward): their common face is the same two triangles wound both ways.
+    vertices, faces = stl_box((1.0, 1.0, 1.0))
+    mirrored = vertices * [-1.0, 1.0, 1.0] + [2.0, 0.0, 0.0]
+    both = np.vstack([vertices, mirrored])
+    all_faces = np.vstack([faces, faces[:, ::-1] + len(vertices)])
+    mp, said = quiet(both, all_faces)
+    assert said == [
+        "mesh: removed 2 pairs of coincident triangles of opposite winding (solids sharing a "
+        "face; their integrals cancel)."
+    ]
+    assert mp.mass == pytest.approx(2000.0, rel=1e-15)
+    np.testing.assert_allclose(mp.inertia, box_inertia(2000.0, (2.0, 1.0, 1.0)), rtol=1e-14)
+
+
+def test_a_convex_decomposition_equals_its_hull() -> None:
+    # The tetrahedra of a Delaunay triangulation are closed convex pieces that
+    # share faces, edges and vertices; together they fill the hull.
+    rng = np.random.default_rng(11)
+    points = rng.normal(size=(40, 3)) * [0.3, 0.2, 0.1] + [0.5, -0.2, 0.1]
+    tetrahedra = Delaunay(points).simplices
+    faces = []
+    for a, b, c, d in tetrahedra:
+        # Outward winding: each face opposite a vertex, turned away from it.
+        for face, opposite in (((b, c, d), a), ((a, d, c), b), ((a, b, d), c), ((a, c, b), d)):
+            p0, p1, p2 = points[list(face)]
+            if np.cross(p1 - p0, p2 - p0) @ (points[opposite] - p0) > 0:
+                face = face[::-1]
+            faces.append(face)
+    mp, said = quiet(points, np.array(faces))
+    hull = trimesh.convex.convex_hull(points)
+    expected, _ = quiet(np.asarray(hull.vertices), np.asarray(hull.faces))
+    assert said and "coincident triangles" in said[0]
+    # The same solid summed in another order: round-off.
+    assert mp.mass == pytest.approx(expected.mass, rel=1e-12)
+    np.testing.assert_allclose(mp.center_of_mass, expected.center_of_mass, atol=1e-13)
+    np.testing.assert_allclose(mp.inertia, expected.inertia, atol=1e-12 * expected.mass)
+
+
+def test_a_nested_cavity_is_subtracted() -> None:
+    # A 1 m cube with a 0.5 m cube inside wound inward: mass 1 − 0.125 (density
+    # 1), inertia the difference of the two boxes' (same centre).
+    outer, outer_faces = stl_box((1.0, 1.0, 1.0))
+    inner, inner_faces = stl_box((0.5, 0.5, 0.5), lo=(0.25, 0.25, 0.25))
+    vertices = np.vstack([outer, inner])
+    faces = np.vstack([outer_faces, inner_faces[:, ::-1] + len(outer)])
+    mp = mesh_mass_properties(vertices, faces, density=1.0)
+    assert mp.mass == pytest.approx(0.875, rel=1e-15)
+    expected = box_inertia(1.0, (1, 1, 1)) - box_inertia(0.125, (0.5, 0.5, 0.5))
+    np.testing.assert_allclose(mp.inertia, expected, atol=1e-15)
+
+
+def test_merge_tolerance_is_a_length_after_the_units(tmp_path) -> None:
+    vertices, faces = stl_box((100.0, 200.0, 300.0))  # mm
+    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
+    vertices[corner, 2] = 1e-4  # 1e-4 mm
+    path = tmp_path / "box.stl"
+    trimesh.Trimesh(vertices, faces, process=False).export(path)
+    with pytest.raises(MeshError, match=r"merge_tolerance = 2e-07 m welds them"):
+        tumble.from_mesh(path, density=1000.0, units="mm")
+    with pytest.warns(MeshRepairWarning, match=r"moved by at most 1e-07 m"):
+        mp = tumble.from_mesh(path, density=1000.0, units="mm", merge_tolerance="0.001 mm")
+    assert mp.mass == pytest.approx(6.0, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (-1e-6, r"^Expected `merge_tolerance` >= 0 m, got -1e-06\.$"),
+        ("5 kg", r"merge_tolerance"),
+    ],
+)
+def test_merge_tolerance_errors(value, message) -> None:
+    vertices, faces = stl_box()
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    with pytest.raises(InputError, match=message):
+        tumble.from_mesh(mesh, density=1000.0, merge_tolerance=value)
