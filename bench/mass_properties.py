@@ -58,8 +58,9 @@ import trimesh
 from numpy.typing import NDArray
 
 from tumble.core.polyhedron import mesh_integrals
+from tumble.core.topology import directed_edge_keys, edge_defects
 from tumble.mesh import (
-    _check_edges,
+    MeshRepairWarning,
     _checked_topology,
     _merge_identical_vertices,
     mesh_mass_properties,
@@ -226,7 +227,7 @@ def breakdown(mesh: Mesh, repeat: int) -> dict[str, float]:
 
     calls: dict[str, Callable[[], object]] = {
         "merge": lambda: _merge_identical_vertices(vertices),
-        "edges": lambda: _check_edges(renumbered, n_merged, "mesh"),
+        "edges": lambda: _edge_defects(renumbered, n_merged),
         "topology": lambda: _checked_topology(vertices, faces, "mesh"),
         "kernel 1T": kernel_on(1),
     }
@@ -234,6 +235,77 @@ def breakdown(mesh: Mesh, repeat: int) -> dict[str, float]:
         calls[f"kernel {threads}T"] = kernel_on(threads)
     calls["gather"] = lambda: vertices[faces]
     return median_times(calls, repeat)
+
+
+def _edge_defects(faces: IntArray, n_vertices: int) -> object:
+    """The edge check of the full path: sorted edge keys and their defects."""
+    keys = directed_edge_keys(faces, n_vertices)
+    keys.sort()
+    return edge_defects(keys)
+
+
+def with_seam(mesh: Mesh, n_ring: int, n_tube: int) -> Mesh:
+    """The torus cut along the tube's seam (v = 0), as CAD exports write one: the
+    quads that close the tube use copies of the seam's vertices one ulp away in
+    z, so its 2 n_ring edges are boundary edges until they are welded."""
+    seam = np.arange(n_ring) * n_tube  # the vertices (i, 0)
+    copies = mesh.vertices[seam].copy()
+    copies[:, 2] = np.nextafter(copies[:, 2], np.inf)
+    vertices = np.vstack([mesh.vertices, copies])
+    replace = np.arange(mesh.vertices.shape[0])
+    replace[seam] = mesh.vertices.shape[0] + np.arange(n_ring)
+    faces = mesh.faces.copy()
+    # The quads (i, n_tube − 1) close the tube: their corners c and d are (·, 0).
+    last = np.arange(n_ring) * n_tube + (n_tube - 1)
+    closing = np.concatenate([last, n_ring * n_tube + last])
+    faces[closing] = np.where(
+        np.isin(faces[closing], seam), replace[faces[closing]], faces[closing]
+    )
+    return Mesh(np.ascontiguousarray(vertices), np.ascontiguousarray(faces))
+
+
+def with_touching_cubes(mesh: Mesh) -> Mesh:
+    """The torus and, beside it, two cubes sharing an edge: the full path then
+    splits the whole mesh into closed pieces."""
+    cubes = []
+    for low in ((5.0, 5.0, 5.0), (5.1, 5.1, 5.0)):
+        box = trimesh.creation.box(bounds=[low, np.add(low, 0.1)])
+        cubes.append((np.asarray(box.vertices), np.asarray(box.faces)))
+    vertices = [mesh.vertices]
+    faces = [mesh.faces]
+    count = mesh.vertices.shape[0]
+    for points, triangles in cubes:
+        vertices.append(points)
+        faces.append(triangles + count)
+        count += points.shape[0]
+    return Mesh(np.ascontiguousarray(np.vstack(vertices)), np.ascontiguousarray(np.vstack(faces)))
+
+
+def repairs(label: str, repeat: int) -> dict[str, float]:
+    """Median times (s) of the full path on the closed torus, on the torus with a
+    round-off seam (welded), and with two cubes sharing an edge (split into
+    closed pieces)."""
+    import warnings
+
+    n_ring, n_tube = SIZES[label]
+    closed = bumpy_torus(n_ring, n_tube)
+    seam = with_seam(closed, n_ring, n_tube)
+    pieces = with_touching_cubes(closed)
+
+    def full(mesh: Mesh) -> Callable[[], object]:
+        def call() -> object:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", MeshRepairWarning)
+                return mesh_mass_properties(mesh.vertices, mesh.faces, density=1.0)
+
+        return call
+
+    # The seam's weld must give the closed torus back.
+    welded, reference = full(seam)(), full(closed)()
+    assert abs(welded.mass / reference.mass - 1) < 1e-14  # type: ignore[attr-defined]
+    return median_times(
+        {"closed": full(closed), "seam": full(seam), "pieces": full(pieces)}, repeat
+    )
 
 
 def machine() -> str:
@@ -268,6 +340,12 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
         type=int,
         default=None,
         help="timed repeats per method (default: 7, and 5 at 4M)",
+    )
+    parser.add_argument(
+        "--repairs",
+        action="store_true",
+        help="also time the full path on a mesh with a round-off seam (welded) and on one "
+        "with closed pieces that touch (split), against the closed mesh",
     )
     parser.add_argument(
         "--breakdown",
@@ -342,6 +420,30 @@ def main(argv: Sequence[str] | None = None) -> None:
             f"relative difference <= {TARGET_RELATIVE:g}: {accuracy.worst:.1e} "
             f"({'met' if accuracy.worst <= TARGET_RELATIVE else 'NOT met'})"
         )
+
+    if args.repairs:
+        print()
+        print(
+            "repairs: median ms of the full path; seam = the torus cut along a seam whose two "
+            "sides differ by one ulp (welded);\npieces = the torus and two cubes sharing an "
+            "edge (split into closed pieces); ratios to the closed torus (target <= 1.3 at 1M)"
+        )
+        row = (
+            f"{'triangles':>10} | {'closed':>9} {'seam':>9} {'pieces':>9} | "
+            f"{'seam x':>7} {'pieces x':>8}"
+        )
+        print(row)
+        print("-" * len(row))
+        for label in sizes:
+            stages = repairs(label, args.repeat or DEFAULT_REPEAT[label])
+            n = 2 * SIZES[label][0] * SIZES[label][1]
+            print(
+                f"{n:>10} | {1e3 * stages['closed']:>9.2f} {1e3 * stages['seam']:>9.2f} "
+                f"{1e3 * stages['pieces']:>9.2f} | {stages['seam'] / stages['closed']:>7.2f} "
+                f"{stages['pieces'] / stages['closed']:>8.2f}",
+                flush=True,
+            )
+            gc.collect()
 
     if args.breakdown:
         print()

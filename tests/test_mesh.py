@@ -654,7 +654,7 @@ def test_two_cubes_sharing_an_edge_are_two_closed_pieces():
     faces = np.vstack([first.faces, second.faces + len(first.vertices)])
     with pytest.warns(
         MeshRepairWarning,
-        match=r"^mesh: 1 edges are shared by more than two triangles; read as 2 closed "
+        match=r"^mesh: 1 edges are shared by more than two triangles; read as closed "
         r"pieces touching there \(solids sharing edges or faces; pieces that overlap in "
         r"volume would count twice\)\.$",
     ):

@@ -39,14 +39,18 @@ from tumble.core.polyhedron import mesh_integrals
 from tumble.core.topology import (
     boundary_vertices,
     bounds_and_mean,
-    closed_pieces,
     count_nonfinite_rows,
+    crowded_edges,
+    defects_after_renumbering,
     directed_edge_keys,
     edge_defects,
     face_components,
+    faces_at_edges,
     index_range,
     merge_by_key,
+    part_volumes_and_boxes,
     renumber_faces,
+    unpaired_edges,
     weld,
 )
 from tumble.errors import InputError, MeshError
@@ -272,16 +276,9 @@ def _check_parts(
     n_parts, labels = face_components(faces, scaled.shape[0])
     if n_parts == 1:
         return
-    order = np.argsort(labels, kind="stable")
-    bounds = np.flatnonzero(np.diff(labels[order])) + 1
-    parts = np.split(order, bounds)
-    volumes = np.empty(n_parts)
-    boxes = np.empty((n_parts, 2, 3))
-    for k, part in enumerate(parts):
-        part_faces = np.ascontiguousarray(faces[part])
-        volumes[k] = mesh_integrals(scaled, part_faces, np.zeros(3))[0]
-        corners = scaled[np.unique(part_faces)]
-        boxes[k] = corners.min(axis=0), corners.max(axis=0)
+    # The points are about the mesh's mean and in units of its size, so the
+    # sum about the origin does not cancel.
+    volumes, boxes = part_volumes_and_boxes(scaled, faces, labels, n_parts)
     sign = np.sign(volume)
     for k in (int(k) for k in np.flatnonzero(np.sign(volumes) != sign)):
         inside = [
@@ -334,19 +331,26 @@ def _checked_topology(
     diagonal = float(np.linalg.norm(corner_high - corner_low))
     tolerance = DEFAULT_MERGE_FRACTION * diagonal if merge_tolerance is None else merge_tolerance
     if boundary and tolerance > 0:
-        welded, welded_faces, count, largest = _weld_seams(unique, faces, keys, tolerance)
+        welded_faces, count, largest, touched = _weld_seams(unique, faces, keys, tolerance)
         if count:
-            unique, faces = welded, welded_faces
+            mask = np.zeros(unique.shape[0], dtype=bool)
+            mask[touched] = True
+            defects = defects_after_renumbering(keys, welded_faces, mask, unique.shape[0])
+            faces = welded_faces
             warnings.warn(
                 f"{label}: welded {count} vertices of its seams, moved by at most "
                 f"{largest:.3g} m (merge_tolerance {tolerance:.3g} m).",
                 MeshRepairWarning,
                 stacklevel=4,
             )
-            keys = directed_edge_keys(faces, unique.shape[0])
-            keys.sort()
-    if crowded or boundary:
-        faces, cancelled = _drop_cancelling(faces)
+            boundary, crowded, same_direction = (int(n) for n in defects)
+            if boundary or crowded or same_direction:  # the errors count from all keys
+                keys = directed_edge_keys(faces, unique.shape[0])
+                keys.sort()
+            else:
+                return unique, faces
+    if crowded:
+        faces, cancelled = _drop_cancelling(faces, keys, unique.shape[0])
         if cancelled:
             warnings.warn(
                 f"{label}: removed {cancelled} pairs of coincident triangles of opposite "
@@ -367,45 +371,42 @@ def _weld_seams(
     faces: NDArray[np.int64],
     sorted_keys: NDArray[np.int64],
     tolerance: float,
-) -> tuple[NDArray[np.float64], NDArray[np.int64], int, float]:
+) -> tuple[NDArray[np.int64], int, float, NDArray[np.int64]]:
     """Weld the vertices of the edges used once that lie within ``tolerance`` of
     each other; other vertices are kept as they are (welding a closed fan to
-    another would make the mesh non-manifold). Returns the vertices, the faces
-    (zero-area triangles dropped), how many vertices were welded away and the
-    largest distance one moved (m)."""
+    another would make the mesh non-manifold). Each group of welded vertices
+    becomes its lexicographically smallest member, so no coordinate changes and
+    the vertex array is kept (the others are simply no longer used). Returns the
+    faces (zero-area triangles dropped), how many vertices were welded away, the
+    largest distance one moved (m), and the welded groups' vertices (to recount
+    only the edges at them)."""
     seam = boundary_vertices(sorted_keys, vertices.shape[0])
-    merged, groups, largest = weld(np.ascontiguousarray(vertices[seam]), tolerance)
+    merged, groups, chosen, largest = weld(np.ascontiguousarray(vertices[seam]), tolerance)
     count = seam.shape[0] - merged.shape[0]
     if count == 0:
-        return vertices, faces, 0, 0.0
-    # Each seam vertex becomes its group's point; the others keep their number.
+        return faces, 0, 0.0, seam[:0]
     target = np.arange(vertices.shape[0])
-    first = np.full(merged.shape[0], -1, dtype=np.int64)
-    for vertex, group in zip(seam, groups, strict=True):
-        if first[group] < 0:
-            first[group] = vertex
-        target[vertex] = first[group]
-    points = vertices.copy()
-    points[first] = merged
-    kept = np.unique(target)
-    renumber = np.full(vertices.shape[0], -1, dtype=np.int64)
-    renumber[kept] = np.arange(kept.shape[0])
-    return (
-        np.ascontiguousarray(points[kept]),
-        renumber_faces(faces, renumber[target]),
-        count,
-        float(largest),
-    )
+    target[seam] = seam[chosen[groups]]
+    moved = seam[target[seam] != seam]
+    touched = np.unique(np.concatenate([moved, target[moved]]))
+    return renumber_faces(faces, target), count, float(largest), touched
 
 
-def _drop_cancelling(faces: NDArray[np.int64]) -> tuple[NDArray[np.int64], int]:
+def _drop_cancelling(
+    faces: NDArray[np.int64], sorted_keys: NDArray[np.int64], n_vertices: int
+) -> tuple[NDArray[np.int64], int]:
     """Remove pairs of triangles on the same three vertices wound opposite ways
-    (their contributions to every integral cancel): the faces left and the
-    number of pairs removed."""
-    ordered = np.sort(faces, axis=1)
+    (their contributions to every integral cancel), among the triangles at edges
+    of more than two triangles (a coincident pair elsewhere is a closed piece of
+    no volume, harmless): the faces left and the number of pairs removed."""
+    edges = crowded_edges(sorted_keys)
+    _, uses = faces_at_edges(faces, n_vertices, edges)
+    candidates = np.unique(uses[:, 0])
+    near = faces[candidates]
+    ordered = np.sort(near, axis=1)
     # +1 when the triangle runs (low, middle, high) cyclically, −1 the other way.
-    start = np.argmin(faces, axis=1)
-    after = faces[np.arange(faces.shape[0]), (start + 1) % 3]
+    start = np.argmin(near, axis=1)
+    after = near[np.arange(near.shape[0]), (start + 1) % 3]
     sense = np.where(after == ordered[:, 1], 1, -1)
     order = np.lexsort((sense, ordered[:, 2], ordered[:, 1], ordered[:, 0]))
     same = np.all(ordered[order][1:] == ordered[order][:-1], axis=1)
@@ -413,12 +414,11 @@ def _drop_cancelling(faces: NDArray[np.int64]) -> tuple[NDArray[np.int64], int]:
         return faces, 0
     drop = np.zeros(faces.shape[0], dtype=bool)
     pairs = 0
-    runs = np.split(order, np.flatnonzero(~same) + 1)
-    for run in runs:
+    for run in np.split(order, np.flatnonzero(~same) + 1):
         if len(run) < 2:
             continue
-        plus = run[sense[run] > 0]
-        minus = run[sense[run] < 0]
+        plus = candidates[run[sense[run] > 0]]
+        minus = candidates[run[sense[run] < 0]]
         n = min(len(plus), len(minus))
         drop[plus[:n]] = True
         drop[minus[:n]] = True
@@ -470,17 +470,18 @@ def _check_edges(
     if boundary:
         raise MeshError(_holes_message(faces, vertices, keys, label, boundary, diagonal, tolerance))
     if crowded:
-        unsorted = directed_edge_keys(faces, n_vertices)
-        n_pieces, _, open_edges = closed_pieces(vertices, faces, unsorted, np.argsort(unsorted))
+        edges = crowded_edges(keys)
+        starts, uses = faces_at_edges(faces, n_vertices, edges)
+        open_edges = unpaired_edges(vertices, faces, edges, starts, uses)
         if open_edges:
             raise MeshError(
                 f"Expected {label} to be manifold, got {crowded} edges shared by more than two "
                 f"triangles, {open_edges} of which do not split it into closed pieces."
             )
         warnings.warn(
-            f"{label}: {crowded} edges are shared by more than two triangles; read as "
-            f"{n_pieces} closed piece{'s' if n_pieces > 1 else ''} touching there (solids "
-            "sharing edges or faces; pieces that overlap in volume would count twice).",
+            f"{label}: {crowded} edges are shared by more than two triangles; read as closed "
+            "pieces touching there (solids sharing edges or faces; pieces that overlap in "
+            "volume would count twice).",
             MeshRepairWarning,
             stacklevel=5,
         )
@@ -532,8 +533,8 @@ def _holes_message(
     suggestion = 2.0 * gap
     if not suggestion > tolerance:
         return message
-    welded, welded_faces, _, _ = _weld_seams(vertices, faces, keys, suggestion)
-    closed = directed_edge_keys(welded_faces, welded.shape[0])
+    welded_faces, _, _, _ = _weld_seams(vertices, faces, keys, suggestion)
+    closed = directed_edge_keys(welded_faces, vertices.shape[0])
     closed.sort()
     if edge_defects(closed)[0]:
         return message

@@ -253,6 +253,7 @@ def weld(points, tolerance):  # type: ignore[no-untyped-def]
     -------
     unique : (n_groups, 3), one point per group, groups in order of first appearance.
     inverse : (n,) int64, the group of each point.
+    chosen : (n_groups,) int64, the index of each group's point in ``points``.
     largest : float, the largest distance from a point to its group's point.
     """
     n = points.shape[0]
@@ -312,17 +313,19 @@ def weld(points, tolerance):  # type: ignore[no-untyped-def]
             count += 1
         inverse[i] = number[r]
     unique = np.empty((count, 3))
+    chosen = np.empty(count, dtype=np.int64)
     largest = 0.0
     for i in range(n):
         r = _root(parent, i)
         b = best[r]
+        chosen[inverse[i]] = b
         for c in range(3):
             unique[inverse[i], c] = points[b, c]
         d0 = points[i, 0] - points[b, 0]
         d1 = points[i, 1] - points[b, 1]
         d2 = points[i, 2] - points[b, 2]
         largest = max(largest, np.sqrt(d0 * d0 + d1 * d1 + d2 * d2))
-    return unique, inverse, largest
+    return unique, inverse, chosen, largest
 
 
 @njit
@@ -345,6 +348,59 @@ def boundary_vertices(sorted_keys, n_vertices):  # type: ignore[no-untyped-def]
 
 
 @njit
+def crowded_edges(sorted_keys):  # type: ignore[no-untyped-def]
+    """The undirected edges (``key >> 1``, ascending) used more than twice in
+    sorted directed edge keys (:func:`directed_edge_keys`)."""
+    n = sorted_keys.shape[0]
+    out = np.empty(n // 3 + 1, dtype=np.int64)
+    m = 0
+    k = 0
+    while k < n:
+        edge = sorted_keys[k] >> 1
+        run = 1
+        while k + run < n and (sorted_keys[k + run] >> 1) == edge:
+            run += 1
+        if run > 2:
+            out[m] = edge
+            m += 1
+        k += run
+    return out[:m]
+
+
+@njit
+def faces_at_edges(faces, n_vertices, edges):  # type: ignore[no-untyped-def]
+    """The triangles that use the undirected ``edges`` (ascending): for each
+    edge, its uses as (triangle, 1 if it runs from the lower vertex to the
+    higher else 0), grouped by edge.
+
+    Returns ``starts`` (len(edges) + 1,) and ``uses`` (n_uses, 2) int64, the uses
+    of edge j being ``uses[starts[j]:starts[j + 1]]``.
+    """
+    m = edges.shape[0]
+    counts = np.zeros(m + 1, dtype=np.int64)
+    for f in range(faces.shape[0]):
+        for corner in range(3):
+            a, b = faces[f, corner], faces[f, (corner + 1) % 3]
+            edge = min(a, b) * n_vertices + max(a, b)
+            j = np.searchsorted(edges, edge)
+            if j < m and edges[j] == edge:
+                counts[j + 1] += 1
+    starts = np.cumsum(counts)
+    fill = starts[:-1].copy()
+    uses = np.empty((starts[m], 2), dtype=np.int64)
+    for f in range(faces.shape[0]):
+        for corner in range(3):
+            a, b = faces[f, corner], faces[f, (corner + 1) % 3]
+            edge = min(a, b) * n_vertices + max(a, b)
+            j = np.searchsorted(edges, edge)
+            if j < m and edges[j] == edge:
+                uses[fill[j], 0] = f
+                uses[fill[j], 1] = 1 if a < b else 0
+                fill[j] += 1
+    return starts, uses
+
+
+@njit
 def _third_vertex(faces, f, a, b):  # type: ignore[no-untyped-def]
     """The corner of triangle ``f`` that is neither ``a`` nor ``b``."""
     for c in range(3):
@@ -354,109 +410,153 @@ def _third_vertex(faces, f, a, b):  # type: ignore[no-untyped-def]
     return faces[f, 0]
 
 
-@njit
-def _pair_around_edge(vertices, faces, keys, order, start, run, n_vertices, parent):  # type: ignore[no-untyped-def]
-    """Join the triangles around one edge of more than two triangles in pairs
-    that bound the same solid wedge: sorted by their angle about the edge, a
-    triangle whose outward normal faces back, against the direction of
-    increasing angle, has its solid on the side of the next triangle."""
-    edge = keys[order[start]] >> 1
-    a, b = edge // n_vertices, edge % n_vertices
-    d = vertices[b] - vertices[a]
-    d = d / np.sqrt(d @ d)
-    # A unit vector normal to the edge, from the axis least aligned with it.
-    axis = np.zeros(3)
-    axis[np.argmin(np.abs(d))] = 1.0
-    e1 = np.cross(d, axis)
-    e1 = e1 / np.sqrt(e1 @ e1)
-    e2 = np.cross(d, e1)
-    angles = np.empty(run)
-    backward = np.empty(run, dtype=np.bool_)
-    for i in range(run):
-        f = order[start + i] // 3
-        u = vertices[_third_vertex(faces, f, a, b)] - vertices[a]
-        angles[i] = np.arctan2(u @ e2, u @ e1)
-        w = u - (u @ d) * d
-        tangent = np.cross(d, w)  # towards increasing angle
-        p0, p1, p2 = vertices[faces[f, 0]], vertices[faces[f, 1]], vertices[faces[f, 2]]
-        backward[i] = np.cross(p1 - p0, p2 - p0) @ tangent < 0.0
-    around = np.argsort(angles)
-    for i in range(run):
-        if backward[around[i]]:
-            f = order[start + around[i]] // 3
-            g = order[start + around[(i + 1) % run]] // 3
-            x, y = _root(parent, f), _root(parent, g)
-            if x != y:
-                parent[max(x, y)] = min(x, y)
+#: Triangles around an edge whose angles differ by less than this (rad) are
+#: taken as coplanar: far above the round-off of the angles, far below any
+#: angle a mesh draws.
+_COPLANAR_ANGLE = 1e-9
 
 
 @njit
-def closed_pieces(vertices, faces, keys, order):  # type: ignore[no-untyped-def]
-    """Split a mesh into pieces along its edges of more than two triangles.
+def unpaired_edges(vertices, faces, edges, starts, uses):  # type: ignore[no-untyped-def]
+    """How many of the ``edges`` of more than two triangles (:func:`faces_at_edges`)
+    do not split into closed pieces.
 
-    Triangles are joined across every edge they share with exactly one other
-    triangle traversing it the other way, and around an edge of more than two
-    triangles in pairs bounding the same solid wedge (by angle about the edge).
-    A piece is closed when, at each such edge, its triangles traverse the edge
-    as often one way as the other.
-
-    Parameters
-    ----------
-    vertices : (n, 3); faces : (n_faces, 3).
-    keys : (3 n_faces,) the directed edge keys of :func:`directed_edge_keys`.
-    order : ``argsort(keys)``.
-
-    Returns
-    -------
-    n_pieces : int.
-    labels : (n_faces,) int64, the piece of each triangle, in order of first appearance.
-    open_edges : int, edges of more than two triangles at which some piece is not closed.
+    Around such an edge, sorted by their angle about it, a triangle whose
+    outward normal faces back (against increasing angle) has its solid on the
+    side of the next one: the two bound one solid wedge and must traverse the
+    edge in opposite directions, and the triangles must alternate so. Where
+    every such edge pairs up, the mesh is closed pieces that touch along them.
     """
-    n_faces = faces.shape[0]
     n_vertices = vertices.shape[0]
-    parent = np.arange(n_faces)
-    n = keys.shape[0]
+    bad = 0
+    for j in range(edges.shape[0]):
+        a, b = edges[j] // n_vertices, edges[j] % n_vertices
+        run = starts[j + 1] - starts[j]
+        if run % 2:
+            bad += 1
+            continue
+        d = vertices[b] - vertices[a]
+        d = d / np.sqrt(d @ d)
+        axis = np.zeros(3)
+        axis[np.argmin(np.abs(d))] = 1.0
+        e1 = np.cross(d, axis)
+        e1 = e1 / np.sqrt(e1 @ e1)
+        e2 = np.cross(d, e1)
+        angles = np.empty(run)
+        backward = np.empty(run, dtype=np.bool_)
+        for i in range(run):
+            f = uses[starts[j] + i, 0]
+            u = vertices[_third_vertex(faces, f, a, b)] - vertices[a]
+            angles[i] = np.arctan2(u @ e2, u @ e1)
+            tangent = np.cross(d, u - (u @ d) * d)  # towards increasing angle
+            p0, p1, p2 = vertices[faces[f, 0]], vertices[faces[f, 1]], vertices[faces[f, 2]]
+            backward[i] = np.cross(p1 - p0, p2 - p0) @ tangent < 0.0
+        around = np.argsort(angles)
+        # Coplanar triangles (solids sharing a face) have one angle: between
+        # them the wedge is empty, so the one closing a wedge goes first.
+        for _ in range(run):
+            swapped = False
+            for i in range(run - 1):
+                first, second = around[i], around[i + 1]
+                if (
+                    abs(angles[second] - angles[first]) <= _COPLANAR_ANGLE
+                    and backward[first]
+                    and not backward[second]
+                ):
+                    around[i], around[i + 1] = second, first
+                    swapped = True
+            if not swapped:
+                break
+        # The pairs start at a backward triangle; try both phases of the cycle.
+        paired = False
+        for phase in range(2):
+            ok = True
+            for i in range(phase, run + phase, 2):
+                first, second = around[i % run], around[(i + 1) % run]
+                if (
+                    not backward[first]
+                    or backward[second]
+                    or uses[starts[j] + first, 1] == uses[starts[j] + second, 1]
+                ):
+                    ok = False
+                    break
+            if ok:
+                paired = True
+                break
+        if not paired:
+            bad += 1
+    return bad
+
+
+@njit
+def defects_after_renumbering(sorted_keys, faces, touched, n_vertices):  # type: ignore[no-untyped-def]
+    """:func:`edge_defects` of ``faces`` (already renumbered), from the sorted
+    keys of the faces before, when only the vertices marked in ``touched``
+    (bool, (n_vertices,)) were renumbered: the edges away from them are
+    counted from ``sorted_keys``, and those at them from the faces that use
+    them, so no full sort is needed."""
+    rest = np.zeros(3, dtype=np.int64)
+    n = sorted_keys.shape[0]
     k = 0
     while k < n:
-        edge = keys[order[k]] >> 1
+        edge = sorted_keys[k] >> 1
         run = 1
-        while k + run < n and (keys[order[k + run]] >> 1) == edge:
+        while k + run < n and (sorted_keys[k + run] >> 1) == edge:
             run += 1
-        if run == 2 and (keys[order[k]] & 1) != (keys[order[k + 1]] & 1):
-            a = _root(parent, order[k] // 3)
-            b = _root(parent, order[k + 1] // 3)
-            if a != b:
-                parent[max(a, b)] = min(a, b)
-        elif run > 2:
-            _pair_around_edge(vertices, faces, keys, order, k, run, n_vertices, parent)
+        if not (touched[edge // n_vertices] or touched[edge % n_vertices]):
+            if run == 1:
+                rest[0] += 1
+            elif run > 2:
+                rest[1] += 1
+            elif (sorted_keys[k] & 1) == (sorted_keys[k + 1] & 1):
+                rest[2] += 1
         k += run
-    number = np.full(n_faces, -1, dtype=np.int64)
-    labels = np.empty(n_faces, dtype=np.int64)
-    n_pieces = 0
-    for f in range(n_faces):
-        r = _root(parent, f)
-        if number[r] < 0:
-            number[r] = n_pieces
-            n_pieces += 1
-        labels[f] = number[r]
-    open_edges = 0
-    k = 0
-    while k < n:
-        edge = keys[order[k]] >> 1
-        run = 1
-        while k + run < n and (keys[order[k + run]] >> 1) == edge:
-            run += 1
-        if run > 2:
-            balanced = True
-            for i in range(run):
-                piece = labels[order[k + i] // 3]
-                turns = 0
-                for j in range(run):
-                    if labels[order[k + j] // 3] == piece:
-                        turns += 1 if (keys[order[k + j]] & 1) else -1
-                if turns != 0:
-                    balanced = False
-            if not balanced:
-                open_edges += 1
-        k += run
-    return n_pieces, labels, open_edges
+    count = 0
+    for f in range(faces.shape[0]):
+        for c in range(3):
+            if touched[faces[f, c]]:
+                count += 1
+                break
+    near = np.empty(3 * count, dtype=np.int64)
+    m = 0
+    for f in range(faces.shape[0]):
+        if touched[faces[f, 0]] or touched[faces[f, 1]] or touched[faces[f, 2]]:
+            for corner in range(3):
+                start = faces[f, corner]
+                end = faces[f, (corner + 1) % 3]
+                if touched[start] or touched[end]:
+                    if start < end:
+                        near[m] = ((start * n_vertices + end) << 1) | 1
+                    else:
+                        near[m] = (end * n_vertices + start) << 1
+                    m += 1
+    near = np.sort(near[:m])
+    return rest + edge_defects(near)
+
+
+@njit
+def part_volumes_and_boxes(points, faces, labels, n_parts):  # type: ignore[no-untyped-def]
+    """Each part's signed volume (Σ v0 · (v1 × v2) / 6 over its triangles, the
+    divergence theorem about the origin) and bounding box, in one pass.
+
+    Returns ``volumes`` (n_parts,) and ``boxes`` (n_parts, 2, 3): lowest and
+    highest corner.
+    """
+    volumes = np.zeros(n_parts)
+    boxes = np.empty((n_parts, 2, 3))
+    boxes[:, 0, :] = np.inf
+    boxes[:, 1, :] = -np.inf
+    for f in range(faces.shape[0]):
+        part = labels[f]
+        a, b, c = points[faces[f, 0]], points[faces[f, 1]], points[faces[f, 2]]
+        volumes[part] += (
+            a[0] * (b[1] * c[2] - b[2] * c[1])
+            + a[1] * (b[2] * c[0] - b[0] * c[2])
+            + a[2] * (b[0] * c[1] - b[1] * c[0])
+        ) / 6.0
+        for corner in range(3):
+            p = points[faces[f, corner]]
+            for k in range(3):
+                boxes[part, 0, k] = min(boxes[part, 0, k], p[k])
+                boxes[part, 1, k] = max(boxes[part, 1, k], p[k])
+    return volumes, boxes
