@@ -59,12 +59,8 @@ from numpy.typing import NDArray
 
 from tumble.core.polyhedron import mesh_integrals
 from tumble.core.topology import directed_edge_keys, edge_defects
-from tumble.mesh import (
-    MeshRepairWarning,
-    _checked_topology,
-    _merge_identical_vertices,
-    mesh_mass_properties,
-)
+from tumble.mesh import MeshRepairWarning, mesh_mass_properties
+from tumble.mesh.checks import checked_topology, merge_identical_vertices
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -212,7 +208,7 @@ def breakdown(mesh: Mesh, repeat: int) -> dict[str, float]:
     reference = vertices.mean(axis=0)
     threads = numba.get_num_threads()
     # The edge check sees the faces as the full path does: after the vertex merge.
-    merged, renumbered = _checked_topology(vertices, faces, "mesh")
+    merged, renumbered = checked_topology(vertices, faces, "mesh")
     n_merged = merged.shape[0]
 
     def kernel_on(n_threads: int) -> Callable[[], object]:
@@ -226,9 +222,9 @@ def breakdown(mesh: Mesh, repeat: int) -> dict[str, float]:
         return call
 
     calls: dict[str, Callable[[], object]] = {
-        "merge": lambda: _merge_identical_vertices(vertices),
+        "merge": lambda: merge_identical_vertices(vertices),
         "edges": lambda: _edge_defects(renumbered, n_merged),
-        "topology": lambda: _checked_topology(vertices, faces, "mesh"),
+        "topology": lambda: checked_topology(vertices, faces, "mesh"),
         "kernel 1T": kernel_on(1),
     }
     if threads > 1:

@@ -931,7 +931,7 @@ def test_malformed_stl_is_unreadable(tmp_path):
     )
     with pytest.raises(
         InputError,
-        match=rf"Expected `mesh` to be a readable mesh file \(STL, OBJ, PLY, GLB, "
+        match=rf"Expected `mesh` to be a readable mesh file \(STL, OBJ, PLY, GLB, STEP, "
         rf"\.\.\.\), got {re.escape(repr(str(path)))}: ",
     ):
         tumble.from_mesh(path, density=1.0)
@@ -998,7 +998,7 @@ def test_a_missing_reader_package_is_named(tmp_path, monkeypatch):
 def test_a_hash_collision_falls_back_to_the_exact_merge(monkeypatch):
     # Vertices are merged by a hash of their bits; if two different points ever
     # shared a hash, the merge must notice and fall back to np.unique(axis=0).
-    import tumble.mesh as mesh_module
+    import tumble.mesh.checks as mesh_module
 
     real = mesh_module.merge_by_key
 

@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from tumble.batch import simulate_batch
     from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
     from tumble.massprops import MassProperties, point_masses
-    from tumble.mesh import MeshOrientationWarning, from_mesh
+    from tumble.mesh import MeshOrientationWarning, MeshRepairWarning, from_mesh
     from tumble.parts import KaneDamper, Rotor, SpringMassDamper
     from tumble.simulation import simulate
     from tumble.trajectory import Trajectory
@@ -41,6 +41,7 @@ _WHERE = {
     "point_masses": "tumble.massprops",
     "from_mesh": "tumble.mesh",
     "MeshOrientationWarning": "tumble.mesh",
+    "MeshRepairWarning": "tumble.mesh",
     "angular_momentum": "tumble.kinematics",
     "kinetic_energy": "tumble.kinematics",
     "required_torque": "tumble.kinematics",
@@ -68,6 +69,7 @@ __all__ = [
     "MassProperties",
     "MeshError",
     "MeshOrientationWarning",
+    "MeshRepairWarning",
     "Rotor",
     "SpringMassDamper",
     "Trajectory",

@@ -42,7 +42,7 @@ def inertia(
             metavar="SHAPE-or-MESH",
             help="A solid (box, solid-cylinder, hollow-cylinder, solid-sphere, spherical-shell, "
             "hollow-sphere, solid-cone, thin-rod, thin-disk, thin-ring, ellipsoid, torus, capsule, "
-            "regular-tetrahedron) or a mesh file (STL, OBJ, PLY, GLB).",
+            "regular-tetrahedron) or a mesh file (STL, OBJ, PLY, GLB, STEP).",
         ),
     ],
     mass: Annotated[str | None, typer.Option(help="Mass, e.g. '250 g' (SI if no unit).")] = None,

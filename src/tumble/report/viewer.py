@@ -7,7 +7,7 @@ stays small however fine the mesh. A body's rotors are discs with a stripe,
 turned by the body and by their own spin angle (the integral of their speed).
 For a torque-free body a second panel draws the Poinsot construction in
 ω-space: the inertia ellipsoid turning with the body and rolling on the
-invariable plane, with the polhode and the herpolhode (:func:`poinsot_data`).
+invariable plane, with the polhode and the herpolhode (:func:`tumble.report.poinsot.poinsot_data`).
 Controls: play / pause, a time slider and the time shown. The script keeps the
 current frame in ``window.tumbleViewer.frame``.
 """
@@ -22,27 +22,18 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble.report.numbers import rounded
+from tumble.report.poinsot import poinsot_data, poinsot_figure
+
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
     from tumble.report.geometry import Geometry, RotorDrawing
     from tumble.trajectory import Trajectory
 
-__all__ = ["Viewer", "poinsot_data", "viewer_html"]
+__all__ = ["Viewer", "viewer_html"]
 
 Array = NDArray[np.float64]
-
-#: Significant digits kept in the page's numbers: far below a pixel at any zoom.
-DIGITS = 5
-
-
-def _rounded(values: Any) -> Any:
-    array = np.asarray(values, dtype=float)
-    scale = float(np.max(np.abs(array))) if array.size else 0.0
-    if scale == 0.0 or not np.isfinite(scale):
-        return np.nan_to_num(array).tolist()
-    decimals = max(0, DIGITS - int(np.floor(np.log10(scale))) - 1)
-    return np.round(array, decimals).tolist()
 
 
 def _frames(count: int, frames: int) -> NDArray[np.int64]:
@@ -93,60 +84,15 @@ def _rotor_data(
         angles = cumulative_trapezoid(speeds[:, k], traj.t, initial=0.0)[index] % (2 * np.pi)
         rotors.append(
             {
-                "vertices": _rounded(vertices - origin),
+                "vertices": rounded(vertices - origin),
                 "faces": faces.T.tolist(),
                 "marked": marked.tolist(),
-                "position": _rounded(np.asarray(drawing.position) - origin),
+                "position": rounded(np.asarray(drawing.position) - origin),
                 "axis": [float(a) for a in drawing.axis],
                 "angles": np.round(angles, 4).tolist(),
             }
         )
     return rotors
-
-
-def poinsot_data(traj: Trajectory, index: Any) -> dict[str, Any] | None:
-    """The Poinsot construction of a torque-free motion, in ω-space (rad/s, space
-    axes), for the frames ``index``; None where it does not apply (a torque,
-    gravity about a pivot, internal parts).
-
-    The inertia ellipsoid ``ω · J ω = 2T`` (J the inertia about the fixed point,
-    body axes; a mesh in body axes that the page turns with the body) touches
-    the invariable plane ``ω · L̂ = 2T/|L|`` at ω and rolls on it without
-    slipping (Landau & Lifshitz §37): the polhode is ω's path on the ellipsoid
-    (body axes), the herpolhode its path on the plane (space axes)."""
-    from tumble.analysis import herpolhode
-    from tumble.errors import InputError
-    from tumble.report.geometry import sphere
-
-    try:
-        plane = herpolhode(traj)
-    except InputError:
-        return None
-    energy = float(traj.energy[0])
-    inertia = traj.body.inertia
-    moments, axes = np.linalg.eigh(inertia)
-    semi = np.sqrt(2.0 * energy / moments)  # rad/s along each principal axis
-    unit, faces = sphere(rings=18, sections=36)
-    ellipsoid = (unit * semi) @ axes.T
-    herpolhode_points = plane.omega_space[index]
-    centre = plane.height * plane.normal
-    # The plane drawn as a square about the foot of the normal, wide enough for
-    # the herpolhode and the ellipsoid's shadow on it.
-    half = 1.15 * max(
-        float(np.max(semi)), float(np.max(np.linalg.norm(herpolhode_points - centre, axis=1)))
-    )
-    corners = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]) * half
-    square = centre + corners @ plane.plane_axes.T
-    return {
-        "ellipsoid": _rounded(ellipsoid),
-        "ellipsoid_faces": np.asarray(faces, dtype=np.int64).T.tolist(),
-        "polhode": _rounded(traj.omega[index]),
-        "herpolhode": _rounded(herpolhode_points),
-        "plane": _rounded(square),
-        "normal": [float(v) for v in plane.normal],
-        "height": plane.height,
-        "reach": float(max(np.max(semi), plane.height, half)),
-    }
 
 
 def viewer_data(
@@ -194,15 +140,15 @@ def viewer_data(
     return {
         "poinsot": poinsot_data(traj, index),
         "rotors": _rotor_data(traj, drawings, origin, index),
-        "t": _rounded(traj.t[index]),
-        "q": _rounded(traj.quaternion[index]),
-        "vertices": _rounded(body),
+        "t": rounded(traj.t[index]),
+        "q": rounded(traj.quaternion[index]),
+        "vertices": rounded(body),
         "faces": np.asarray(faces, dtype=np.int64).T.tolist(),
-        "centre": _rounded(centre),
-        "axis_ends": _rounded(np.array(ends)),
+        "centre": rounded(centre),
+        "axis_ends": rounded(np.array(ends)),
         "moments": [float(m) for m in moments],
-        "omega": _rounded(scaled(omega)),
-        "momentum": _rounded(scaled(momentum, 1e-9 * carried)),
+        "omega": rounded(scaled(omega)),
+        "momentum": rounded(scaled(momentum, 1e-9 * carried)),
         "omega_max": float(np.max(np.linalg.norm(traj.omega_space, axis=1))),
         "momentum_max": float(np.max(np.linalg.norm(traj.angular_momentum, axis=1))),
         "reach": 2.0 * reach,
@@ -456,80 +402,6 @@ def _figure(data: dict[str, Any]) -> dict[str, Any]:
     return {"data": traces, "layout": layout}
 
 
-def _poinsot_figure(data: dict[str, Any]) -> dict[str, Any]:
-    """The plotly figure of the Poinsot construction at frame 0 (ω-space, rad/s)."""
-    ellipsoid = np.asarray(data["ellipsoid"])
-    faces = data["ellipsoid_faces"]
-    square = np.asarray(data["plane"])
-    foot = np.asarray(data["normal"]) * data["height"]
-    half = 1.1 * data["reach"]
-
-    def line(name: str, colour: str, width: int, **extra: Any) -> dict[str, Any]:
-        return {
-            "type": "scatter3d", "mode": "lines", "name": name, "x": [0], "y": [0], "z": [0],
-            "line": {"color": colour, "width": width}, **extra,
-        }  # fmt: skip
-
-    traces: list[dict[str, Any]] = [
-        {
-            "type": "mesh3d",
-            "name": "inertia ellipsoid ω·Jω = 2T (turns with the body)",
-            "x": ellipsoid[:, 0].tolist(),
-            "y": ellipsoid[:, 1].tolist(),
-            "z": ellipsoid[:, 2].tolist(),
-            "i": faces[0],
-            "j": faces[1],
-            "k": faces[2],
-            "color": "#9fb7d9",
-            "opacity": 0.6,
-            "flatshading": True,
-            "showlegend": True,
-            "hoverinfo": "skip",
-        },
-        {
-            "type": "mesh3d",
-            "name": f"invariable plane ω·L̂ = 2T/|L| = {data['height']:.4g} rad/s",
-            "x": square[:, 0].tolist(),
-            "y": square[:, 1].tolist(),
-            "z": square[:, 2].tolist(),
-            "i": [0, 0],
-            "j": [1, 2],
-            "k": [2, 3],
-            "color": "#c8c8c8",
-            "opacity": 0.45,
-            "showlegend": True,
-            "hoverinfo": "skip",
-        },
-        line("polhode (ω on the body)", "#d62728", 4),
-        line("herpolhode (ω on the plane)", "#2ca02c", 4),
-        line("ω", "#ff7f0e", 8),
-        {
-            "type": "scatter3d", "mode": "markers", "name": "contact point (ω)",
-            "x": [0], "y": [0], "z": [0], "marker": {"size": 4, "color": "#000000"},
-        },
-        {
-            "type": "scatter3d", "mode": "lines", "name": "L̂ (fixed)",
-            "x": [0, float(foot[0])], "y": [0, float(foot[1])], "z": [0, float(foot[2])],
-            "line": {"color": "#9467bd", "width": 6, "dash": "dash"},
-        },
-    ]  # fmt: skip
-    axis = {"range": [-half, half]}
-    layout = {
-        "margin": {"l": 0, "r": 0, "t": 30, "b": 0},
-        "uirevision": "keep",
-        "title": {"text": "Poinsot construction: the ellipsoid rolls on the plane", "x": 0.5},
-        "legend": {"x": 0, "y": 1, "bgcolor": "rgba(255,255,255,0.6)"},
-        "scene": {
-            "aspectmode": "cube",
-            "xaxis": {**axis, "title": {"text": "ωx (rad/s)"}},
-            "yaxis": {**axis, "title": {"text": "ωy (rad/s)"}},
-            "zaxis": {**axis, "title": {"text": "ωz (rad/s)"}},
-            "camera": {"eye": {"x": 1.5, "y": -1.5, "z": 0.9}},
-        },
-    }
-    return {"data": traces, "layout": layout}
-
-
 def _json_script(value: Any) -> str:
     # "</" must not end the <script> element early.
     return json.dumps(value, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
@@ -594,7 +466,7 @@ def viewer_html(
         f"{_json_script(_figure(data))}</script>\n"
         + (
             '<script type="application/json" id="tumble-poinsot">'
-            f"{_json_script(_poinsot_figure(data['poinsot']))}</script>\n"
+            f"{_json_script(poinsot_figure(data['poinsot']))}</script>\n"
             if data["poinsot"]
             else ""
         )

@@ -1,41 +1,16 @@
-"""Mass properties of a solid bounded by a closed triangle mesh.
-
-Files are read with trimesh (STL, OBJ, PLY, GLB/glTF, OFF, ...); the volume
-integrals are tumble's own compiled kernel, :func:`tumble.core.polyhedron.mesh_integrals`,
-which is exact for the polyhedron (Tonon 2004, via the divergence theorem).
-
-Before integrating, the mesh is checked, because the integrals of a mesh that
-does not bound a solid are meaningless rather than approximately right:
-
-* vertices with bit-identical coordinates are merged (STL files repeat them)
-  and triangles that then have a repeated corner (zero area) are dropped;
-* where edges are left with one triangle (a seam whose two sides differ by
-  round-off, as CAD exports write them), the vertices of those edges closer
-  than ``merge_tolerance`` are welded (:func:`tumble.core.topology.weld`:
-  deterministic, whatever the vertex order), with a :class:`MeshRepairWarning`;
-* every edge must be shared by exactly two triangles (watertight), or split
-  the mesh into closed pieces: coincident triangles of opposite winding (two
-  solids sharing a face) cancel and are removed, and closed pieces that touch
-  along edges or at vertices (a convex decomposition) are accepted;
-* the two triangles of every edge must traverse it in opposite directions
-  (consistent winding);
-* the signed volume must be non-zero; a negative one (an inside-out mesh, all
-  normals inward) is reversed with a :class:`MeshOrientationWarning`;
-* separate parts must all be wound the same way, except inward-wound cavities
-  nested inside a part; overlapping parts are added (their overlap counts twice).
+"""The checks and repairs that make a triangle mesh a solid before its integrals
+are taken (:mod:`tumble.mesh`): merging and welding vertices, cancelling
+coincident triangles, and checking that every edge closes the surface, or
+splits it into closed pieces, with consistent winding.
 """
 
 from __future__ import annotations
 
-import os
 import warnings
-from pathlib import Path
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.core.polyhedron import mesh_integrals
 from tumble.core.topology import (
     boundary_vertices,
     bounds_and_mean,
@@ -53,19 +28,19 @@ from tumble.core.topology import (
     unpaired_edges,
     weld,
 )
-from tumble.errors import InputError, MeshError
-from tumble.massprops import MassProperties
-from tumble.units import length_scale, to_si
+from tumble.errors import MeshError
 
-__all__ = ["MeshOrientationWarning", "MeshRepairWarning", "from_mesh"]
-
-#: A mesh whose |volume| is below this fraction of (surface area × largest
-#: extent) encloses nothing: the volume of a flat or self-cancelling surface is
-#: round-off, at most about 1e-16 · √n_triangles of that product. A plate of
-#: thickness t has a ratio t / (2 · length), so only plates thinner than
-#: 2e-9 of their length are refused.
-ZERO_VOLUME_FRACTION = 1e-9
-
+__all__ = [
+    "DEFAULT_MERGE_FRACTION",
+    "LARGEST_SUGGESTED_FRACTION",
+    "MeshRepairWarning",
+    "check_edges",
+    "check_parts",
+    "checked_topology",
+    "drop_cancelling",
+    "merge_identical_vertices",
+    "weld_seams",
+]
 
 #: The default ``merge_tolerance``, as a fraction of the bounding box's diagonal:
 #: far above the round-off of coordinates (~1e-16 of their size), far below any
@@ -77,192 +52,13 @@ DEFAULT_MERGE_FRACTION = 1e-9
 LARGEST_SUGGESTED_FRACTION = 1e-5
 
 
-class MeshOrientationWarning(UserWarning):
-    """An inside-out mesh (inward normals) was reversed before integrating."""
-
-
 class MeshRepairWarning(UserWarning):
     """A mesh was read as a closed solid after a repair it should be told of:
     vertices welded across a seam, coincident triangles of opposite winding
     removed, or closed pieces that touch along edges."""
 
 
-def from_mesh(
-    mesh: Any,
-    density: Any = None,
-    mass: Any = None,
-    units: Any = None,
-    *,
-    merge_tolerance: Any = None,
-) -> MassProperties:
-    """Mass properties of the uniform solid bounded by a closed triangle mesh.
-
-    Parameters
-    ----------
-    mesh : path to a mesh file (anything trimesh reads: STL, OBJ, PLY, GLB, ...),
-        or a ``trimesh.Trimesh`` / ``trimesh.Scene``. Body coordinates are the
-        mesh's own coordinates.
-    density : uniform density, kg/m³ (or e.g. ``"2700 kg/m^3"``). Give exactly
-        one of ``density`` and ``mass``.
-    mass : total mass, kg (or e.g. ``"1.2 kg"``); the density follows from the volume.
-    units : length unit of the mesh coordinates, e.g. ``"mm"`` for most CAD
-        files. Default: the unit the file declares (glTF/GLB may), else metres;
-        given, it overrides what the file declares.
-    merge_tolerance : the largest distance at which the vertices of edges with
-        one triangle are welded, a length (m, or e.g. ``"0.01 mm"``; after
-        ``units``). Default :data:`DEFAULT_MERGE_FRACTION` of the bounding
-        box's diagonal (round-off only); 0 welds nothing.
-
-    Returns
-    -------
-    MassProperties, with the centre of mass in the mesh's coordinates (m) and
-    the inertia about it in the mesh's axes.
-
-    Raises
-    ------
-    InputError
-        Unreadable file, both or neither of density and mass, non-positive
-        density or mass, a unit that is not a length.
-    MeshError
-        No triangles, non-finite vertices, holes (the message counts the
-        boundary edges, gives their length, and suggests the
-        ``merge_tolerance`` that closes a seam), edges shared by more than two
-        triangles that do not split the mesh into closed pieces, inconsistent
-        winding, or zero volume.
-
-    Warns
-    -----
-    MeshOrientationWarning
-        If the mesh is inside out; its winding is reversed (never a silent abs()).
-    MeshRepairWarning
-        If vertices were welded (how many, and the largest distance moved),
-        coincident triangles removed, or the mesh is closed pieces touching
-        along edges (how many).
-    """
-    if (density is None) == (mass is None):
-        raise InputError(
-            "Expected exactly one of `density` and `mass`, got "
-            + ("both." if density is not None else "neither.")
-        )
-    label, vertices, faces, file_units = _load(mesh)
-    units = units if units is not None else file_units
-    if units is not None:
-        vertices = vertices * length_scale(units, "units")
-    tolerance = None
-    if merge_tolerance is not None:
-        tolerance = to_si(merge_tolerance, "length", "merge_tolerance")
-        if not tolerance >= 0:
-            raise InputError(f"Expected `merge_tolerance` >= 0 m, got {tolerance!r}.")
-    if density is not None:
-        rho = to_si(density, "density", "density")
-        if rho <= 0:
-            raise InputError(f"Expected `density` > 0 kg/m^3, got {rho!r}.")
-        return mesh_mass_properties(
-            vertices, faces, density=rho, label=label, merge_tolerance=tolerance
-        )
-    total = to_si(mass, "mass", "mass")
-    if total <= 0:
-        raise InputError(f"Expected `mass` > 0 kg, got {total!r}.")
-    return mesh_mass_properties(vertices, faces, mass=total, label=label, merge_tolerance=tolerance)
-
-
-def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str | None]:
-    """Vertices, faces and declared length unit of a file or trimesh object, unprocessed."""
-    import trimesh
-
-    if isinstance(mesh, str | os.PathLike):
-        path = Path(mesh)
-        label = f"mesh {str(path)!r}"
-        if not path.is_file():
-            why = "a directory" if path.is_dir() else "no such file"
-            raise InputError(f"Expected `mesh` to be a mesh file, got {str(path)!r} ({why}).")
-        try:
-            # process=False: keep the file's triangles as they are; merging and
-            # the checks below are ours, so that errors can say what is wrong.
-            loaded = trimesh.load_mesh(path, process=False)
-        except ImportError as exc:
-            raise InputError(
-                f"Reading {str(path)!r} needs a package that is not installed: {exc}."
-            ) from None
-        except Exception as exc:  # trimesh raises many types for unreadable files
-            raise InputError(
-                f"Expected `mesh` to be a readable mesh file (STL, OBJ, PLY, GLB, ...), "
-                f"got {str(path)!r}: {exc}"
-            ) from None
-    elif isinstance(mesh, trimesh.Scene):
-        label, loaded = "mesh (scene)", mesh.to_mesh()
-    elif isinstance(mesh, trimesh.Trimesh):
-        label, loaded = "mesh", mesh
-    else:
-        raise InputError(
-            f"Expected `mesh` to be a file path or a trimesh.Trimesh, got {type(mesh).__name__}."
-        )
-    vertices = np.ascontiguousarray(loaded.vertices, dtype=float)
-    faces = np.ascontiguousarray(loaded.faces, dtype=np.int64)
-    declared = getattr(loaded, "units", None)
-    return label, vertices, faces, (str(declared) if declared else None)
-
-
-def mesh_mass_properties(
-    vertices: NDArray[np.float64],
-    faces: NDArray[np.int64],
-    *,
-    density: float | None = None,
-    mass: float | None = None,
-    label: str = "mesh",
-    merge_tolerance: float | None = None,
-) -> MassProperties:
-    """Mass properties from SI arrays (``vertices`` (n, 3) m, ``faces`` (k, 3));
-    exactly one of ``density`` (kg/m³) and ``mass`` (kg); ``merge_tolerance``
-    in m (None: the default). See :func:`from_mesh`."""
-    vertices, faces = _checked_topology(vertices, faces, label, merge_tolerance)
-    low, high, reference = bounds_and_mean(vertices)
-    size = float(np.max(high - low))
-    # Integrate in units of the mesh's own size about a point near it: the sums
-    # neither cancel (far from the origin) nor overflow or underflow (1e±100 m).
-    scaled = (vertices - reference) / size
-    origin = np.zeros(3)
-    integrals = mesh_integrals(scaled, faces, origin)
-    volume, area = integrals[0], integrals[10]
-    if abs(volume) <= ZERO_VOLUME_FRACTION * area:
-        raise MeshError(
-            f"Expected {label} to enclose a volume, got a signed volume of "
-            f"{volume * size**3:.3g} m³ (flat or self-cancelling)."
-        )
-    _check_parts(scaled, faces, volume, label, size)
-    if volume < 0:
-        warnings.warn(
-            f"{label} is inside out (normals point inward, signed volume "
-            f"{volume * size**3:.6g} m³); its winding was reversed.",
-            MeshOrientationWarning,
-            stacklevel=3,
-        )
-        integrals = -integrals
-        volume = -volume
-    first = integrals[1:4]
-    sxx, syy, szz, sxy, sxz, syz = integrals[4:10]
-    centroid = first / volume  # relative to the reference point, in units of `size`
-    # Second moments about the centroid: ∫ x xᵀ dV − V c cᵀ.
-    second = np.array([[sxx, sxy, sxz], [sxy, syy, syz], [sxz, syz, szz]])
-    second -= volume * np.outer(centroid, centroid)
-    if density is not None:
-        with np.errstate(over="ignore", under="ignore"):
-            total = float(density * volume * np.float64(size) ** 3)
-        if not 0 < total < np.inf:
-            raise InputError(
-                f"Expected the mass of {label} (density × volume) within float range, got "
-                f"{total!r} kg from {density!r} kg/m³ and {size:.3g} m across."
-            )
-    else:
-        total = float(mass)  # type: ignore[arg-type]
-    # Inertia per unit mass is (trace(C) E − C) / V in units of size²: no size³ or
-    # size⁵ factors that would overflow for huge meshes or vanish for tiny ones.
-    with np.errstate(over="ignore"):
-        inertia = total * size**2 * ((np.trace(second) * np.eye(3) - second) / volume)
-    return MassProperties(total, reference + size * centroid, inertia)
-
-
-def _check_parts(
+def check_parts(
     scaled: NDArray[np.float64], faces: NDArray[np.int64], volume: float, label: str, size: float
 ) -> None:
     """Each separate part must be wound like the whole, unless it is a cavity.
@@ -297,7 +93,7 @@ def _check_parts(
             )
 
 
-def _checked_topology(
+def checked_topology(
     vertices: NDArray[np.float64],
     faces: NDArray[np.int64],
     label: str,
@@ -320,7 +116,7 @@ def _checked_topology(
     bad = count_nonfinite_rows(vertices)
     if bad:
         raise MeshError(f"Expected {label} vertices to be finite, got {bad} with NaN or inf.")
-    unique, inverse = _merge_identical_vertices(vertices)
+    unique, inverse = merge_identical_vertices(vertices)
     faces = renumber_faces(faces, inverse)
     if faces.shape[0] == 0:
         raise MeshError(f"Expected {label} to have triangles of non-zero area, got none.")
@@ -331,7 +127,7 @@ def _checked_topology(
     diagonal = float(np.linalg.norm(corner_high - corner_low))
     tolerance = DEFAULT_MERGE_FRACTION * diagonal if merge_tolerance is None else merge_tolerance
     if boundary and tolerance > 0:
-        welded_faces, count, largest, touched = _weld_seams(unique, faces, keys, tolerance)
+        welded_faces, count, largest, touched = weld_seams(unique, faces, keys, tolerance)
         if count:
             mask = np.zeros(unique.shape[0], dtype=bool)
             mask[touched] = True
@@ -350,7 +146,7 @@ def _checked_topology(
             else:
                 return unique, faces
     if crowded:
-        faces, cancelled = _drop_cancelling(faces, keys, unique.shape[0])
+        faces, cancelled = drop_cancelling(faces, keys, unique.shape[0])
         if cancelled:
             warnings.warn(
                 f"{label}: removed {cancelled} pairs of coincident triangles of opposite "
@@ -362,11 +158,11 @@ def _checked_topology(
                 raise MeshError(f"Expected {label} to enclose a volume, got triangles that cancel.")
             keys = directed_edge_keys(faces, unique.shape[0])
             keys.sort()
-    _check_edges(faces, unique.shape[0], label, keys, unique, diagonal, tolerance)
+    check_edges(faces, unique.shape[0], label, keys, unique, diagonal, tolerance)
     return unique, faces
 
 
-def _weld_seams(
+def weld_seams(
     vertices: NDArray[np.float64],
     faces: NDArray[np.int64],
     sorted_keys: NDArray[np.int64],
@@ -392,7 +188,7 @@ def _weld_seams(
     return renumber_faces(faces, target), count, float(largest), touched
 
 
-def _drop_cancelling(
+def drop_cancelling(
     faces: NDArray[np.int64], sorted_keys: NDArray[np.int64], n_vertices: int
 ) -> tuple[NDArray[np.int64], int]:
     """Remove pairs of triangles on the same three vertices wound opposite ways
@@ -426,7 +222,7 @@ def _drop_cancelling(
     return np.ascontiguousarray(faces[~drop]), pairs
 
 
-def _merge_identical_vertices(
+def merge_identical_vertices(
     vertices: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Unique vertices (exactly equal coordinates merged) and, per input vertex, its index.
@@ -451,7 +247,7 @@ def _merge_identical_vertices(
     return unique, inverse.reshape(-1).astype(np.int64)
 
 
-def _check_edges(
+def check_edges(
     faces: NDArray[np.int64],
     n_vertices: int,
     label: str,
@@ -533,7 +329,7 @@ def _holes_message(
     suggestion = 2.0 * gap
     if not suggestion > tolerance:
         return message
-    welded_faces, _, _, _ = _weld_seams(vertices, faces, keys, suggestion)
+    welded_faces, _, _, _ = weld_seams(vertices, faces, keys, suggestion)
     closed = directed_edge_keys(welded_faces, vertices.shape[0])
     closed.sort()
     if edge_defects(closed)[0]:

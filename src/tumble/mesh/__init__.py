@@ -1,0 +1,237 @@
+"""Mass properties of a solid bounded by a closed triangle mesh.
+
+Files are read with trimesh (STL, OBJ, PLY, GLB/glTF, OFF, ...; STEP through
+cascadio, which tessellates it with OpenCASCADE and converts its units to metres); the volume
+integrals are tumble's own compiled kernel, :func:`tumble.core.polyhedron.mesh_integrals`,
+which is exact for the polyhedron (Tonon 2004, via the divergence theorem).
+
+Before integrating, the mesh is checked, because the integrals of a mesh that
+does not bound a solid are meaningless rather than approximately right:
+
+* vertices with bit-identical coordinates are merged (STL files repeat them)
+  and triangles that then have a repeated corner (zero area) are dropped;
+* where edges are left with one triangle (a seam whose two sides differ by
+  round-off, as CAD exports write them), the vertices of those edges closer
+  than ``merge_tolerance`` are welded (:func:`tumble.core.topology.weld`:
+  deterministic, whatever the vertex order), with a :class:`MeshRepairWarning`;
+* every edge must be shared by exactly two triangles (watertight), or split
+  the mesh into closed pieces: coincident triangles of opposite winding (two
+  solids sharing a face) cancel and are removed, and closed pieces that touch
+  along edges or at vertices (a convex decomposition) are accepted;
+* the two triangles of every edge must traverse it in opposite directions
+  (consistent winding);
+* the signed volume must be non-zero; a negative one (an inside-out mesh, all
+  normals inward) is reversed with a :class:`MeshOrientationWarning`;
+* separate parts must all be wound the same way, except inward-wound cavities
+  nested inside a part; overlapping parts are added (their overlap counts twice).
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.core.polyhedron import mesh_integrals
+from tumble.core.topology import bounds_and_mean
+from tumble.errors import InputError, MeshError
+from tumble.massprops import MassProperties
+from tumble.mesh.checks import (
+    DEFAULT_MERGE_FRACTION,
+    MeshRepairWarning,
+    check_parts,
+    checked_topology,
+)
+from tumble.units import length_scale, to_si
+
+__all__ = ["DEFAULT_MERGE_FRACTION", "MeshOrientationWarning", "MeshRepairWarning", "from_mesh"]
+
+#: A mesh whose |volume| is below this fraction of (surface area × largest
+#: extent) encloses nothing: the volume of a flat or self-cancelling surface is
+#: round-off, at most about 1e-16 · √n_triangles of that product. A plate of
+#: thickness t has a ratio t / (2 · length), so only plates thinner than
+#: 2e-9 of their length are refused.
+ZERO_VOLUME_FRACTION = 1e-9
+
+
+class MeshOrientationWarning(UserWarning):
+    """An inside-out mesh (inward normals) was reversed before integrating."""
+
+
+def from_mesh(
+    mesh: Any,
+    density: Any = None,
+    mass: Any = None,
+    units: Any = None,
+    *,
+    merge_tolerance: Any = None,
+) -> MassProperties:
+    """Mass properties of the uniform solid bounded by a closed triangle mesh.
+
+    Parameters
+    ----------
+    mesh : path to a mesh file (anything trimesh reads: STL, OBJ, PLY, GLB, STEP, ...),
+        or a ``trimesh.Trimesh`` / ``trimesh.Scene``. Body coordinates are the
+        mesh's own coordinates.
+    density : uniform density, kg/m³ (or e.g. ``"2700 kg/m^3"``). Give exactly
+        one of ``density`` and ``mass``.
+    mass : total mass, kg (or e.g. ``"1.2 kg"``); the density follows from the volume.
+    units : length unit of the mesh coordinates, e.g. ``"mm"`` for most CAD
+        files. Default: the unit the file declares (glTF/GLB may), else metres;
+        given, it overrides what the file declares.
+    merge_tolerance : the largest distance at which the vertices of edges with
+        one triangle are welded, a length (m, or e.g. ``"0.01 mm"``; after
+        ``units``). Default :data:`DEFAULT_MERGE_FRACTION` of the bounding
+        box's diagonal (round-off only); 0 welds nothing.
+
+    Returns
+    -------
+    MassProperties, with the centre of mass in the mesh's coordinates (m) and
+    the inertia about it in the mesh's axes.
+
+    Raises
+    ------
+    InputError
+        Unreadable file, both or neither of density and mass, non-positive
+        density or mass, a unit that is not a length.
+    MeshError
+        No triangles, non-finite vertices, holes (the message counts the
+        boundary edges, gives their length, and suggests the
+        ``merge_tolerance`` that closes a seam), edges shared by more than two
+        triangles that do not split the mesh into closed pieces, inconsistent
+        winding, or zero volume.
+
+    Warns
+    -----
+    MeshOrientationWarning
+        If the mesh is inside out; its winding is reversed (never a silent abs()).
+    MeshRepairWarning
+        If vertices were welded (how many, and the largest distance moved),
+        coincident triangles removed, or the mesh is closed pieces touching
+        along edges (how many).
+    """
+    if (density is None) == (mass is None):
+        raise InputError(
+            "Expected exactly one of `density` and `mass`, got "
+            + ("both." if density is not None else "neither.")
+        )
+    label, vertices, faces, file_units = _load(mesh)
+    units = units if units is not None else file_units
+    if units is not None:
+        vertices = vertices * length_scale(units, "units")
+    tolerance = None
+    if merge_tolerance is not None:
+        tolerance = to_si(merge_tolerance, "length", "merge_tolerance")
+        if not tolerance >= 0:
+            raise InputError(f"Expected `merge_tolerance` >= 0 m, got {tolerance!r}.")
+    if density is not None:
+        rho = to_si(density, "density", "density")
+        if rho <= 0:
+            raise InputError(f"Expected `density` > 0 kg/m^3, got {rho!r}.")
+        return mesh_mass_properties(
+            vertices, faces, density=rho, label=label, merge_tolerance=tolerance
+        )
+    total = to_si(mass, "mass", "mass")
+    if total <= 0:
+        raise InputError(f"Expected `mass` > 0 kg, got {total!r}.")
+    return mesh_mass_properties(vertices, faces, mass=total, label=label, merge_tolerance=tolerance)
+
+
+def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str | None]:
+    """Vertices, faces and declared length unit of a file or trimesh object, unprocessed."""
+    import trimesh
+
+    if isinstance(mesh, str | os.PathLike):
+        path = Path(mesh)
+        label = f"mesh {str(path)!r}"
+        if not path.is_file():
+            why = "a directory" if path.is_dir() else "no such file"
+            raise InputError(f"Expected `mesh` to be a mesh file, got {str(path)!r} ({why}).")
+        try:
+            # process=False: keep the file's triangles as they are; merging and
+            # the checks below are ours, so that errors can say what is wrong.
+            loaded = trimesh.load_mesh(path, process=False)
+        except ImportError as exc:
+            raise InputError(
+                f"Reading {str(path)!r} needs a package that is not installed: {exc}."
+            ) from None
+        except Exception as exc:  # trimesh raises many types for unreadable files
+            raise InputError(
+                f"Expected `mesh` to be a readable mesh file (STL, OBJ, PLY, GLB, STEP, ...), "
+                f"got {str(path)!r}: {exc}"
+            ) from None
+    elif isinstance(mesh, trimesh.Scene):
+        label, loaded = "mesh (scene)", mesh.to_mesh()
+    elif isinstance(mesh, trimesh.Trimesh):
+        label, loaded = "mesh", mesh
+    else:
+        raise InputError(
+            f"Expected `mesh` to be a file path or a trimesh.Trimesh, got {type(mesh).__name__}."
+        )
+    vertices = np.ascontiguousarray(loaded.vertices, dtype=float)
+    faces = np.ascontiguousarray(loaded.faces, dtype=np.int64)
+    declared = getattr(loaded, "units", None)
+    return label, vertices, faces, (str(declared) if declared else None)
+
+
+def mesh_mass_properties(
+    vertices: NDArray[np.float64],
+    faces: NDArray[np.int64],
+    *,
+    density: float | None = None,
+    mass: float | None = None,
+    label: str = "mesh",
+    merge_tolerance: float | None = None,
+) -> MassProperties:
+    """Mass properties from SI arrays (``vertices`` (n, 3) m, ``faces`` (k, 3));
+    exactly one of ``density`` (kg/m³) and ``mass`` (kg); ``merge_tolerance``
+    in m (None: the default). See :func:`from_mesh`."""
+    vertices, faces = checked_topology(vertices, faces, label, merge_tolerance)
+    low, high, reference = bounds_and_mean(vertices)
+    size = float(np.max(high - low))
+    # Integrate in units of the mesh's own size about a point near it: the sums
+    # neither cancel (far from the origin) nor overflow or underflow (1e±100 m).
+    scaled = (vertices - reference) / size
+    origin = np.zeros(3)
+    integrals = mesh_integrals(scaled, faces, origin)
+    volume, area = integrals[0], integrals[10]
+    if abs(volume) <= ZERO_VOLUME_FRACTION * area:
+        raise MeshError(
+            f"Expected {label} to enclose a volume, got a signed volume of "
+            f"{volume * size**3:.3g} m³ (flat or self-cancelling)."
+        )
+    check_parts(scaled, faces, volume, label, size)
+    if volume < 0:
+        warnings.warn(
+            f"{label} is inside out (normals point inward, signed volume "
+            f"{volume * size**3:.6g} m³); its winding was reversed.",
+            MeshOrientationWarning,
+            stacklevel=3,
+        )
+        integrals = -integrals
+        volume = -volume
+    first = integrals[1:4]
+    sxx, syy, szz, sxy, sxz, syz = integrals[4:10]
+    centroid = first / volume  # relative to the reference point, in units of `size`
+    # Second moments about the centroid: ∫ x xᵀ dV − V c cᵀ.
+    second = np.array([[sxx, sxy, sxz], [sxy, syy, syz], [sxz, syz, szz]])
+    second -= volume * np.outer(centroid, centroid)
+    if density is not None:
+        with np.errstate(over="ignore", under="ignore"):
+            total = float(density * volume * np.float64(size) ** 3)
+        if not 0 < total < np.inf:
+            raise InputError(
+                f"Expected the mass of {label} (density × volume) within float range, got "
+                f"{total!r} kg from {density!r} kg/m³ and {size:.3g} m across."
+            )
+    else:
+        total = float(mass)  # type: ignore[arg-type]
+    # Inertia per unit mass is (trace(C) E − C) / V in units of size²: no size³ or
+    # size⁵ factors that would overflow for huge meshes or vanish for tiny ones.
+    with np.errstate(over="ignore"):
+        inertia = total * size**2 * ((np.trace(second) * np.eye(3) - second) / volume)
+    return MassProperties(total, reference + size * centroid, inertia)
