@@ -8,6 +8,7 @@ and the convex hull of the pieces of a decomposition.
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -66,7 +67,8 @@ def test_a_seam_that_differs_by_round_off_is_welded() -> None:
         r"one triangle, 1\.32 m long in all, 3\.5 of the mesh's diagonal\) without welding "
         r"\(merge_tolerance 0\): it has holes, so it bounds no solid\. Its vertices at the "
         r"holes are at most 5\.36e-18 m from one another: merge_tolerance = 1\.1e-17 m welds "
-        r"them and closes it\.$",
+        r"them and closes it\. For a sheet or a thin-walled part, shell_thickness gives the "
+        r"mass properties of its surface as a shell\.$",
     ):
         mesh_mass_properties(vertices, faces, density=1000.0, merge_tolerance=0.0)
 
@@ -80,7 +82,7 @@ def test_a_gap_far_above_round_off_needs_a_larger_tolerance_which_the_message_na
         MeshError,
         match=r"after welding vertices closer than 3\.74e-10 m: it has holes, so it bounds no "
         r"solid\. Its vertices at the holes are at most 3e-07 m from one another: "
-        r"merge_tolerance = 6e-07 m welds them and closes it\.$",
+        r"merge_tolerance = 6e-07 m welds them and closes it\. For a sheet",
     ):
         mesh_mass_properties(vertices, faces, density=1000.0)
     mp, said = quiet(vertices, faces, merge_tolerance=6e-7)
@@ -94,8 +96,11 @@ def test_a_gap_far_above_round_off_needs_a_larger_tolerance_which_the_message_na
 
 def test_a_real_hole_gets_no_suggestion() -> None:
     vertices, faces = stl_box()
-    with pytest.raises(MeshError, match=r"it has holes, so it bounds no solid\.$"):
+    with pytest.raises(
+        MeshError, match=r"it has holes, so it bounds no solid\. For a sheet or a thin-walled"
+    ) as caught:
         mesh_mass_properties(vertices, faces[1:], density=1000.0)
+    assert "merge_tolerance =" not in str(caught.value)
 
 
 def test_welding_does_not_depend_on_the_vertex_order() -> None:
@@ -221,3 +226,111 @@ def test_merge_tolerance_errors(value, message) -> None:
     mesh = trimesh.Trimesh(vertices, faces, process=False)
     with pytest.raises(InputError, match=message):
         tumble.from_mesh(mesh, density=1000.0, merge_tolerance=value)
+
+
+def thin_walled_box(surface_density, size):
+    """Mass and central inertia of the surface of a box (a, b, c) of uniform
+    surface density: each pair of faces by the plate formula and the
+    parallel-axis theorem (the faces normal to x at ±a/2 add, to I_xx,
+    σ b c (b² + c²)/12 each, to I_yy σ b c (c²/12 + a²/4) each, ...)."""
+    a, b, c = size
+    inertia = np.zeros(3)
+    mass = 0.0
+    for axis in range(3):
+        sides = [size[k] for k in range(3) if k != axis]
+        face = surface_density * sides[0] * sides[1]
+        mass += 2 * face
+        for k in range(3):
+            if k == axis:  # about the face's normal: a plate spinning in its plane
+                inertia[k] += 2 * face * (sides[0] ** 2 + sides[1] ** 2) / 12
+            else:  # about an axis in the face's plane, offset by half the box
+                along = next(size[j] for j in range(3) if j not in (axis, k))
+                inertia[k] += 2 * face * (along**2 / 12 + (size[axis] / 2) ** 2)
+    assert np.isclose(mass, 2 * surface_density * (a * b + b * c + a * c))
+    return mass, np.diag(inertia)
+
+
+def test_the_shell_of_a_closed_box_is_the_thin_walled_box() -> None:
+    vertices, faces = stl_box()
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    mp = tumble.from_mesh(mesh, density="2700 kg/m^3", shell_thickness="2 mm")
+    mass, inertia = thin_walled_box(2700 * 2e-3, SIZE)
+    # The same integrals written two ways: round-off.
+    assert mp.mass == pytest.approx(mass, rel=1e-14)
+    np.testing.assert_allclose(mp.center_of_mass, np.array(SIZE) / 2, atol=1e-16)
+    np.testing.assert_allclose(mp.inertia, inertia, rtol=1e-13, atol=1e-18)
+
+
+def test_an_open_box_as_a_shell_and_its_total_mass() -> None:
+    # Without its top (z = c): the bottom at z = 0 and four sides centred at
+    # c/2, all of one surface density.
+    vertices, faces = stl_box()
+    keep = ~np.all(vertices[faces][:, :, 2] == SIZE[2], axis=1)
+    mesh = trimesh.Trimesh(vertices, faces[keep], process=False)
+    with pytest.raises(MeshError, match=r"shell_thickness gives the mass properties"):
+        tumble.from_mesh(mesh, density=2700.0)
+    mp = tumble.from_mesh(mesh, mass="1.5 kg", shell_thickness="1 mm")
+    a, b, c = SIZE
+    bottom, sides = a * b, 2 * (a * c + b * c)
+    z = sides * (c / 2) / (bottom + sides)
+    assert mp.mass == 1.5
+    assert mp.center_of_mass[2] == pytest.approx(z, rel=1e-13)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        (
+            {"shell_thickness": 0.0, "density": 1.0},
+            r"^Expected `shell_thickness` > 0 m, got 0\.0\.$",
+        ),
+        ({"shell_thickness": "5 s", "density": 1.0}, r"shell_thickness"),
+        ({"shell_thickness": "1 mm", "density": -1.0}, r"^Expected `density` > 0, got -1\.0\.$"),
+    ],
+)
+def test_shell_errors(kwargs, message) -> None:
+    vertices, faces = stl_box()
+    with pytest.raises(InputError, match=message):
+        tumble.from_mesh(trimesh.Trimesh(vertices, faces, process=False), **kwargs)
+
+
+def test_the_cli_takes_merge_tolerance_and_shell_thickness(tmp_path) -> None:
+    from typer.testing import CliRunner
+
+    from tumble.cli import app
+
+    vertices, faces = stl_box()
+    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
+    vertices[corner, 2] = 3e-7
+    path = tmp_path / "box.stl"
+    trimesh.Trimesh(vertices, faces, process=False).export(path)
+    runner = CliRunner()
+    refused = runner.invoke(app, ["inertia", str(path), "--density", "1000"])
+    assert refused.exit_code != 0
+    assert "merge_tolerance = 6e-07 m welds them" in " ".join(refused.output.split())
+    welded = runner.invoke(
+        app, ["inertia", str(path), "--density", "1000", "--merge-tolerance", "1 um"]
+    )
+    assert welded.exit_code == 0, welded.output
+    assert re.search(r"mass\s*│\s*6\s*│\s*kg", welded.output)
+    shell = runner.invoke(
+        app, ["inertia", str(path), "--density", "1000", "--shell-thickness", "1 mm"]
+    )
+    assert shell.exit_code == 0, shell.output
+    # 2 (ab + bc + ac) = 0.22 m² of 1 mm at 1000 kg/m³
+    assert re.search(r"mass\s*│\s*0\.22\s*│\s*kg", shell.output)
+    wrong = runner.invoke(app, ["inertia", "box", "--mass", "1", "--size", "1, 1, 1 m",
+                                "--shell-thickness", "1 mm"])  # fmt: skip
+    assert wrong.exit_code != 0
+    assert "got --shell-thickness" in wrong.output
+
+
+def test_a_scenario_file_takes_merge_tolerance_and_shell_thickness(tmp_path) -> None:
+    from tumble.scenario.bodies import MeshBody
+
+    body = MeshBody(mesh="box.stl", density=1000.0, merge_tolerance="1 um",
+                    shell_thickness="1 mm")  # fmt: skip
+    assert body.merge_tolerance == pytest.approx(1e-6)
+    assert body.shell_thickness == pytest.approx(1e-3)
+    with pytest.raises(ValueError, match=r"shell_thickness"):
+        MeshBody(mesh="box.stl", density=1000.0, shell_thickness="0 mm")

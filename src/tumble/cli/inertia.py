@@ -52,6 +52,17 @@ def inertia(
     units: Annotated[
         str | None, typer.Option(help="Length unit of a mesh file, e.g. 'mm'.")
     ] = None,
+    merge_tolerance: Annotated[
+        str | None,
+        typer.Option(
+            help="Mesh: weld seam vertices closer than this, e.g. '0.001 mm' (default 1e-9 "
+            "of the diagonal; 0: none)."
+        ),
+    ] = None,
+    shell_thickness: Annotated[
+        str | None,
+        typer.Option(help="Mesh: its surface as a thin shell of this wall, e.g. '2 mm'."),
+    ] = None,
     radius: Annotated[str | None, typer.Option(help="Radius, e.g. '3 cm'.")] = None,
     inner_radius: Annotated[str | None, typer.Option(help="Inner radius.")] = None,
     outer_radius: Annotated[str | None, typer.Option(help="Outer radius.")] = None,
@@ -96,7 +107,11 @@ def inertia(
     def work() -> None:
         from tumble.units import vector_to_si
 
-        label, mp = _build_body(body, mass=mass, density=density, units=units, dimensions=given)
+        mesh_options = {"merge_tolerance": merge_tolerance, "shell_thickness": shell_thickness}
+        label, mp = _build_body(
+            body, mass=mass, density=density, units=units, dimensions=given,
+            mesh_options={k: v for k, v in mesh_options.items() if v is not None},
+        )  # fmt: skip
         point = vector_to_si(about, "length", "--about") if about is not None else None
         if as_json:
             typer.echo(json.dumps(_inertia_json(label, mp, point), indent=2))
@@ -117,6 +132,7 @@ def _build_body(
     density: str | None,
     units: str | None,
     dimensions: dict[str, str],
+    mesh_options: dict[str, str] | None = None,
 ) -> tuple[str, MassProperties]:
     import inspect
 
@@ -133,6 +149,7 @@ def _build_body(
         if density is not None or units is not None:
             extra += ["density"] if density is not None else []
             extra += ["units"] if units is not None else []
+        extra += list(mesh_options or {})
         if extra:
             raise InputError(f"Expected only {accepted} for {shape_name}, got {_option(extra[0])}.")
         missing = [
@@ -152,7 +169,9 @@ def _build_body(
                 f"Expected --density or --mass (and --units) for a mesh, "
                 f"got {_option(next(iter(dimensions)))}."
             )
-        return str(path), from_mesh(path, density=density, mass=mass, units=units)
+        return str(path), from_mesh(
+            path, density=density, mass=mass, units=units, **(mesh_options or {})
+        )
     import difflib
 
     close = difflib.get_close_matches(shape_name, shapes.__all__, n=1)

@@ -163,3 +163,37 @@ def mesh_integrals(vertices, faces, reference):  # type: ignore[no-untyped-def]
     if faces.shape[0] >= PARALLEL_THRESHOLD:
         return _finish(_chunk_sums_parallel(vertices, faces, reference))
     return _finish(_chunk_sums_serial(vertices, faces, reference))
+
+
+@njit
+def shell_integrals(vertices, faces, reference):  # type: ignore[no-untyped-def]
+    """Surface integrals of a triangle mesh (open or closed, either winding).
+
+    For a triangle of area A with vertices a, b, c (from ``reference``) and
+    ``s = a + b + c``: ``∫ dA = A``, ``∫ x_i dA = A s_i / 3`` and
+    ``∫ x_i x_j dA = A (a_i a_j + b_i b_j + c_i c_j + s_i s_j) / 12`` (the
+    covariance form of a uniform triangle, as the tetrahedron's above).
+
+    Returns
+    -------
+    (10,) float64: ``[A, Sx, Sy, Sz, Sxx, Syy, Szz, Sxy, Sxz, Syz]``, area (m²),
+    first (m³) and second (m⁴) moments about ``reference``.
+    """
+    out = np.zeros(10)
+    for f in range(faces.shape[0]):
+        a = vertices[faces[f, 0]] - reference
+        b = vertices[faces[f, 1]] - reference
+        c = vertices[faces[f, 2]] - reference
+        u, v = b - a, c - a
+        nx = u[1] * v[2] - u[2] * v[1]
+        ny = u[2] * v[0] - u[0] * v[2]
+        nz = u[0] * v[1] - u[1] * v[0]
+        area = 0.5 * np.sqrt(nx * nx + ny * ny + nz * nz)
+        s = a + b + c
+        out[0] += area
+        for i in range(3):
+            out[1 + i] += area * s[i] / 3.0
+        second = area / 12.0
+        for q, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))):
+            out[4 + q] += second * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j])
+    return out

@@ -69,6 +69,7 @@ def from_mesh(
     units: Any = None,
     *,
     merge_tolerance: Any = None,
+    shell_thickness: Any = None,
 ) -> MassProperties:
     """Mass properties of the uniform solid bounded by a closed triangle mesh.
 
@@ -87,6 +88,11 @@ def from_mesh(
         one triangle are welded, a length (m, or e.g. ``"0.01 mm"``; after
         ``units``). Default :data:`DEFAULT_MERGE_FRACTION` of the bounding
         box's diagonal (round-off only); 0 welds nothing.
+    shell_thickness : instead of the solid the mesh bounds, its surface as a
+        thin shell of this wall thickness (a length, e.g. ``"2 mm"``): sheet
+        metal, thin-walled or open parts (:mod:`tumble.mesh.shell`; the surface
+        need not be closed, and nothing is welded). ``density`` is then the
+        wall material's.
 
     Returns
     -------
@@ -123,6 +129,20 @@ def from_mesh(
     units = units if units is not None else file_units
     if units is not None:
         vertices = vertices * length_scale(units, "units")
+    if shell_thickness is not None:
+        from tumble.mesh.shell import shell_mass_properties
+
+        thickness = to_si(shell_thickness, "length", "shell_thickness")
+        if not thickness > 0:
+            raise InputError(f"Expected `shell_thickness` > 0 m, got {thickness!r}.")
+        rho = None if density is None else to_si(density, "density", "density")
+        total = None if mass is None else to_si(mass, "mass", "mass")
+        if (rho is not None and rho <= 0) or (total is not None and total <= 0):
+            name, value = ("density", rho) if rho is not None else ("mass", total)
+            raise InputError(f"Expected `{name}` > 0, got {value!r}.")
+        return shell_mass_properties(
+            vertices, faces, thickness, density=rho, mass=total, label=label
+        )
     tolerance = None
     if merge_tolerance is not None:
         tolerance = to_si(merge_tolerance, "length", "merge_tolerance")

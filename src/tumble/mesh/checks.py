@@ -316,25 +316,29 @@ def _holes_message(
         + ("without welding (merge_tolerance 0)" if tolerance == 0 else "")
         + ": it has holes, so it bounds no solid."
     )
+    shell = (
+        " For a sheet or a thin-walled part, shell_thickness gives the mass properties of "
+        "its surface as a shell."
+    )
     seam = np.unique(np.concatenate([starts, ends]))
     if seam.shape[0] < 2:
-        return message
+        return message + shell
     # The seam's near pairs: vertices with another within the largest gap
     # suggested; welding those at twice their largest distance must close it.
     distances, _ = cKDTree(vertices[seam]).query(vertices[seam], k=2)
     near = distances[:, 1][distances[:, 1] <= 0.5 * LARGEST_SUGGESTED_FRACTION * diagonal]
     if near.shape[0] == 0:
-        return message
+        return message + shell
     gap = float(np.max(near))
     suggestion = 2.0 * gap
     if not suggestion > tolerance:
-        return message
+        return message + shell
     welded_faces, _, _, _ = weld_seams(vertices, faces, keys, suggestion)
     closed = directed_edge_keys(welded_faces, vertices.shape[0])
     closed.sort()
     if edge_defects(closed)[0]:
-        return message
+        return message + shell
     return (
         message + f" Its vertices at the holes are at most {gap:.3g} m from one another: "
-        f"merge_tolerance = {suggestion:.2g} m welds them and closes it."
+        f"merge_tolerance = {suggestion:.2g} m welds them and closes it." + shell
     )

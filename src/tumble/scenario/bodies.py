@@ -235,12 +235,15 @@ class ShapeBody(_Placed):
 
 
 class MeshBody(_Placed):
-    """A closed triangle mesh file (path relative to the scenario file) of uniform density."""
+    """A closed triangle mesh file (path relative to the scenario file) of uniform
+    density, or its surface as a shell (``shell_thickness``)."""
 
     mesh: str
     units: str | None = None
     density: Annotated[float, scalar_field("density", positive=True)] | None = None
     mass: Mass | None = None
+    merge_tolerance: Annotated[float, scalar_field("length", non_negative=True)] | None = None
+    shell_thickness: Annotated[float, scalar_field("length", positive=True)] | None = None
 
     @model_validator(mode="after")
     def _one_of(self) -> MeshBody:
