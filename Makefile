@@ -51,7 +51,8 @@ test: lint typecheck contracts pytest pytest-nojit
 
 bench: setup
 	$(BIN)/python -m pip install --quiet -e '.[dev,bench]'
-	$(BIN)/python bench/mass_properties.py
+	$(BIN)/python bench/mass_properties.py --repairs
+	$(BIN)/python bench/real_meshes.py
 	$(BIN)/python bench/free_body.py
 	$(BIN)/python bench/heavy_top.py
 	$(BIN)/python bench/lagrange_top.py

@@ -610,7 +610,7 @@ def test_one_missing_triangle_leaves_three_boundary_edges():
         MeshError,
         match=r"^Expected mesh to be closed \(watertight\), got 3 boundary edges "
         r"\(edges of only one triangle, 3\.41 m long in all, 2 of the mesh's diagonal\) "
-        r"after welding vertices closer than 1\.73e-09 m: it has holes, so it bounds no "
+        r"after welding vertices closer than 4\.77e-07 m: it has holes, so it bounds no "
         r"solid\. For a sheet or a thin-walled part, shell_thickness gives the mass "
         r"properties of its surface as a shell\.$",
     ):

@@ -204,13 +204,15 @@ def test_a_nested_cavity_is_subtracted() -> None:
 def test_merge_tolerance_is_a_length_after_the_units(tmp_path) -> None:
     vertices, faces = stl_box((100.0, 200.0, 300.0))  # mm
     corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
-    vertices[corner, 2] = 1e-4  # 1e-4 mm
+    # 0.001 mm: above the round-off of the file's single-precision coordinates
+    # (4 ε of 300 mm: 1.43e-4 mm), so not welded by default.
+    vertices[corner, 2] = 1e-3
     path = tmp_path / "box.stl"
     trimesh.Trimesh(vertices, faces, process=False).export(path)
-    with pytest.raises(MeshError, match=r"merge_tolerance = 2e-07 m welds them"):
+    with pytest.raises(MeshError, match=r"closer than 1\.43e-07 m: .* merge_tolerance = 2e-06 m"):
         tumble.from_mesh(path, density=1000.0, units="mm")
-    with pytest.warns(MeshRepairWarning, match=r"moved by at most 1e-07 m"):
-        mp = tumble.from_mesh(path, density=1000.0, units="mm", merge_tolerance="0.001 mm")
+    with pytest.warns(MeshRepairWarning, match=r"moved by at most 1e-06 m"):
+        mp = tumble.from_mesh(path, density=1000.0, units="mm", merge_tolerance="0.002 mm")
     assert mp.mass == pytest.approx(6.0, rel=1e-12)
 
 
@@ -334,3 +336,19 @@ def test_a_scenario_file_takes_merge_tolerance_and_shell_thickness(tmp_path) -> 
     assert body.shell_thickness == pytest.approx(1e-3)
     with pytest.raises(ValueError, match=r"shell_thickness"):
         MeshBody(mesh="box.stl", density=1000.0, shell_thickness="0 mm")
+
+
+def test_single_precision_files_get_single_precision_round_off(tmp_path) -> None:
+    # STL stores coordinates in single precision: a seam 8e-8 of the part's size
+    # (under a unit in the last place) is round-off there and welded by default.
+    vertices, faces = stl_box((0.0625, 0.1, 0.125))
+    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
+    vertices[corner, 2] = 1e-8
+    path = tmp_path / "seam.stl"
+    trimesh.Trimesh(vertices, faces, process=False).export(path)
+    with pytest.warns(MeshRepairWarning, match=r"welded 1 vertices"):
+        tumble.from_mesh(path, density=1000.0)
+    # The same numbers as double-precision arrays: 1e-8 is far above their round-off.
+    stored = trimesh.load_mesh(path, process=False)
+    with pytest.raises(MeshError, match=r"merge_tolerance = 2e-08 m welds them"):
+        mesh_mass_properties(np.asarray(stored.vertices, dtype=float), stored.faces, density=1.0)

@@ -86,8 +86,10 @@ def from_mesh(
         given, it overrides what the file declares.
     merge_tolerance : the largest distance at which the vertices of edges with
         one triangle are welded, a length (m, or e.g. ``"0.01 mm"``; after
-        ``units``). Default :data:`DEFAULT_MERGE_FRACTION` of the bounding
-        box's diagonal (round-off only); 0 welds nothing.
+        ``units``). Default: round-off only, 4 units in the last place of the
+        largest coordinate in the precision the file stores (single in STL
+        files), and at least 1e-9 of the bounding box's diagonal; 0 welds
+        nothing.
     shell_thickness : instead of the solid the mesh bounds, its surface as a
         thin shell of this wall thickness (a length, e.g. ``"2 mm"``): sheet
         metal, thin-walled or open parts (:mod:`tumble.mesh.shell`; the surface
@@ -126,6 +128,11 @@ def from_mesh(
             + ("both." if density is not None else "neither.")
         )
     label, vertices, faces, file_units = _load(mesh)
+    # Coordinates that are all single-precision numbers (STL stores them so)
+    # carry single-precision round-off.
+    with np.errstate(over="ignore", invalid="ignore"):  # beyond single range: not single
+        single = bool(np.all(vertices == vertices.astype(np.float32)))
+    epsilon = float(np.finfo(np.float32 if single else np.float64).eps)
     units = units if units is not None else file_units
     if units is not None:
         vertices = vertices * length_scale(units, "units")
@@ -153,8 +160,9 @@ def from_mesh(
         if rho <= 0:
             raise InputError(f"Expected `density` > 0 kg/m^3, got {rho!r}.")
         return mesh_mass_properties(
-            vertices, faces, density=rho, label=label, merge_tolerance=tolerance
-        )
+            vertices, faces, density=rho, label=label, merge_tolerance=tolerance,
+            epsilon=epsilon,
+        )  # fmt: skip
     total = to_si(mass, "mass", "mass")
     if total <= 0:
         raise InputError(f"Expected `mass` > 0 kg, got {total!r}.")
@@ -206,11 +214,13 @@ def mesh_mass_properties(
     mass: float | None = None,
     label: str = "mesh",
     merge_tolerance: float | None = None,
+    epsilon: float = float(np.finfo(np.float64).eps),
 ) -> MassProperties:
     """Mass properties from SI arrays (``vertices`` (n, 3) m, ``faces`` (k, 3));
     exactly one of ``density`` (kg/m³) and ``mass`` (kg); ``merge_tolerance``
-    in m (None: the default). See :func:`from_mesh`."""
-    vertices, faces = checked_topology(vertices, faces, label, merge_tolerance)
+    in m (None: the default); ``epsilon`` the relative round-off of the
+    coordinates as stored (double precision for arrays). See :func:`from_mesh`."""
+    vertices, faces = checked_topology(vertices, faces, label, merge_tolerance, epsilon)
     low, high, reference = bounds_and_mean(vertices)
     size = float(np.max(high - low))
     # Integrate in units of the mesh's own size about a point near it: the sums

@@ -33,6 +33,7 @@ from tumble.errors import MeshError
 __all__ = [
     "DEFAULT_MERGE_FRACTION",
     "LARGEST_SUGGESTED_FRACTION",
+    "ROUND_OFF_ULPS",
     "MeshRepairWarning",
     "check_edges",
     "check_parts",
@@ -42,10 +43,15 @@ __all__ = [
     "weld_seams",
 ]
 
-#: The default ``merge_tolerance``, as a fraction of the bounding box's diagonal:
-#: far above the round-off of coordinates (~1e-16 of their size), far below any
-#: feature a mesh draws.
+#: The default ``merge_tolerance`` is the larger of this fraction of the bounding
+#: box's diagonal (far above the round-off of double coordinates, ~1e-16 of
+#: their size, far below any feature a mesh draws) and :data:`ROUND_OFF_ULPS`
+#: units in the last place of the largest coordinate, in the precision the file
+#: stores (single precision in STL files: their round-off is ~6e-8 of the size).
 DEFAULT_MERGE_FRACTION = 1e-9
+
+#: Units in the last place of the coordinates that the default tolerance allows.
+ROUND_OFF_ULPS = 4
 
 #: A gap wider than this fraction of the diagonal is a hole, not a seam: no
 #: larger ``merge_tolerance`` is suggested for it.
@@ -98,9 +104,12 @@ def checked_topology(
     faces: NDArray[np.int64],
     label: str,
     merge_tolerance: float | None = None,
+    epsilon: float = float(np.finfo(np.float64).eps),
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Merge duplicate vertices, drop zero-area triangles, weld seams, check the
-    mesh is closed (or closed pieces) and oriented."""
+    mesh is closed (or closed pieces) and oriented. ``epsilon``: the relative
+    round-off of the coordinates as the file stored them (for the default
+    ``merge_tolerance``)."""
     if faces.ndim != 2 or faces.shape[1] != 3:
         raise MeshError(f"Expected {label} to have triangles, got faces of shape {faces.shape}.")
     if faces.shape[0] == 0:
@@ -125,7 +134,10 @@ def checked_topology(
     boundary, crowded, _ = (int(n) for n in edge_defects(keys))
     corner_low, corner_high, _ = bounds_and_mean(unique)
     diagonal = float(np.linalg.norm(corner_high - corner_low))
-    tolerance = DEFAULT_MERGE_FRACTION * diagonal if merge_tolerance is None else merge_tolerance
+    tolerance = merge_tolerance
+    if tolerance is None:
+        largest = float(max(np.max(np.abs(corner_low)), np.max(np.abs(corner_high))))
+        tolerance = max(DEFAULT_MERGE_FRACTION * diagonal, ROUND_OFF_ULPS * epsilon * largest)
     if boundary and tolerance > 0:
         welded_faces, count, largest, touched = weld_seams(unique, faces, keys, tolerance)
         if count:
