@@ -84,6 +84,17 @@ def directed_edge_keys(faces, n_vertices):  # type: ignore[no-untyped-def]
     return keys
 
 
+@njit(inline="always")
+def _edge_run(sorted_keys, k):  # type: ignore[no-untyped-def]
+    """The undirected edge of ``sorted_keys[k]`` and how many keys from k on
+    share it (sorted directed edge keys: :func:`directed_edge_keys`)."""
+    edge = sorted_keys[k] >> 1
+    run = 1
+    while k + run < sorted_keys.shape[0] and (sorted_keys[k + run] >> 1) == edge:
+        run += 1
+    return edge, run
+
+
 @njit
 def edge_defects(sorted_keys):  # type: ignore[no-untyped-def]
     """Count what keeps sorted edge keys from a closed, oriented manifold.
@@ -100,10 +111,7 @@ def edge_defects(sorted_keys):  # type: ignore[no-untyped-def]
     n = sorted_keys.shape[0]
     k = 0
     while k < n:
-        edge = sorted_keys[k] >> 1
-        run = 1
-        while k + run < n and (sorted_keys[k + run] >> 1) == edge:
-            run += 1
+        _, run = _edge_run(sorted_keys, k)
         if run == 1:
             boundary += 1
         elif run > 2:
@@ -336,10 +344,7 @@ def boundary_vertices(sorted_keys, n_vertices):  # type: ignore[no-untyped-def]
     n = sorted_keys.shape[0]
     k = 0
     while k < n:
-        edge = sorted_keys[k] >> 1
-        run = 1
-        while k + run < n and (sorted_keys[k + run] >> 1) == edge:
-            run += 1
+        edge, run = _edge_run(sorted_keys, k)
         if run == 1:
             seen[edge // n_vertices] = True
             seen[edge % n_vertices] = True
@@ -356,10 +361,7 @@ def crowded_edges(sorted_keys):  # type: ignore[no-untyped-def]
     m = 0
     k = 0
     while k < n:
-        edge = sorted_keys[k] >> 1
-        run = 1
-        while k + run < n and (sorted_keys[k + run] >> 1) == edge:
-            run += 1
+        edge, run = _edge_run(sorted_keys, k)
         if run > 2:
             out[m] = edge
             m += 1
@@ -377,6 +379,7 @@ def faces_at_edges(faces, n_vertices, edges):  # type: ignore[no-untyped-def]
     of edge j being ``uses[starts[j]:starts[j + 1]]``.
     """
     m = edges.shape[0]
+    slots = np.full((faces.shape[0], 3), -1, dtype=np.int64)  # the edge of each side, if listed
     counts = np.zeros(m + 1, dtype=np.int64)
     for f in range(faces.shape[0]):
         for corner in range(3):
@@ -384,18 +387,17 @@ def faces_at_edges(faces, n_vertices, edges):  # type: ignore[no-untyped-def]
             edge = min(a, b) * n_vertices + max(a, b)
             j = np.searchsorted(edges, edge)
             if j < m and edges[j] == edge:
+                slots[f, corner] = j
                 counts[j + 1] += 1
     starts = np.cumsum(counts)
     fill = starts[:-1].copy()
     uses = np.empty((starts[m], 2), dtype=np.int64)
     for f in range(faces.shape[0]):
         for corner in range(3):
-            a, b = faces[f, corner], faces[f, (corner + 1) % 3]
-            edge = min(a, b) * n_vertices + max(a, b)
-            j = np.searchsorted(edges, edge)
-            if j < m and edges[j] == edge:
+            j = slots[f, corner]
+            if j >= 0:
                 uses[fill[j], 0] = f
-                uses[fill[j], 1] = 1 if a < b else 0
+                uses[fill[j], 1] = 1 if faces[f, corner] < faces[f, (corner + 1) % 3] else 0
                 fill[j] += 1
     return starts, uses
 
@@ -499,10 +501,7 @@ def defects_after_renumbering(sorted_keys, faces, touched, n_vertices):  # type:
     n = sorted_keys.shape[0]
     k = 0
     while k < n:
-        edge = sorted_keys[k] >> 1
-        run = 1
-        while k + run < n and (sorted_keys[k + run] >> 1) == edge:
-            run += 1
+        edge, run = _edge_run(sorted_keys, k)
         if not (touched[edge // n_vertices] or touched[edge % n_vertices]):
             if run == 1:
                 rest[0] += 1

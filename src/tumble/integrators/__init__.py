@@ -270,73 +270,48 @@ def _splitting(
 ) -> Integrator:
     """An entry for the splitting of order 2 (Strang) or 4 (Yoshida's composition),
     around the rotations of the free motion or (``exact_flow``) its exact flow."""
-    kernels = partial(splitting.single_kernel, order=order, exact_flow=exact_flow)
+    common: dict[str, Any] = {
+        "name": name,
+        "summary": summary,
+        "kind": "stepping",
+        "order": order,
+        "run": drivers.run_stepping,
+        "exact_symmetric_spin": True,
+        "kicks": True,
+        "auto": auto,
+        "single": partial(splitting.single_kernel, order=order, exact_flow=exact_flow),
+        "batch": partial(splitting.batch_kernel, order=order, exact_flow=exact_flow),
+        "metrics": partial(splitting.metrics_kernel, order=order, exact_flow=exact_flow),
+    }
     if exact_flow:
         return Integrator(
-            name=name,
-            summary=summary,
-            kind="stepping",
-            order=order,
             preserves="the free motion exactly, so the error comes from the torque alone; "
             "|L| to round-off when torque-free; bounded energy error under gravity",
-            run=drivers.run_stepping,
-            exact_symmetric_spin=True,
             exact_free_motion=True,
-            kicks=True,
-            single=kernels,
-            batch=partial(splitting.batch_kernel, order=order, exact_flow=True),
-            metrics=partial(splitting.metrics_kernel, order=order, exact_flow=True),
+            **common,
         )
     step = part_kernels.strang_step if order == 2 else part_kernels.yoshida_step
     return Integrator(
-        name=name,
-        summary=summary,
-        kind="stepping",
-        order=order,
         preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
         "a symmetric body's free motion exactly; with rotors, L to round-off",
-        run=drivers.run_stepping,
-        exact_symmetric_spin=True,
-        kicks=True,
-        auto=auto,
-        single=kernels,
-        batch=partial(splitting.batch_kernel, order=order),
-        metrics=partial(splitting.metrics_kernel, order=order),
         parts=ROTORS,
         parts_single=partial(part_kernels.single_kernel, step),
         parts_batch=partial(part_kernels.batch_kernel, step),
+        **common,
     )
 
 
-register_integrator(
-    _splitting(
-        "splitting",
-        4,
-        "fourth-order symplectic splitting (Yoshida's composition of strang)",
-        _splitting_when,
-    )
-)
-register_integrator(
-    _splitting("strang", 2, "second-order symplectic splitting: exact rotations and torque kicks")
-)
-register_integrator(
-    _splitting(
-        "splitting-exact",
-        4,
-        "fourth-order splitting around the exact free motion (Yoshida's composition of "
-        "strang-exact): steps set by the torque, not by the rotation",
-        exact_flow=True,
-    )
-)
-register_integrator(
-    _splitting(
-        "strang-exact",
-        2,
-        "second-order splitting: the exact free motion (Jacobi elliptic functions) and "
-        "torque kicks",
-        exact_flow=True,
-    )
-)
+for _name, _order, _summary, _auto, _exact_flow in (
+    ("splitting", 4, "fourth-order symplectic splitting (Yoshida's composition of strang)",
+     _splitting_when, False),
+    ("strang", 2, "second-order symplectic splitting: exact rotations and torque kicks", None,
+     False),
+    ("splitting-exact", 4, "fourth-order splitting around the exact free motion (Yoshida's "
+     "composition of strang-exact): steps set by the torque, not by the rotation", None, True),
+    ("strang-exact", 2, "second-order splitting: the exact free motion (Jacobi elliptic "
+     "functions) and torque kicks", None, True),
+):  # fmt: skip
+    register_integrator(_splitting(_name, _order, _summary, _auto, exact_flow=_exact_flow))
 register_integrator(
     Integrator(
         name="rk4",

@@ -35,6 +35,7 @@ __all__ = [
     "LARGEST_SUGGESTED_FRACTION",
     "ROUND_OFF_ULPS",
     "MeshRepairWarning",
+    "check_arrays",
     "check_edges",
     "check_parts",
     "checked_topology",
@@ -99,17 +100,15 @@ def check_parts(
             )
 
 
-def checked_topology(
-    vertices: NDArray[np.float64],
-    faces: NDArray[np.int64],
-    label: str,
-    merge_tolerance: float | None = None,
-    epsilon: float = float(np.finfo(np.float64).eps),
-) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """Merge duplicate vertices, drop zero-area triangles, weld seams, check the
-    mesh is closed (or closed pieces) and oriented. ``epsilon``: the relative
-    round-off of the coordinates as the file stored them (for the default
-    ``merge_tolerance``)."""
+def check_arrays(vertices: NDArray[np.float64], faces: NDArray[np.int64], label: str) -> None:
+    """Triangles (k, 3) with indices into ``vertices`` (n, 3), all finite.
+
+    Raises
+    ------
+    MeshError
+        Faces not of shape (k, 3) or none, vertices not (n, 3), indices out of
+        range, NaN or infinite coordinates.
+    """
     if faces.ndim != 2 or faces.shape[1] != 3:
         raise MeshError(f"Expected {label} to have triangles, got faces of shape {faces.shape}.")
     if faces.shape[0] == 0:
@@ -125,6 +124,20 @@ def checked_topology(
     bad = count_nonfinite_rows(vertices)
     if bad:
         raise MeshError(f"Expected {label} vertices to be finite, got {bad} with NaN or inf.")
+
+
+def checked_topology(
+    vertices: NDArray[np.float64],
+    faces: NDArray[np.int64],
+    label: str,
+    merge_tolerance: float | None = None,
+    epsilon: float = float(np.finfo(np.float64).eps),
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Merge duplicate vertices, drop zero-area triangles, weld seams, check the
+    mesh is closed (or closed pieces) and oriented. ``epsilon``: the relative
+    round-off of the coordinates as the file stored them (for the default
+    ``merge_tolerance``)."""
+    check_arrays(vertices, faces, label)
     unique, inverse = merge_identical_vertices(vertices)
     faces = renumber_faces(faces, inverse)
     if faces.shape[0] == 0:

@@ -14,9 +14,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core.polyhedron import shell_integrals
-from tumble.core.topology import bounds_and_mean, count_nonfinite_rows, index_range
+from tumble.core.topology import bounds_and_mean
 from tumble.errors import InputError, MeshError
 from tumble.massprops import MassProperties
+from tumble.mesh.checks import check_arrays
 
 __all__ = ["shell_mass_properties"]
 
@@ -40,17 +41,7 @@ def shell_mass_properties(
     MeshError
         No triangles, indices out of range, non-finite vertices, zero area.
     """
-    if faces.ndim != 2 or faces.shape[1] != 3 or faces.shape[0] == 0:
-        raise MeshError(f"Expected {label} to have triangles, got faces of shape {faces.shape}.")
-    low, high = index_range(faces)
-    if low < 0 or high >= vertices.shape[0]:
-        raise MeshError(
-            f"Expected {label} face indices in [0, {vertices.shape[0] - 1}], "
-            f"got indices from {low} to {high}."
-        )
-    bad = count_nonfinite_rows(vertices)
-    if bad:
-        raise MeshError(f"Expected {label} vertices to be finite, got {bad} with NaN or inf.")
+    check_arrays(vertices, faces, label)
     corner_low, corner_high, reference = bounds_and_mean(vertices)
     size = float(np.max(corner_high - corner_low))
     if not size > 0:
