@@ -352,3 +352,19 @@ def test_single_precision_files_get_single_precision_round_off(tmp_path) -> None
     stored = trimesh.load_mesh(path, process=False)
     with pytest.raises(MeshError, match=r"merge_tolerance = 2e-08 m welds them"):
         mesh_mass_properties(np.asarray(stored.vertices, dtype=float), stored.faces, density=1.0)
+
+
+def test_touching_pieces_wound_differently_are_refused() -> None:
+    # A cube and, touching it along an edge, a cube wound inside out: around
+    # that edge the four triangles do not pair into solid wedges.
+    first, first_faces = stl_box((1.0, 1.0, 1.0))
+    second, second_faces = stl_box((1.0, 1.0, 1.0), lo=(1.0, 1.0, 0.0))
+    vertices = np.vstack([first, second])
+    faces = np.vstack([first_faces, second_faces[:, ::-1] + len(first)])
+    with pytest.raises(
+        MeshError,
+        match=r"^Expected mesh to be manifold, got 1 edges shared by more than two triangles, "
+        r"1 of which do not split it into closed pieces wound alike \(at such an edge the "
+        r"triangles must pair up around it, each pair bounding one solid wedge\)\.$",
+    ):
+        mesh_mass_properties(vertices, faces, density=1.0)

@@ -297,7 +297,9 @@ def check_edges(
         if open_edges:
             raise MeshError(
                 f"Expected {label} to be manifold, got {crowded} edges shared by more than two "
-                f"triangles, {open_edges} of which do not split it into closed pieces."
+                f"triangles, {open_edges} of which do not split it into closed pieces wound "
+                "alike (at such an edge the triangles must pair up around it, each pair "
+                "bounding one solid wedge)."
             )
         warnings.warn(
             f"{label}: {crowded} edges are shared by more than two triangles; read as closed "
