@@ -381,7 +381,13 @@ def faces_at_edges(faces, n_vertices, edges):  # type: ignore[no-untyped-def]
     m = edges.shape[0]
     slots = np.full((faces.shape[0], 3), -1, dtype=np.int64)  # the edge of each side, if listed
     counts = np.zeros(m + 1, dtype=np.int64)
+    on_edge = np.zeros(n_vertices, dtype=np.bool_)  # a triangle needs two such corners
+    for j in range(m):
+        on_edge[edges[j] // n_vertices] = True
+        on_edge[edges[j] % n_vertices] = True
     for f in range(faces.shape[0]):
+        if on_edge[faces[f, 0]] + on_edge[faces[f, 1]] + on_edge[faces[f, 2]] < 2:
+            continue
         for corner in range(3):
             a, b = faces[f, corner], faces[f, (corner + 1) % 3]
             edge = min(a, b) * n_vertices + max(a, b)
