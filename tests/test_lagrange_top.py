@@ -328,3 +328,25 @@ def test_gyroscope_refuses_no_initial_state() -> None:
     disk, pivot = disk_top()
     with pytest.raises(InputError, match=r"got spin_rate=None, tilt=None"):
         tb.theory.gyroscope(disk, pivot)
+
+
+@pytest.mark.parametrize(
+    ("lever", "gravity", "ending"),
+    [
+        (0.06, (0.0, 0.0, 0.0), "no gravity"),
+        (None, (0.0, 0.0, -G), "another body"),
+    ],
+)
+def test_the_closed_form_refuses_what_is_not_a_heavy_symmetric_top(lever, gravity, ending):
+    disk, pivot = disk_top(0.06)
+    if lever is None:  # the pivot off the symmetry axis
+        pivot = np.array([0.01, 0.0, -0.06])
+    body = RigidBody(disk, pivot=pivot)
+    with pytest.raises(
+        InputError,
+        match=r"^Expected a symmetric top \(two equal moments about the pivot, the pivot and "
+        r"the centre of mass on the symmetry axis\) under gravity for the closed form, got "
+        + ending
+        + r"\.$",
+    ):
+        lagrange_top(body, np.array(gravity), np.array([0.0, 0.0, 50.0]), tilted(0.5))

@@ -368,3 +368,43 @@ def test_touching_pieces_wound_differently_are_refused() -> None:
         r"triangles must pair up around it, each pair bounding one solid wedge\)\.$",
     ):
         mesh_mass_properties(vertices, faces, density=1.0)
+
+
+def test_a_mesh_of_triangles_that_all_cancel_is_refused() -> None:
+    # One box listed twice, once wound each way: every edge is used four times,
+    # the coincident pairs cancel and nothing is left.
+    box = trimesh.creation.box(bounds=[(0, 0, 0), SIZE])
+    both = np.vstack([box.faces, box.faces[:, ::-1]])
+    with (
+        pytest.warns(MeshRepairWarning, match=r"removed 12 pairs of coincident triangles"),
+        pytest.raises(
+            MeshError, match=r"^Expected mesh to enclose a volume, got triangles that cancel\.$"
+        ),
+    ):
+        mesh_mass_properties(np.asarray(box.vertices), both, density=1.0)
+
+
+@pytest.mark.parametrize(
+    ("vertices", "kwargs", "error", "message"),
+    [
+        (np.zeros((3, 3)), {"density": 1.0}, MeshError,
+         r"^Expected mesh to have a surface, got all its vertices at one point\.$"),
+        (np.array([[0.0, 0, 0], [1, 0, 0], [2, 0, 0]]), {"density": 1.0}, MeshError,
+         r"^Expected mesh to have a surface, got zero area\.$"),
+        (np.array([[0.0, 0, 0], [1e200, 0, 0], [0, 1e200, 0]]), {"density": 1e100}, InputError,
+         r"^Expected the mass of the shell of mesh \(density × thickness × area\) within float "
+         r"range, got inf kg\.$"),
+    ],
+)  # fmt: skip
+def test_shell_errors_of_the_surface(vertices, kwargs, error, message) -> None:
+    from tumble.mesh.shell import shell_mass_properties
+
+    with pytest.raises(error, match=message):
+        shell_mass_properties(vertices, np.array([[0, 1, 2]]), 1e-3, **kwargs)
+
+
+def test_a_shell_refuses_a_mass_that_is_not_positive() -> None:
+    vertices, faces = stl_box()
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    with pytest.raises(InputError, match=r"^Expected `mass` > 0, got 0\.0\.$"):
+        tumble.from_mesh(mesh, mass=0.0, shell_thickness="1 mm")

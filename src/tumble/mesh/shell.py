@@ -51,7 +51,9 @@ def shell_mass_properties(
     area = integrals[0]
     if not area > 0:
         raise MeshError(f"Expected {label} to have a surface, got zero area.")
-    total = float(mass) if mass is not None else float(density) * thickness * area * size**2  # type: ignore[arg-type]
+    scale = np.float64(size)  # numpy powers: inf for a huge mesh, not an OverflowError
+    with np.errstate(over="ignore"):
+        total = float(mass if mass is not None else density * thickness * area * scale**2)  # type: ignore[operator]
     if not 0 < total < np.inf:
         raise InputError(
             f"Expected the mass of the shell of {label} (density × thickness × area) within "
@@ -61,5 +63,6 @@ def shell_mass_properties(
     sxx, syy, szz, sxy, sxz, syz = integrals[4:10]
     second = np.array([[sxx, sxy, sxz], [sxy, syy, syz], [sxz, syz, szz]])
     second -= area * np.outer(centroid, centroid)
-    inertia = total * size**2 * ((np.trace(second) * np.eye(3) - second) / area)
+    with np.errstate(over="ignore"):
+        inertia = total * scale**2 * ((np.trace(second) * np.eye(3) - second) / area)
     return MassProperties(total, reference + size * centroid, inertia)
