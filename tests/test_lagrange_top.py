@@ -350,3 +350,22 @@ def test_the_closed_form_refuses_what_is_not_a_heavy_symmetric_top(lever, gravit
         + r"\.$",
     ):
         lagrange_top(body, np.array(gravity), np.array([0.0, 0.0, 50.0]), tilted(0.5))
+
+
+@pytest.mark.parametrize(
+    ("lever", "tilt", "limit"),
+    [
+        (0.06, 0.0, 0.0),  # upright, fast enough to sleep
+        (-0.06, 0.0, 0.0),  # hanging below the pivot, body z up
+        (-0.06, math.pi, math.pi),  # body z down, the centre of mass above the pivot
+    ],
+)
+def test_a_sleeping_top_stays_where_it_is(lever, tilt, limit) -> None:
+    # ω along the axis, the axis exactly on the vertical: a steady rotation, so
+    # the tilt's limits are the tilt itself (spin 200 rad/s is well above the
+    # sleeping limit 2 √(m g l A) / C ≈ 36 rad/s of the upright case).
+    disk, pivot = disk_top(lever)
+    q0 = [1.0, 0.0, 0.0, 0.0] if tilt == 0.0 else [0.0, 1.0, 0.0, 0.0]
+    gyro = tb.theory.gyroscope(disk, pivot, omega0=[0.0, 0.0, 200.0], attitude0=q0)
+    assert gyro.nutation_limits == (limit, limit)
+    np.testing.assert_allclose(gyro.tilt_at([0.0, 0.5, 1.0]), limit, atol=1e-15)

@@ -330,8 +330,8 @@ def _heavy(
         if upright and a * a < 2.0 * beta:  # unstable: the separatrix's reach
             reach = 2.0 * math.acos(math.sqrt(a * a / (2.0 * beta)))
             low, high = 0.0, reach
-        else:
-            low = high = 0.0
+        else:  # stable: upright and fast enough, or hanging
+            low = high = 0.0 if upright else math.pi
         if flip:
             low, high = math.pi - high, math.pi - low
     else:
