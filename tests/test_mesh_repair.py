@@ -32,6 +32,13 @@ def stl_box(size=SIZE, lo=(0.0, 0.0, 0.0)):
     return vertices, np.arange(len(vertices)).reshape(-1, 3)
 
 
+def lift_one_copy_of_the_origin(vertices, height):
+    """Move one of the copies of the corner at the origin to z = ``height``: a
+    seam (an STL file repeats each corner in every triangle that uses it)."""
+    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
+    vertices[corner, 2] = height
+
+
 def quiet(vertices, faces, **kwargs):
     """Mass properties (density 1000) and the messages of the repair warnings."""
     with warnings.catch_warnings(record=True) as caught:
@@ -49,8 +56,7 @@ def test_a_seam_that_differs_by_round_off_is_welded() -> None:
     # One repeated corner at z = 5.36e-18 m instead of 0: a hole of zero area.
     vertices, faces = stl_box()
     exact, _ = quiet(vertices, faces)
-    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
-    vertices[corner, 2] = 5.36e-18
+    lift_one_copy_of_the_origin(vertices, 5.36e-18)
     mp, said = quiet(vertices, faces)
     assert said == [
         "mesh: welded 1 vertices of its seams, moved by at most 5.36e-18 m "
@@ -76,8 +82,7 @@ def test_a_seam_that_differs_by_round_off_is_welded() -> None:
 def test_a_gap_far_above_round_off_needs_a_larger_tolerance_which_the_message_names() -> None:
     vertices, faces = stl_box()
     exact, _ = quiet(vertices, faces)
-    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
-    vertices[corner, 2] = 1e-6 * SIZE[2]  # 3e-7 m: 1e-6 of the box
+    lift_one_copy_of_the_origin(vertices, 1e-6 * SIZE[2])  # 3e-7 m: 1e-6 of the box
     with pytest.raises(
         MeshError,
         match=r"after welding vertices closer than 3\.74e-10 m: it has holes, so it bounds no "
@@ -203,10 +208,9 @@ def test_a_nested_cavity_is_subtracted() -> None:
 
 def test_merge_tolerance_is_a_length_after_the_units(tmp_path) -> None:
     vertices, faces = stl_box((100.0, 200.0, 300.0))  # mm
-    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
     # 0.001 mm: above the round-off of the file's single-precision coordinates
     # (4 ε of 300 mm: 1.43e-4 mm), so not welded by default.
-    vertices[corner, 2] = 1e-3
+    lift_one_copy_of_the_origin(vertices, 1e-3)
     path = tmp_path / "box.stl"
     trimesh.Trimesh(vertices, faces, process=False).export(path)
     with pytest.raises(MeshError, match=r"closer than 1\.43e-07 m: .* merge_tolerance = 2e-06 m"):
@@ -302,8 +306,7 @@ def test_the_cli_takes_merge_tolerance_and_shell_thickness(tmp_path) -> None:
     from tumble.cli import app
 
     vertices, faces = stl_box()
-    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
-    vertices[corner, 2] = 3e-7
+    lift_one_copy_of_the_origin(vertices, 3e-7)
     path = tmp_path / "box.stl"
     trimesh.Trimesh(vertices, faces, process=False).export(path)
     runner = CliRunner()
@@ -342,8 +345,7 @@ def test_single_precision_files_get_single_precision_round_off(tmp_path) -> None
     # STL stores coordinates in single precision: a seam 8e-8 of the part's size
     # (under a unit in the last place) is round-off there and welded by default.
     vertices, faces = stl_box((0.0625, 0.1, 0.125))
-    corner = np.flatnonzero(np.all(vertices == 0.0, axis=1))[0]
-    vertices[corner, 2] = 1e-8
+    lift_one_copy_of_the_origin(vertices, 1e-8)
     path = tmp_path / "seam.stl"
     trimesh.Trimesh(vertices, faces, process=False).export(path)
     with pytest.warns(MeshRepairWarning, match=r"welded 1 vertices"):

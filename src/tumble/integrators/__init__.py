@@ -301,17 +301,22 @@ def _splitting(
     )
 
 
-for _name, _order, _summary, _auto, _exact_flow in (
-    ("splitting", 4, "fourth-order symplectic splitting (Yoshida's composition of strang)",
-     _splitting_when, False),
-    ("strang", 2, "second-order symplectic splitting: exact rotations and torque kicks", None,
-     False),
-    ("splitting-exact", 4, "fourth-order splitting around the exact free motion (Yoshida's "
-     "composition of strang-exact): steps set by the torque, not by the rotation", None, True),
-    ("strang-exact", 2, "second-order splitting: the exact free motion (Jacobi elliptic "
-     "functions) and torque kicks", None, True),
-):  # fmt: skip
-    register_integrator(_splitting(_name, _order, _summary, _auto, exact_flow=_exact_flow))
+def _register_splittings() -> None:
+    """The four splittings: rotations or the exact free flow, orders 2 and 4."""
+    for name, order, summary, auto, exact_flow in (
+        ("splitting", 4, "fourth-order symplectic splitting (Yoshida's composition of strang)",
+         _splitting_when, False),
+        ("strang", 2, "second-order symplectic splitting: exact rotations and torque kicks", None,
+         False),
+        ("splitting-exact", 4, "fourth-order splitting around the exact free motion (Yoshida's "
+         "composition of strang-exact): steps set by the torque, not by the rotation", None, True),
+        ("strang-exact", 2, "second-order splitting: the exact free motion (Jacobi elliptic "
+         "functions) and torque kicks", None, True),
+    ):  # fmt: skip
+        register_integrator(_splitting(name, order, summary, auto, exact_flow=exact_flow))
+
+
+_register_splittings()
 register_integrator(
     Integrator(
         name="rk4",
