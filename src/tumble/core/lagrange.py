@@ -71,7 +71,7 @@ __all__ = [
 ]
 
 # Layout of the constants from :func:`top_constants`.
-_P, _TAU0, _MC, _D, _TOP, _BOT, _G31, _E, _EP, _A, _N, _PSI0 = range(12)
+_P, _TAU0, _MC, _D, _TOP, _BOT, _INV31, _E, _EP, _A, _N, _PSI0 = range(12)
 _UPPER, _LOWER, _K, _INV_HI, _INV_LO, _DJM, _DJP, _JM0, _JP0, _THETA0 = range(12, 22)
 #: Length of the constants array.
 CONSTANTS = 22
@@ -88,21 +88,27 @@ def _cubic(x, d, f1, f2, beta):  # type: ignore[no-untyped-def]
 
 
 @njit
-def _largest_root(d, f1, f2, beta, start):  # type: ignore[no-untyped-def]
-    """The largest root of ``d + f1 x + f2 x² + β x³`` (β > 0, three real roots),
-    by Newton's method from ``start`` above it: the cubic is convex right of its
-    inflection point (the mean of the roots), so the iterates decrease to it."""
-    x = start
+def _largest_root_scaled(d, f1, f2, beta, start):  # type: ignore[no-untyped-def]
+    """``q = β x3``, where x3 is the largest root of ``d + f1 x + f2 x² + β x³``
+    (β > 0, three real roots), by Newton's method from ``start`` = β x above it:
+    the cubic is convex right of its inflection point (the mean of the roots), so
+    the iterates decrease to it. The cubic and its slope are evaluated divided by
+    x² (the same Newton steps), so that x3 ~ −f2/β may exceed the float range
+    when the weight's term β is tiny: q stays of the order of the other terms."""
+    q = start
     for _ in range(_MAX_NEWTON):
-        value, slope = _cubic(x, d, f1, f2, beta)
+        if not q > 0.0:
+            break
+        ratio = beta / q  # 1 / x
+        value = q + f2 + ratio * (f1 + ratio * d)  # f / x²
+        slope = 3.0 + (2.0 * f2 + ratio * f1) / q  # f' / (β x²)
         if not slope > 0.0 or not value > 0.0:
             break
         step = value / slope
-        if not step > 1e-16 * abs(x):
-            x -= step
+        q -= step
+        if not step > 1e-16 * abs(q + step):
             break
-        x -= step
-    return x
+    return q
 
 
 @njit
@@ -172,11 +178,11 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
     g = transverse - beta * w0  # α − β
 
     # The pair x1 ≤ 0 ≤ x2 about u0, deflating the isolated root x3 ≥ 1 − u0:
-    # Q x² − B x − d = 0 with Q = β x3, B = f1 + d / x3; B² + 4 Q d ≥ 0.
-    x3 = _largest_root(d, f1, f2, beta, max(w0, -f2 / beta + z0))
-    q = beta * x3
-    big_b = f1 + (d / x3 if x3 > 0.0 else 0.0)
-    root = math.sqrt(big_b * big_b + 4.0 * q * d)
+    # Q x² − B x − d = 0 with Q = β x3, B = f1 + d / x3; B² + 4 Q d ≥ 0. The large
+    # root enters only as q = β x3 (it may itself exceed the float range).
+    q = _largest_root_scaled(d, f1, f2, beta, max(beta * w0, beta * z0 - f2))
+    big_b = f1 + (d * (beta / q) if q > 0.0 else 0.0)
+    root = math.hypot(big_b, 2.0 * math.sqrt(q * d))  # no underflow of B² when the weight is tiny
     if big_b >= 0.0:
         x2 = (big_b + root) / (2.0 * q)
         x1 = -2.0 * d / (big_b + root) if big_b + root > 0.0 else 0.0
@@ -186,24 +192,25 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
     amplitude = root / q  # u2 − u1
     if e_bottom == 0.0:
         x1 = -z0  # the axis passes through the lowest point: u1 = −1 exactly
-    # Near the separatrix (u2, u3 → 1) the pair about the pole is the closer one.
-    near_pole = e_top == 0.0 or (x3 - x2) < (x2 - x1)
+    # Near the separatrix (u2, u3 → 1) the pair about the pole is the closer one:
+    # x3 − x2 < x2 − x1, times β.
+    near_pole = e_top == 0.0 or (q - beta * x2) < beta * (x2 - x1)
     if near_pole and e_bottom != 0.0:
         x1 = min(_polish(x1, d, f1, f2, beta), 0.0)
-    # The pair about u = 1 in w = 1 − u, deflating w1 = 1 − u1:
-    # w² + c1 w + c0 = 0, c0 = −(b − a)²/(β w1) ≤ 0, so c1² − 4 c0 ≥ 0.
+    # The pair about u = 1 in w = 1 − u, deflating w1 = 1 − u1, times β:
+    # β w² + s1 w + s0 = 0, s0 = −(b − a)²/w1 ≤ 0, so s1² − 4 β s0 ≥ 0; its
+    # roots 1 − u2 ≥ 0 and 1 − u3 ≤ 0 differ by root_w / β.
     far = w0 - x1
-    c0 = -e_top * e_top / (beta * far)
-    c1 = (2.0 * (g - a * e_top) - e_top * e_top / far) / (beta * far)
-    root_w = math.sqrt(c1 * c1 - 4.0 * c0)
-    if c1 <= 0.0:
-        w_2 = 0.5 * (root_w - c1)
+    s0 = -e_top * e_top / far
+    s1 = (2.0 * (g - a * e_top) - e_top * e_top / far) / far
+    root_w = math.hypot(s1, 2.0 * math.sqrt(-beta * s0))
+    if s1 <= 0.0:
+        w_2 = (root_w - s1) / (2.0 * beta)
         top = 0.0 if w_2 <= 0.0 else w_2
     else:
-        w_3 = -0.5 * (c1 + root_w)
-        top = c0 / w_3
+        top = -2.0 * s0 / (s1 + root_w)  # the product of the roots over 1 − u3
         top = 0.0 if top <= 0.0 else top
-    gap32 = root_w  # u3 − u2
+    scaled32 = root_w  # β (u3 − u2)
     if near_pole:
         amplitude = far - top
         below, above = -x1, w0 - top  # u0 − u1, u2 − u0
@@ -211,7 +218,7 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
             # Near the upper turning point w0 − top loses digits, and τ0 would lose
             # half of them (cn ∝ √(u2 − u0)): take u2 − u0 from the product of the
             # roots about u0 instead, d = β (u0 − u1)(u2 − u0)(u3 − u0).
-            above = d / (beta * below * x3) if below * x3 > 0.0 else 0.0
+            above = d / (below * q) if below * q > 0.0 else 0.0
     else:
         below, above = -x1, x2
     below = max(below, 0.0)
@@ -223,9 +230,10 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
         # The difference lost digits; u1 is then far from u0 (u2 − u1 ≥ u0 − u1 >
         # (1 + u0)/2), so a simple root that Newton's method refines from here.
         bottom = _lowest(bottom, e_bottom, transverse + beta * z0, a, beta)
-    gap31 = amplitude + gap32
-    mc = gap32 / gap31
-    p = 0.5 * math.sqrt(beta * gap31)
+    scaled31 = beta * amplitude + scaled32  # β (u3 − u1)
+    mc = scaled32 / scaled31
+    p = 0.5 * math.sqrt(scaled31)
+    inverse31 = beta / scaled31  # 1 / (u3 − u1): may underflow to 0 harmlessly
 
     upper = e_top == 0.0 and top == 0.0
     # τ0: sn² = (u0 − u1)/D, cn² = (u2 − u0)/D, dn² = (u3 − u0)/(u3 − u1).
@@ -233,7 +241,7 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
     if amplitude > 0.0:
         sn2 = min(below / amplitude, 1.0)
         cn2 = min(above / amplitude, 1.0)
-        dn2 = (above + gap32) / gap31
+        dn2 = (beta * above + scaled32) / scaled31
         tau0 = math.sqrt(sn2) * elliprf(cn2, dn2, 1.0)
         if rate < 0.0 or (rate == 0.0 and upper and s2 == 0.0):
             tau0 = -tau0
@@ -248,7 +256,7 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
         lower = 1.0 if tau0 > 0.0 else -1.0
 
     c[_P], c[_TAU0], c[_MC], c[_D] = p, tau0, mc, amplitude
-    c[_TOP], c[_BOT], c[_G31] = top, bottom, gap31
+    c[_TOP], c[_BOT], c[_INV31] = top, bottom, inverse31
     c[_E], c[_EP], c[_A], c[_N], c[_PSI0] = e_top, e_bottom, a, spin, psi0
     c[_UPPER], c[_LOWER], c[_THETA0] = 1.0 if upper else 0.0, lower, theta0
     if mc > 0.0:
@@ -262,10 +270,9 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
             whole = big_k + n_top / 3.0 * elliprj(0.0, mc, 1.0, top / far_u)
             c[_DJM] = 2.0 * whole / (far_u * p)
         if e_bottom != 0.0:
-            whole = (
-                0.5 * math.pi / math.sqrt(bottom * (bottom + amplitude) * (1.0 + bottom / gap31))
-            )
-            whole += elliprj(0.0, mc, 1.0, 1.0 + bottom / gap31) / (3.0 * gap31)
+            reach = 1.0 + bottom * inverse31  # (u3 + 1) / (u3 − u1)
+            whole = 0.5 * math.pi / math.sqrt(bottom * (bottom + amplitude) * reach)
+            whole += elliprj(0.0, mc, 1.0, reach) * inverse31 / 3.0
             c[_DJP] = 2.0 * whole / p
     else:
         c[_K] = math.inf
@@ -288,7 +295,7 @@ def _jacobi(r, c):  # type: ignore[no-untyped-def]
 def _integrals(sn, cn, dn, r, c):  # type: ignore[no-untyped-def]
     """p J− and p J+ from argument 0 to r (|r| ≤ K): ``∫ dv / (1 ∓ u)``, with
     u = u1 + D sn²(v); zero where their coefficient b ∓ a vanishes."""
-    amplitude, top, bottom, gap31 = c[_D], c[_TOP], c[_BOT], c[_G31]
+    amplitude, top, bottom, inverse31 = c[_D], c[_TOP], c[_BOT], c[_INV31]
     minus = 0.0
     plus = 0.0
     s3 = sn * sn * sn
@@ -299,13 +306,13 @@ def _integrals(sn, cn, dn, r, c):  # type: ignore[no-untyped-def]
         minus = r + n_top / 3.0 * s3 * elliprj(cn * cn, dn * dn, 1.0, ratio)
         minus /= far
     if c[_EP] != 0.0:
-        scaled = 1.0 + bottom * sn * sn / gap31
+        scaled = 1.0 + bottom * sn * sn * inverse31
         plus = (
             sn
             / math.sqrt(bottom)
             * elliprc(bottom * cn * cn * dn * dn, (bottom + amplitude * sn * sn) * scaled)
         )
-        plus += s3 * elliprj(cn * cn, dn * dn, 1.0, scaled) / (3.0 * gap31)
+        plus += s3 * elliprj(cn * cn, dn * dn, 1.0, scaled) * inverse31 / 3.0
     return minus, plus
 
 
