@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import errno
 import json
+import os
 import re
 from pathlib import Path
 
@@ -214,3 +216,156 @@ def test_list_and_show_include_example_sweeps() -> None:
     name = next(iter(examples))
     code, out, _ = invoke("show", name)
     assert code == 0 and out == sweep.show_sweep(name)
+
+
+# ----------------------------------------------------------- a hostile file system
+@pytest.fixture
+def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Make any simulation fail loudly: the output must be refused before it."""
+
+    def refuse(*args: object, **kwargs: object) -> None:
+        raise AssertionError("simulated before checking the output")
+
+    monkeypatch.setattr("tumble.scenario.run", refuse)
+
+
+def only_entries(folder: Path) -> list[str]:
+    return sorted(p.name for p in folder.iterdir())
+
+
+@pytest.mark.usefixtures("no_simulation")
+def test_an_output_under_a_file_is_refused_before_simulating(quick: Path, tmp_path: Path) -> None:
+    (tmp_path / "notes.txt").write_text("")
+    out_dir = tmp_path / "notes.txt" / "run"
+    code, out, err = invoke("run", str(quick), "-o", str(out_dir))
+    assert code == 2 and out == ""
+    assert err.strip().splitlines() == [
+        f"error: Expected the run folder in a folder, got {str(out_dir)!r}, which is under "
+        f"the file {str(tmp_path / 'notes.txt')!r}."
+    ]
+    assert only_entries(tmp_path) == ["notes.txt", "quick.toml"]
+
+
+@pytest.mark.usefixtures("no_simulation")
+def test_a_device_as_the_output_is_refused_before_simulating(quick: Path) -> None:
+    code, _, err = invoke("run", str(quick), "-o", "/dev/null/x")
+    assert code == 2
+    assert err.strip().splitlines() == [
+        "error: Expected the run folder in a folder, got '/dev/null/x', which is under the "
+        "file '/dev/null'."
+    ]
+
+
+@pytest.mark.usefixtures("no_simulation")
+def test_a_folder_that_cannot_be_written_is_refused_before_simulating(
+    quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The permission is mocked: the superuser (CI) may write anywhere.
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    real = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode: Path(p) != locked and real(p, mode))
+    code, _, err = invoke("run", str(quick), "-o", str(locked / "run"))
+    assert code == 2
+    assert err.strip().splitlines() == [
+        f"error: Expected the run folder in a folder that can be written, got "
+        f"{str(locked / 'run')!r}: {str(locked)!r} cannot be written (permission denied, or a "
+        "read-only file system)."
+    ]
+    assert only_entries(locked) == []
+
+
+def test_a_permission_lost_while_writing_is_one_line_and_leaves_nothing(
+    quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The folder passed the check, then the permission went (or the superuser
+    # met a read-only mount): the staging folder cannot even be made.
+    def denied(*args: object, **kwargs: object) -> str:
+        raise PermissionError(errno.EACCES, os.strerror(errno.EACCES))
+
+    monkeypatch.setattr("tumble.report.tempfile.mkdtemp", denied)
+    out_dir = tmp_path / "run"
+    code, _, err = invoke("run", str(quick), "-o", str(out_dir))
+    assert code == 2
+    assert err.strip().splitlines() == [
+        f"error: Expected to write the run folder {str(out_dir)!r}, got: Permission denied "
+        "(choose a folder you can write to)."
+    ]
+    assert only_entries(tmp_path) == ["quick.toml"]
+
+
+def full_disk_at(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Raise ENOSPC when a file called ``name`` is written (by its temporary)."""
+    real = Path.write_bytes
+
+    def write(self: Path, data: bytes) -> int:
+        if self.name.startswith(f".{name}."):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real(self, data)
+
+    monkeypatch.setattr(Path, "write_bytes", write)
+
+
+def test_a_full_disk_while_writing_is_one_line_and_leaves_no_partial_folder(
+    quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    full_disk_at("report.html", monkeypatch)  # after the Parquet file
+    out_dir = tmp_path / "run"
+    code, out, err = invoke("run", str(quick), "-o", str(out_dir))
+    assert code == 2 and out == ""
+    assert err.strip().splitlines() == [
+        f"error: Expected to write the run folder {str(out_dir)!r}, got: No space left on "
+        "device (free some space or write elsewhere)."
+    ]
+    assert only_entries(tmp_path) == ["quick.toml"]
+
+
+def test_a_full_disk_while_replacing_a_run_keeps_the_old_one(
+    quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    out_dir = tmp_path / "run"
+    assert invoke("run", str(quick), "-o", str(out_dir), "-q")[0] == 0
+    before = {p.name: p.read_bytes() for p in out_dir.iterdir()}
+    full_disk_at("summary.json", monkeypatch)
+    code, _, err = invoke("run", str(quick), "-o", str(out_dir), "--force")
+    assert code == 2 and "No space left on device" in err
+    assert {p.name: p.read_bytes() for p in out_dir.iterdir()} == before
+    assert only_entries(tmp_path) == ["quick.toml", "run"]
+
+
+def test_a_request_beyond_the_memory_budget_is_one_line(
+    quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("TUMBLE_MEMORY_BUDGET", "10 kB")
+    code, _, err = invoke("run", str(quick), "-o", str(tmp_path / "run"))
+    assert code == 2
+    (line,) = err.strip().splitlines()
+    assert re.fullmatch(
+        r"error: .*quick\.toml, line \d+, `simulation`: Expected a request that fits in the "
+        r"memory budget of 9\.77 KiB \(TUMBLE_MEMORY_BUDGET = 10 kB\), got [\d.e+]+ recorded "
+        r"samples of 8 values .*: about [\d.]+ KiB\. Record less often \(record_every\), or "
+        r"ask for a shorter duration or a larger dt\.",
+        line,
+    )
+    assert only_entries(tmp_path) == ["quick.toml"]
+
+
+def test_errors_of_the_standard_output_are_one_line(tmp_path: Path) -> None:
+    # /dev/full: every write fails with ENOSPC.
+    import subprocess
+    import sys
+
+    if not Path("/dev/full").exists():
+        pytest.skip("no /dev/full here")
+    with open("/dev/full", "w") as full:
+        done = subprocess.run(
+            [sys.executable, "-c", "from tumble.cli import main; main()", "list"],
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+            check=False,
+        )
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines() == [
+        "error: Expected to read or write the output, got: No space left on device."
+    ]

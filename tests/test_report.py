@@ -141,7 +141,8 @@ def test_a_failed_write_leaves_nothing(
 def test_a_file_in_the_way_is_refused(gyroscope: object, tmp_path: Path) -> None:
     (tmp_path / "out").write_text("x")
     with pytest.raises(
-        tb.InputError, match=r"Expected `-o` to be a folder, got '.*out', which is a file\."
+        tb.OutputError,
+        match=r"Expected the run folder to be a folder, got '.*out', which is a file\.",
     ):
         write_run(gyroscope, tmp_path / "out")  # type: ignore[arg-type]
 

@@ -206,9 +206,13 @@ def test_progress_reports_reach_the_total() -> None:
 
 
 def test_default_step_resolves_the_fastest_rotation() -> None:
-    run = tb.simulate(TUMBLER, [0.0, 0.0, 10.0], duration=1.0)
-    turn = 2 * math.pi / (np.linalg.norm(TUMBLER.inertia @ [0, 0, 10.0]) / 1.0)
-    assert run.dt <= turn / 150
+    # 200 steps a turn of the fastest rate the motion reaches (the largest |ω|
+    # of the exact solution over a period of its polhode, sampled finely).
+    run = tb.simulate(TUMBLER, [0.0, 0.0, 10.0], duration=1.0, method="rk4")
+    fastest = largest_rate_reached(TUMBLER, [0.0, 0.0, 10.0])
+    target = 2 * math.pi / fastest / 200  # shortened so that whole steps span 1 s
+    steps = math.ceil(1.0 / target)
+    assert target * (steps - 1) / steps < run.dt <= target * (1 + 4e-5)  # 4e-5: the sampling
 
 
 def test_parquet_round_trip(tmp_path) -> None:
@@ -393,3 +397,71 @@ def test_exact_steady_rotations(body, omega0) -> None:
 def test_exact_needs_a_torque_free_body_or_a_symmetric_top(kwargs, message) -> None:
     with pytest.raises(tb.InputError, match=message):
         tb.simulate(TUMBLER, [0.3, 1.0, -0.5], duration=1.0, method="exact", **kwargs)
+
+
+# Bodies of every shape the bound must be tight for: elongated (a pencil), flat
+# (a plate), near-spherical, and a general box whose axes are not the body axes.
+STEP_BODIES = {
+    "pencil": tb.shapes.solid_cylinder(0.01, 0.004, 0.08),
+    "plate": tb.shapes.box(0.2, [0.2, 0.15, 0.002]),
+    "near-sphere": tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 1.001, 1.003])),
+    "tumbler": TUMBLER,
+}
+STEP_STARTS = [[30.0, 0.5, 1.0], [0.2, 5.0, 0.3], [1.0, 0.2, 6.0], [2.0, -3.0, 1.5]]
+
+
+def largest_rate_reached(body: tb.MassProperties, omega0: list[float]) -> float:
+    """max |ω| over the torque-free motion, from the closed form sampled over
+    20 s: a period of |ω| or more (it repeats with the polhode) for the pencil,
+    the plate and the tumbler; the near-sphere's |ω| changes by < 1e-6 in all."""
+    run = tb.simulate(body, omega0, duration=20.0, dt=2e-4, method="exact")
+    return float(np.linalg.norm(run.omega, axis=1).max())
+
+
+@pytest.mark.parametrize("name", STEP_BODIES)
+@pytest.mark.parametrize("omega0", STEP_STARTS)
+def test_the_fastest_rate_is_the_largest_rate_the_motion_reaches(name: str, omega0) -> None:
+    from tumble.body import RigidBody
+
+    body = STEP_BODIES[name]
+    bound = RigidBody(body, None, ()).fastest_rate(np.array(omega0, dtype=float), 0.0)
+    reached = largest_rate_reached(body, omega0)
+    # An upper bound to round-off; tight to the sampling: near its maximum |ω|
+    # departs from it quadratically in time, by < (2e-4 s · 30 rad/s)² relative.
+    assert reached <= bound * (1 + 1e-12)
+    assert reached >= bound * (1 - 4e-5)
+
+
+@pytest.mark.parametrize("name", STEP_BODIES)
+def test_the_step_warning_fires_when_and_only_when_the_step_is_coarse(name: str) -> None:
+    # "Coarse": fewer than MIN_STEPS_PER_TURN steps per turn of the fastest rate
+    # the motion reaches (from the exact solution). 10 % either side of that step
+    # must be silent and warn.
+    from tumble.simulation import MIN_STEPS_PER_TURN
+
+    body, omega0 = STEP_BODIES[name], STEP_STARTS[0]
+    limit = 2 * math.pi / largest_rate_reached(body, omega0) / MIN_STEPS_PER_TURN
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CoarseStepWarning)
+        tb.simulate(body, omega0, duration=100 * limit, dt=0.9 * limit, method="rk4")
+    with pytest.warns(CoarseStepWarning, match=r"steps per turn of the fastest rotation"):
+        tb.simulate(body, omega0, duration=100 * limit, dt=1.1 * limit, method="rk4")
+
+
+def test_a_pencil_tumbling_end_over_end_at_a_fine_step_does_not_warn() -> None:
+    # |L| / I1 = 2015 rad/s for this pencil turning at 30 rad/s about a transverse
+    # axis: the loose bound called dt = 1/300 of a turn "4.5 steps per turn".
+    # RK4 at that step agrees with the exact solution to ~1e-13 rad/s and
+    # ~1e-8 rad of attitude over 20 turns; so the warning must stay silent.
+    pencil, omega0 = STEP_BODIES["pencil"], [30.0, 0.5, 1.0]
+    turn = 2 * math.pi / 30.02
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CoarseStepWarning)
+        run = tb.simulate(pencil, omega0, duration=20 * turn, dt=turn / 300, method="rk4")
+    exact = tb.simulate(pencil, omega0, duration=20 * turn, dt=turn / 300, method="exact")
+    assert_allclose(run.omega, exact.omega, atol=1e-10)
+    turned = (
+        Rotation.from_quat(run.quaternion, scalar_first=True)
+        * Rotation.from_quat(exact.quaternion, scalar_first=True).inv()
+    )
+    assert turned.magnitude().max() < 1e-6

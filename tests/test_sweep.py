@@ -13,10 +13,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from numpy.testing import assert_allclose
+from numpy.testing import assert_allclose, assert_array_equal
 from scipy.spatial.transform import Rotation
 
 import tumble as tb
+from tumble.errors import OutputError
 from tumble.report import write_sweep_report
 from tumble.simulation import CoarseStepWarning, IntegrationError
 from tumble.sweep import load_sweep, open_results, run_sweep, show_sweep
@@ -728,7 +729,10 @@ def test_run_sweep_argument_errors(tmp_path: Path, kwargs: dict, message: str) -
 
 def test_output_path_that_is_a_file_is_refused(tmp_path: Path) -> None:
     (tmp_path / "file").write_text("")
-    with pytest.raises(tb.InputError, match=r"Expected an output folder, got the file '.*file'."):
+    with pytest.raises(
+        OutputError,
+        match=r"Expected the sweep's output folder to be a folder, got '.*file', which is a file.",
+    ):
         run_sweep(parse_sweep(SMALL), tmp_path / "file")
 
 
@@ -781,7 +785,9 @@ def test_an_unreadable_sweep_file_is_named(tmp_path: Path) -> None:
 def test_folders_that_cannot_hold_or_are_not_sweeps(tmp_path: Path) -> None:
     (tmp_path / "file").write_text("")
     with pytest.raises(
-        tb.InputError, match=r"Expected a folder that can be created, got '.*file/out'"
+        OutputError,
+        match=r"Expected the sweep's output folder in a folder, got '.*file/out', which is "
+        r"under the file '.*file'.",
     ):
         run_sweep(parse_sweep(SMALL), tmp_path / "file" / "out")
     with pytest.raises(
@@ -803,3 +809,41 @@ def test_a_sweep_half_done_by_another_version_is_not_resumed(tmp_path: Path) -> 
         match=r"Expected results from this version of tumble \(.*\) to resume, got '0.0.1'",
     ):
         run_sweep(parse_sweep(SMALL), folder)
+
+
+def test_a_full_disk_mid_sweep_is_one_error_and_the_sweep_resumes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from tumble.sweep.store import SweepStore
+
+    folder = tmp_path / "out"
+    real = SweepStore._array
+
+    def filling(self: SweepStore, name: str) -> object:
+        # The disk fills once two chunks are done.
+        return _FullArray() if len(self.done()) >= 2 else real(self, name)
+
+    monkeypatch.setattr(SweepStore, "_array", filling)
+    with pytest.raises(
+        OutputError,
+        match=r"Expected to write chunk \d+ of the sweep to '.*results\.zarr', got: No space left "
+        r"on device \(free some space or write elsewhere\)\. The 2 chunks done are kept: run the "
+        r"same sweep again to resume\.",
+    ):
+        run_sweep(parse_sweep(SMALL), folder)
+    monkeypatch.undo()
+    summary = run_sweep(parse_sweep(SMALL), folder)
+    assert summary.chunks_reused == 2 and summary.chunks_run == summary.chunks - 2
+    whole = run_sweep(parse_sweep(SMALL), tmp_path / "whole")
+    for name in ARRAYS:
+        assert_array_equal(open_results(folder)[name][:], open_results(whole.folder)[name][:])
+
+
+class _FullArray:
+    """A Zarr array on a full disk."""
+
+    def __setitem__(self, key: object, value: object) -> None:
+        import errno
+        import os
+
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))

@@ -17,7 +17,7 @@ import importlib
 from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
-from tumble.errors import InputError, MeshError
+from tumble.errors import InputError, MeshError, OutputError, RequestTooLargeError
 
 if TYPE_CHECKING:
     from tumble import analysis, models, shapes, theory, torques, units
@@ -70,6 +70,8 @@ __all__ = [
     "MeshError",
     "MeshOrientationWarning",
     "MeshRepairWarning",
+    "OutputError",
+    "RequestTooLargeError",
     "Rotor",
     "SpringMassDamper",
     "Trajectory",

@@ -49,6 +49,7 @@ __all__ = [
     "Invariant",
     "RigidBody",
     "label",
+    "largest_rate",
     "reduce_invariants",
 ]
 
@@ -393,28 +394,35 @@ class RigidBody:
     def fastest_rate(self, omega: Array, weight: float, exact_spin: bool = False) -> float:
         """An upper estimate of the fastest angular rate a time step must resolve, rad/s.
 
-        Torque-free, |ω| never exceeds |L| / I1 (``omega`` in body axes, rad/s). A
-        body on a pivot under a weight ``weight`` (N) adds the pendulum rate
-        √(m g l / I1). With ``exact_spin`` (integrators whose free flow turns a
-        symmetric body exactly), a symmetric body's spin about its symmetry
-        axis needs no resolving: the rate is |L| / I⊥, that of the precession of
-        the axis about L (and of nutation). With parts, ω = I_p⁻¹ (L − the parts'
-        momenta) stays below (|L| + |the parts' momenta|) / I1 (platform moments;
-        their momenta at t = 0: a motor changes them).
+        Torque-free, the largest |ω| the motion reaches (``omega`` in body axes,
+        rad/s): :func:`largest_rate`, exact, where the bound |L| / I1 would
+        overstate an elongated body's rate many times. A body on a pivot under a
+        weight ``weight`` (N) adds the pendulum rate √(m g l / I1). With
+        ``exact_spin`` (integrators whose free flow turns a symmetric body
+        exactly), a symmetric body's spin about its symmetry axis needs no
+        resolving: the rate is |L| / I⊥, that of the precession of the axis
+        about L (and of nutation). With parts, ω = I_p⁻¹ (L − the parts'
+        momenta) stays below (|L| + |the parts' momenta|) / I1 (platform
+        moments; their momenta at t = 0: a motor changes them).
         """
         moments = self.moments
-        momentum = float(np.linalg.norm(moments * self.to_principal(omega)))
+        principal = self.to_principal(omega)
+        momentum = float(np.linalg.norm(moments * principal))
         if self.parts:
             omega = np.asarray(omega, dtype=float)
             momentum = float(np.linalg.norm(self.angular_momentum(omega))) + sum(
                 float(np.linalg.norm(part.momenta(omega, part.initial_values(omega))))
                 for part in self.parts
             )
-        rate = momentum / moments[0]
+            rate = momentum / moments[0]
         # principal_decomposition makes repeated moments exactly equal; an oblate
         # body (I1 = I2) keeps |L| / I1.
-        if exact_spin and not self.parts and moments[2] == moments[1]:  # prolate: axis 1
+        elif exact_spin and moments[2] == moments[1]:  # prolate: axis 1
             rate = momentum / moments[1]
+        elif exact_spin and moments[0] == moments[1]:
+            rate = momentum / moments[0]
+        else:
+            rate = largest_rate(moments, principal)
         return rate + self.pendulum_rate(weight)
 
     def pendulum_rate(self, weight: float) -> float:
@@ -424,6 +432,28 @@ class RigidBody:
         if self.pivot is None:
             return 0.0
         return math.sqrt(weight * float(np.linalg.norm(self.lever)) / self.moments[0])
+
+
+def largest_rate(moments: Array, omega: Array) -> float:
+    """The largest |ω| (rad/s) that the torque-free motion from ``omega``
+    (principal axes, rad/s) reaches, for principal ``moments`` I1 ≤ I2 ≤ I3.
+
+    In the squares x_i = ω_i², the energy Σ I_i x_i and the momentum Σ I_i² x_i
+    are linear: the motion keeps x on the segment of the line x0 + s d, with
+    d = (I2 I3 (I3 − I2), I3 I1 (I1 − I3), I1 I2 (I2 − I1)) orthogonal to both,
+    where every x_i ≥ 0. The solution sweeps that whole segment (Jacobi's
+    x1 ∝ cn², x2 ∝ sn², x3 ∝ dn² about axis 3, and the like about axis 1, all
+    linear in sn² ∈ [0, 1]), and |ω|² = Σ x_i is linear along it, so its largest
+    value is at an end: where ω2 = 0, since Σ d = (I1 − I2)(I2 − I3)(I3 − I1) ≥ 0.
+    """
+    i1, i2, i3 = (float(m) for m in moments)
+    x = np.asarray(omega, dtype=float) ** 2
+    d = np.array([i2 * i3 * (i3 - i2), i3 * i1 * (i1 - i3), i1 * i2 * (i2 - i1)])
+    total = float(x.sum())
+    if not d[1] < 0.0:  # a sphere: |ω| is constant
+        return math.sqrt(total)
+    reach = x[1] / -d[1]  # s where ω2 = 0
+    return math.sqrt(max(total, total + reach * float(d.sum())))
 
 
 @dataclass(frozen=True, eq=False)

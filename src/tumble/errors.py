@@ -6,7 +6,14 @@ show what was received, e.g. ``Expected `mass` > 0 kg, got -1.0.``
 
 from __future__ import annotations
 
-__all__ = ["CoarseStepWarning", "InputError", "IntegrationError", "MeshError"]
+__all__ = [
+    "CoarseStepWarning",
+    "InputError",
+    "IntegrationError",
+    "MeshError",
+    "OutputError",
+    "RequestTooLargeError",
+]
 
 
 class InputError(ValueError):
@@ -19,6 +26,29 @@ class MeshError(InputError):
 
 class IntegrationError(InputError):
     """The integration produced NaN or infinity (usually: ``dt`` far too large)."""
+
+
+class OutputError(InputError):
+    """A file or folder cannot be written where it was asked for (a path under a
+    file, a folder that cannot be written, a full disk, a name too long). The
+    message names the path and the cause; nothing half-written is left.
+
+    Attributes
+    ----------
+    path : the file or folder that was to be written.
+    cause : the operating system's error, when there was one.
+    """
+
+    def __init__(self, message: str, path: str = "", cause: OSError | None = None) -> None:
+        super().__init__(message)
+        self.path = path
+        self.cause = cause
+
+
+class RequestTooLargeError(InputError):
+    """A request whose output cannot fit in the memory budget (see
+    :mod:`tumble.resources`): refused before any work, with the estimate and
+    how to ask for less."""
 
 
 class CoarseStepWarning(UserWarning):

@@ -1,19 +1,126 @@
-"""Files written whole or not at all: a temporary name in the same folder, then a rename.
+"""Files written whole or not at all, and output locations checked before any work.
 
 A reader (another process, a crash, an interrupted run) never sees half a file:
-``os.replace`` within one folder is atomic, and a failed write leaves no
-temporary file behind.
+each file is written to a temporary name in its folder and renamed
+(``os.replace`` within one folder is atomic), and a failed write leaves no
+temporary file behind. :func:`check_output` refuses, before any work, a place
+that cannot be written; an error of the file system while writing (a full
+disk, a lost permission) becomes an :class:`~tumble.errors.OutputError` that
+names the path and the cause.
 """
 
 from __future__ import annotations
 
+import errno
 import os
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["permissions", "replaced", "write_bytes", "write_text"]
+from tumble.errors import OutputError
+
+__all__ = [
+    "check_output",
+    "output_error",
+    "permissions",
+    "replaced",
+    "write_bytes",
+    "write_text",
+]
+
+#: What to do about the usual causes of a failed write, by errno.
+_ADVICE = {
+    errno.ENOSPC: "free some space or write elsewhere",
+    errno.EDQUOT: "free some space or write elsewhere",
+    errno.EACCES: "choose a folder you can write to",
+    errno.EPERM: "choose a folder you can write to",
+    errno.EROFS: "the file system is read-only: write elsewhere",
+    errno.ENAMETOOLONG: "use a shorter name",
+    errno.ENOTDIR: "a part of the path is a file, not a folder",
+    errno.EISDIR: "a folder is in the way",
+}
+
+
+def output_error(cause: OSError, path: str | os.PathLike[str], what: str) -> OutputError:
+    """The one-line :class:`~tumble.errors.OutputError` for an operating-system
+    error ``cause`` met while writing ``what`` (e.g. "the run folder") at ``path``."""
+    reason = cause.strerror or str(cause) or type(cause).__name__
+    advice = _ADVICE.get(cause.errno or 0)
+    message = f"Expected to write {what} {str(path)!r}, got: {reason}"
+    if advice:
+        message += f" ({advice})"
+    return OutputError(message + ".", str(path), cause)
+
+
+def check_output(path: str | os.PathLike[str], what: str, *, folder: bool) -> None:
+    """Refuse, before any work, an output location that cannot be written.
+
+    ``path`` is a file (``folder`` false) or a folder (true) to be created or
+    replaced; ``what`` names it in messages (e.g. "the run folder `-o`"). The
+    folders above it that do not exist yet will be created. Checked: that a
+    folder is not a file and a file not a folder; that the nearest existing
+    folder above it is a folder (not a file) that this process can write; that
+    an existing output folder can be written; that no name is longer than the
+    file system allows.
+
+    Raises
+    ------
+    OutputError
+        Naming the path and what stands in the way.
+    """
+    target = Path(path)
+    if target.exists():
+        if folder and not target.is_dir():
+            raise OutputError(
+                f"Expected {what} to be a folder, got {str(target)!r}, which is a file.",
+                str(target),
+            )
+        if not folder and target.is_dir():
+            raise OutputError(
+                f"Expected {what} to be a file, got {str(target)!r}, which is a folder.",
+                str(target),
+            )
+        if folder and not os.access(target, os.W_OK | os.X_OK):
+            raise OutputError(
+                f"Expected {what} to be a folder that can be written, got {str(target)!r} "
+                "(permission denied, or a read-only file system).",
+                str(target),
+            )
+    above = target.absolute().parent
+    missing = [target.name]
+    while not above.exists() and above != above.parent:
+        if os.path.lexists(above):  # a dangling link, or a path through a file
+            break
+        missing.append(above.name)
+        above = above.parent
+    if not above.is_dir():
+        # A path "through" a file: find the file.
+        blocker = next((p for p in [above, *above.parents] if p.is_file()), above)
+        raise OutputError(
+            f"Expected {what} in a folder, got {str(target)!r}, which is under the file "
+            f"{str(blocker)!r}.",
+            str(target),
+        )
+    if not os.access(above, os.W_OK | os.X_OK):
+        raise OutputError(
+            f"Expected {what} in a folder that can be written, got {str(target)!r}: "
+            f"{str(above)!r} cannot be written (permission denied, or a read-only file system).",
+            str(target),
+        )
+    try:
+        longest = os.pathconf(above, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        longest = 255
+    # The temporary names beside the target add a prefix and a suffix.
+    too_long = [name for name in missing if len(os.fsencode(name)) + 24 > longest]
+    if too_long:
+        raise OutputError(
+            f"Expected {what} with names of at most {longest - 24} bytes, got "
+            f"{str(target)!r}, whose name {too_long[0][:40]!r}... has "
+            f"{len(os.fsencode(too_long[0]))} (use a shorter name).",
+            str(target),
+        )
 
 
 def permissions(directory: bool = False) -> int:
@@ -27,26 +134,40 @@ def permissions(directory: bool = False) -> int:
 @contextmanager
 def replaced(path: str | os.PathLike[str]) -> Iterator[Path]:
     """A temporary path beside ``path`` to write to: renamed to ``path`` when the
-    block ends normally, removed when it raises."""
+    block ends normally, removed when it raises.
+
+    Raises
+    ------
+    OutputError
+        An error of the file system while creating, writing (in the block) or
+        renaming the file; ``path`` is then unchanged.
+    """
     target = Path(path)
-    handle, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent)
+    try:
+        handle, name = tempfile.mkstemp(
+            prefix=f".{target.name}.", suffix=".partial", dir=target.parent
+        )
+    except OSError as exc:
+        raise output_error(exc, target, "the file") from exc
     os.close(handle)
     temporary = Path(name)
     try:
         yield temporary
         os.chmod(temporary, permissions())
         os.replace(temporary, target)
+    except OSError as exc:
+        raise output_error(exc, target, "the file") from exc
     finally:
         temporary.unlink(missing_ok=True)
 
 
 def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically."""
+    """Write ``data`` to ``path`` atomically (errors as :func:`replaced`)."""
     with replaced(path) as temporary:
         temporary.write_bytes(data)
     return Path(path)
 
 
 def write_text(path: str | os.PathLike[str], text: str) -> Path:
-    """Write UTF-8 ``text`` to ``path`` atomically."""
+    """Write UTF-8 ``text`` to ``path`` atomically (errors as :func:`replaced`)."""
     return write_bytes(path, text.encode("utf-8"))

@@ -9,7 +9,6 @@ measures taken while stepping (:mod:`tumble.core.metrics`). Both
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -23,13 +22,24 @@ from tumble.core._jit import FINITE
 from tumble.core.metrics import N_METRICS
 from tumble.errors import InputError, IntegrationError
 from tumble.integrators import Integrator, get_integrator
-from tumble.integrators.drivers import PROGRESS_CHUNK
+from tumble.integrators.drivers import PROGRESS_CHUNK, whole_steps
 from tumble.massprops import PHYSICAL_TOLERANCE
-from tumble.parts import check_parts
+from tumble.parts import check_parts, value_columns
+from tumble.resources import check_memory
 from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
 from tumble.units import to_si, vector_to_si
 
-__all__ = ["Batch", "BatchResult", "BatchRun", "measure_batch", "simulate_batch", "step_batch"]
+__all__ = [
+    "PEAK_PER_VALUE",
+    "PER_BODY",
+    "Batch",
+    "BatchResult",
+    "BatchRun",
+    "check_batch_memory",
+    "measure_batch",
+    "simulate_batch",
+    "step_batch",
+]
 
 Array = NDArray[np.float64]
 
@@ -276,9 +286,10 @@ def simulate_batch(
         raise InputError(
             f"Expected `record_every` to be None or an integer >= 1, got {record_every!r}."
         )
-    n_steps = max(1, math.ceil(total_time / step * (1 - 1e-12)))
-    step = total_time / n_steps
     parts = check_parts(internal)
+    n_steps = whole_steps(total_time, step)
+    check_batch_memory(n, n_steps, record_every, len(value_columns(parts)))
+    step = total_time / n_steps
     if parts:
         with_parts = PartsBatch.build(values, omega, q0, parts, rotor_speed, method)
         return with_parts.run(integrator, torque, step, n_steps, record_every, progress)
@@ -313,6 +324,45 @@ def simulate_batch(
         step,
         method,
         np.zeros((n, 0)),
+    )
+
+
+#: Memory a batch takes, bytes: per body (its tensors, frames and states, with
+#: copies) and per recorded value of a body (the records, their stacking and
+#: their conversion to body axes: measured 3.0 to 3.3 times the 8 bytes kept).
+PER_BODY = 400
+PEAK_PER_VALUE = 4 * 8
+
+
+def check_batch_memory(
+    bodies: int, n_steps: int, record_every: int | None, part_values: int
+) -> None:
+    """Refuse, before any work, a batch whose states and records cannot fit in
+    the memory budget (:mod:`tumble.resources`).
+
+    Raises
+    ------
+    RequestTooLargeError
+        With the estimate, and the advice to record less or run a sweep.
+    """
+    records = 1 if record_every is None else n_steps / record_every + 2
+    values = 7 + part_values
+    needed = bodies * (PER_BODY + records * values * PEAK_PER_VALUE)
+    what = f"{bodies} bodies"
+    advice = "Ask for fewer bodies at once"
+    if record_every is not None:
+        what += (
+            f" × {records:.3g} records of {values} values ({n_steps} steps, every {record_every})"
+        )
+        advice = (
+            "Record less often (record_every, or None for the final states only), or ask for "
+            "fewer bodies at once"
+        )
+    check_memory(
+        needed,
+        what,
+        f"{advice}; or run a sweep (tumble.sweep.run_sweep, `tumble sweep`), which streams "
+        "its results to disk as it goes.",
     )
 
 

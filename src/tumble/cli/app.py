@@ -52,7 +52,10 @@ def _main(
 
 
 def run_command(work: Any) -> None:
-    """Run a command body: user errors become one line and exit code 2, warnings one line each."""
+    """Run a command body: user errors become one line and exit code 2, warnings
+    one line each. An error of the file system that the library did not name
+    (``OSError``) and a request that ran out of memory (``MemoryError``) are
+    one line and exit code 2 as well."""
     import warnings
 
     from tumble.errors import InputError
@@ -61,11 +64,26 @@ def run_command(work: Any) -> None:
         warnings.simplefilter("always")
         try:
             work()
-        except InputError as exc:
+        except (InputError, OSError, MemoryError) as exc:
             if State.debug:
                 raise
-            typer.echo(f"error: {exc}", err=True)
+            typer.echo(f"error: {one_line(exc)}", err=True)
             raise typer.Exit(USER_ERROR) from None
         finally:
             for warning in caught:
                 typer.echo(f"warning: {warning.message}", err=True)
+
+
+def one_line(exc: BaseException) -> str:
+    """The message of a user error on one line."""
+    from tumble.errors import InputError
+
+    if isinstance(exc, MemoryError):
+        return (
+            f"Expected the request to fit in memory, got a MemoryError ({exc or 'no details'}): "
+            "record fewer samples, or run a sweep, which streams its results to disk."
+        )
+    if isinstance(exc, OSError) and not isinstance(exc, InputError):
+        where = repr(exc.filename) if exc.filename else "the output"
+        return f"Expected to read or write {where}, got: {exc.strerror or exc}."
+    return str(exc)

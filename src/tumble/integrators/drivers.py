@@ -22,7 +22,12 @@ from numpy.typing import NDArray
 
 from tumble.body import RigidBody
 from tumble.core._jit import FINITE
-from tumble.errors import CoarseStepWarning, InputError, IntegrationError
+from tumble.errors import (
+    CoarseStepWarning,
+    InputError,
+    IntegrationError,
+    RequestTooLargeError,
+)
 from tumble.integrators.exact import exact_principal, gyrostat_solution, lagrange_top
 from tumble.torques import BoundTorque, Gravity
 from tumble.units import to_si
@@ -30,17 +35,20 @@ from tumble.units import to_si
 __all__ = [
     "ADAPTIVE_CHUNK",
     "DEFAULT_STEPS_PER_TURN",
+    "MAX_STEPS",
     "MIN_STEPS_PER_TURN",
     "PROGRESS_CHUNK",
     "Problem",
     "Samples",
     "Schedule",
+    "recorded_samples",
     "run_adaptive",
     "run_exact",
     "run_stepping",
     "step_in_chunks",
     "time_step",
     "warn_if_coarse",
+    "whole_steps",
 ]
 
 Array = NDArray[np.float64]
@@ -109,12 +117,41 @@ class Schedule:
     ) -> Schedule:
         """Whole steps over ``duration`` (s): ``step`` shortened slightly so that they
         span it; every ``record_every``-th step kept, and the last."""
-        n_steps = max(1, math.ceil(duration / step * (1 - 1e-12)))
+        n_steps = whole_steps(duration, step)
         step = duration / n_steps
         times = np.arange(n_steps // record_every + 1) * (record_every * step)
         if n_steps % record_every != 0:
             times = np.append(times, duration)
         return cls(np.asarray(times, dtype=float), n_steps, step, record_every, **tolerances)
+
+
+#: The most steps a run may take: step times are ``k · dt`` in float64, whose
+#: integers are exact up to 2⁵³ (and at 1e8 steps a second, 2⁵³ steps are three years).
+MAX_STEPS = 2**53
+
+
+def whole_steps(duration: float, step: float) -> int:
+    """The number of whole steps of about ``step`` s that span ``duration`` s.
+
+    Raises
+    ------
+    RequestTooLargeError
+        More than :data:`MAX_STEPS` steps.
+    """
+    count = duration / step * (1 - 1e-12)
+    if not count <= MAX_STEPS:
+        raise RequestTooLargeError(
+            f"Expected at most 2^53 steps (step times are counted in float64), got "
+            f"duration / dt = {duration:.3g} s / {step:.3g} s = {count:.3g} steps: use a larger "
+            "dt or a shorter duration."
+        )
+    return max(1, math.ceil(count))
+
+
+def recorded_samples(duration: float, step: float, record_every: int) -> float:
+    """How many samples :meth:`Schedule.build` would record (an upper bound,
+    as a float so that it never overflows)."""
+    return duration / step / record_every + 2
 
 
 def step_in_chunks(

@@ -21,7 +21,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tumble.errors import InputError
+from tumble.errors import InputError, OutputError
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -89,9 +89,11 @@ def _write_parquet(traj: Trajectory, path: Path, scenario: str, label: str) -> N
 
 
 def check_folder(folder: Path, force: bool) -> None:
-    """Refuse a folder that holds files unless ``force``; a file in its place is refused."""
-    if folder.exists() and not folder.is_dir():
-        raise InputError(f"Expected `-o` to be a folder, got {str(folder)!r}, which is a file.")
+    """Refuse, before any work, a run folder that cannot be written (see
+    :func:`tumble.files.check_output`), or that holds files unless ``force``."""
+    from tumble.files import check_output
+
+    check_output(folder, "the run folder", folder=True)
     if folder.is_dir() and any(folder.iterdir()) and not force:
         raise RunFolderExistsError(
             f"Expected an empty or new output folder, got {str(folder)!r}, which holds files "
@@ -118,64 +120,80 @@ def write_run(
     ------
     RunFolderExistsError
         If ``folder`` holds files and ``force`` is false.
+    tumble.errors.OutputError
+        If the folder cannot be written (checked first), or the file system
+        fails while writing (a full disk): no partial folder is left, and an
+        existing folder is unchanged.
     """
-    from tumble.files import permissions, write_bytes, write_text
-    from tumble.report.html import report_html
+    from tumble.files import output_error
 
     target = Path(folder)
     check_folder(target, force)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(
-        tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent)
-    )
-    os.chmod(staging, permissions(directory=True))
-    step = progress or (lambda _: None)
     try:
-        spec = result.scenario.spec
-        name = spec.scenario.name
-        step("trajectory.parquet")
-        for label, traj in result.runs.items():
-            file = "trajectory.parquet" if label == "main" else f"trajectory-{label}.parquet"
-            _write_parquet(traj, staging / file, name, label)
-        pngs: dict[str, bytes] = {}
-        if spec.output.figures:
-            step("figures")
-            from tumble.report.plots import png_bytes, trajectory_figures
-
-            for figure_name, figure in trajectory_figures(result.trajectory, result.panels).items():
-                pngs[figure_name] = png_bytes(figure)
-                write_bytes(staging / f"{figure_name}.png", pngs[figure_name])
-        viewer = None
-        if spec.output.viewer:
-            step("viewer.html")
-            from tumble.report.scenario_geometry import (
-                body_geometry,
-                rotor_drawings,
-                with_dampers,
-            )
-            from tumble.report.viewer import viewer_html
-            from tumble.scenario.build import at_key
-
-            title = spec.scenario.title or name
-            with at_key(result.scenario, "body"):
-                geometry = body_geometry(spec.body, result.scenario.folder)
-            rotors = rotor_drawings(spec.internal, geometry)
-            page = viewer_html(
-                result.trajectory, with_dampers(spec.internal, geometry),
-                frames=spec.output.viewer_frames, title=title, rotors=rotors,
-            )  # fmt: skip
-            write_text(staging / "viewer.html", page)
-            viewer = "viewer.html"
-        step("report.html")
-        write_text(staging / "report.html", report_html(result, pngs, viewer))
-        summary = result.summary()
-        summary["files"] = sorted([*(p.name for p in staging.iterdir()), "summary.json"])
-        write_text(staging / "summary.json", json.dumps(summary, indent=2, allow_nan=False) + "\n")
+        target.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(
+            tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent)
+        )
+    except OSError as exc:
+        raise output_error(exc, target, "the run folder") from exc
+    try:
+        _fill(result, staging, progress or (lambda _: None))
         _replace(staging, target)
-    except BaseException:
+    except BaseException as exc:
         shutil.rmtree(staging, ignore_errors=True)
-        raise
+        cause = exc.cause if isinstance(exc, OutputError) else exc
+        if not isinstance(cause, OSError):
+            raise
+        raise output_error(cause, target, "the run folder") from cause
     return target
+
+
+def _fill(result: RunResult, staging: Path, step: Callable[[str], object]) -> None:
+    """Write the run folder's files into ``staging``."""
+    from tumble.files import permissions, write_bytes, write_text
+    from tumble.report.html import report_html
+
+    os.chmod(staging, permissions(directory=True))
+    spec = result.scenario.spec
+    name = spec.scenario.name
+    step("trajectory.parquet")
+    for label, traj in result.runs.items():
+        file = "trajectory.parquet" if label == "main" else f"trajectory-{label}.parquet"
+        _write_parquet(traj, staging / file, name, label)
+    pngs: dict[str, bytes] = {}
+    if spec.output.figures:
+        step("figures")
+        from tumble.report.plots import png_bytes, trajectory_figures
+
+        for figure_name, figure in trajectory_figures(result.trajectory, result.panels).items():
+            pngs[figure_name] = png_bytes(figure)
+            write_bytes(staging / f"{figure_name}.png", pngs[figure_name])
+    viewer = None
+    if spec.output.viewer:
+        step("viewer.html")
+        from tumble.report.scenario_geometry import (
+            body_geometry,
+            rotor_drawings,
+            with_dampers,
+        )
+        from tumble.report.viewer import viewer_html
+        from tumble.scenario.build import at_key
+
+        title = spec.scenario.title or name
+        with at_key(result.scenario, "body"):
+            geometry = body_geometry(spec.body, result.scenario.folder)
+        rotors = rotor_drawings(spec.internal, geometry)
+        page = viewer_html(
+            result.trajectory, with_dampers(spec.internal, geometry),
+            frames=spec.output.viewer_frames, title=title, rotors=rotors,
+        )  # fmt: skip
+        write_text(staging / "viewer.html", page)
+        viewer = "viewer.html"
+    step("report.html")
+    write_text(staging / "report.html", report_html(result, pngs, viewer))
+    summary = result.summary()
+    summary["files"] = sorted([*(p.name for p in staging.iterdir()), "summary.json"])
+    write_text(staging / "summary.json", json.dumps(summary, indent=2, allow_nan=False) + "\n")
 
 
 def _replace(staging: Path, target: Path) -> None:
@@ -183,7 +201,12 @@ def _replace(staging: Path, target: Path) -> None:
     if target.exists():
         aside = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent))
         os.replace(target, aside / target.name)
-        os.replace(staging, target)
+        try:
+            os.replace(staging, target)
+        except OSError:
+            os.replace(aside / target.name, target)  # the old folder back, unchanged
+            aside.rmdir()
+            raise
         shutil.rmtree(aside, ignore_errors=True)
     else:
         os.replace(staging, target)

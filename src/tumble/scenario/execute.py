@@ -154,26 +154,28 @@ def _rigid_body(
     env = spec.environment
     dt = sim.dt
     with at_key(loaded, "internal" if parts else "simulation"):
-        chosen = prepare(
+        prepared = prepare(
             mp, state.omega, attitude0=state.attitude, pivot=env.pivot, gravity=env.gravity,
             torque=torque, method=sim.method, internal=parts,
-        ).integrator  # fmt: skip
+        )  # fmt: skip
     with at_key(loaded, "simulation"):
-        if dt is None and chosen.kind != "stepping":
+        if dt is None and prepared.integrator.kind != "stepping":
             # Methods that sample every dt rather than step by it (the exact
             # solution, the adaptive method): sample as often as [output] asks.
             dt = sim.duration / spec.output.samples
+        # The default step is known here, so that only the samples kept are recorded.
+        step = prepared.step_size(dt, sim.duration)
         traj = simulate(
             mp,
             state.omega,
             attitude0=state.attitude,
             duration=sim.duration,
-            dt=dt,
+            dt=step,
             pivot=env.pivot,
             gravity=env.gravity,
             torque=torque,
             method=sim.method,
-            record_every=record_every(sim.duration, dt, spec.output.samples),
+            record_every=record_every(sim.duration, step, spec.output.samples),
             progress=progress,
             internal=parts,
         )

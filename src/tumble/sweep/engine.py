@@ -24,7 +24,16 @@ from tumble.sweep.schema import SweepError, check_address
 from tumble.sweep.store import SweepStore, fingerprint
 from tumble.sweep.summary import MapData
 
-__all__ = ["SweepSummary", "builtin_sweeps", "load_sweep", "run_sweep", "show_sweep"]
+__all__ = [
+    "CHUNK_BYTES_PER_BODY",
+    "SweepSummary",
+    "builtin_sweeps",
+    "check_chunk_memory",
+    "load_sweep",
+    "run_sweep",
+    "show_sweep",
+    "warn_if_short_of_room",
+]
 
 Progress = Callable[[int, int], object] | None
 
@@ -190,9 +199,11 @@ def run_sweep(
     if scheduler is not None:
         scheduler = check_address(scheduler)
     folder = Path(output_dir) if output_dir is not None else Path(f"sweep-{plan.name}")
+    check_chunk_memory(plan)
     store = SweepStore.open(folder, plan, force=force)
     done = store.done()
     pending = [k for k in range(plan.n_chunks) if k not in done]
+    warn_if_short_of_room(plan, folder, len(pending))
     finished = len(done)
     if progress is not None:
         progress(finished, plan.n_chunks)
@@ -226,6 +237,61 @@ def run_sweep(
         )
     seconds = time.perf_counter() - started
     return _finish(store, pending, backend, seconds)
+
+
+#: Memory a body of a chunk takes while it is computed, bytes, besides its
+#: outputs: its parameters, tensors, frames and state, with copies.
+CHUNK_BYTES_PER_BODY = 1000
+
+
+def _output_bytes(plan: Plan) -> int:
+    """Bytes of one body's outputs, uncompressed."""
+    from tumble.sweep.metrics import output_arrays
+
+    return sum(
+        int(np.prod(shape, dtype=np.int64)) * np.dtype(dtype).itemsize
+        for shape, dtype, _, _ in output_arrays(plan).values()
+    )
+
+
+def check_chunk_memory(plan: Plan) -> None:
+    """Refuse, before any work, a sweep whose chunks cannot fit in the memory
+    budget (:mod:`tumble.resources`): each chunk is computed whole in memory
+    (the sweep as a whole streams to disk).
+
+    Raises
+    ------
+    RequestTooLargeError
+        With the estimate and the advice of a smaller ``chunk_size``.
+    """
+    from tumble.resources import check_memory
+
+    check_memory(
+        plan.chunk_size * (CHUNK_BYTES_PER_BODY + _output_bytes(plan)),
+        f"chunks of {plan.chunk_size} bodies",
+        "Ask for a smaller chunk_size in [sweep]: the chunks stream to disk one by one.",
+    )
+
+
+def warn_if_short_of_room(plan: Plan, folder: Path, pending: int) -> None:
+    """Warn when the chunks still to compute may not fit on the disk of
+    ``folder`` (uncompressed: the store compresses, so they may fit after all;
+    a sweep stopped by a full disk resumes where it stopped)."""
+    import shutil
+    import warnings
+
+    from tumble.resources import format_bytes
+
+    needed = pending * plan.chunk_size * _output_bytes(plan)
+    free = shutil.disk_usage(folder).free
+    if needed > free:
+        warnings.warn(
+            f"The sweep's {pending} chunks to compute take up to {format_bytes(needed)} "
+            f"uncompressed, and {str(folder)!r} has {format_bytes(free)} free: if the disk "
+            "fills, free some space and run the sweep again (it resumes).",
+            UserWarning,
+            stacklevel=3,
+        )
 
 
 def _finish(store: SweepStore, pending: list[int], backend: str, seconds: float) -> SweepSummary:

@@ -28,8 +28,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
-from tumble.files import write_text
+from tumble.errors import InputError, OutputError
+from tumble.files import check_output, output_error, write_text
 from tumble.sweep.plan import FORMAT, Plan
 
 __all__ = ["SweepStore", "open_results"]
@@ -71,8 +71,7 @@ class SweepStore:
         from tumble import __version__
 
         path = Path(folder)
-        if path.exists() and not path.is_dir():
-            raise InputError(f"Expected an output folder, got the file {str(path)!r}.")
+        check_output(path, "the sweep's output folder", folder=True)
         identity = plan.identity()
         record = {
             "format": FORMAT,
@@ -94,9 +93,7 @@ class SweepStore:
         try:
             path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
-            raise InputError(
-                f"Expected a folder that can be created, got {str(path)!r}: {exc}."
-            ) from None
+            raise output_error(exc, path, "the sweep's output folder") from None
         store = cls(path, plan)
         existing = path / IDENTITY
         if existing.exists():
@@ -111,11 +108,14 @@ class SweepStore:
                 )
             write_text(existing, json.dumps(record, indent=2, allow_nan=False))
             write_text(path / "sweep.toml", plan.text)
-        if not (path / STORE).exists():
-            # Markers without their data (the store deleted by hand) mean nothing.
-            shutil.rmtree(path / MARKERS, ignore_errors=True)
-            store._create_arrays()
-        (path / MARKERS).mkdir(exist_ok=True)
+        try:
+            if not (path / STORE).exists():
+                # Markers without their data (the store deleted by hand) mean nothing.
+                shutil.rmtree(path / MARKERS, ignore_errors=True)
+                store._create_arrays()
+            (path / MARKERS).mkdir(exist_ok=True)
+        except OSError as exc:
+            raise output_error(exc, path / STORE, "the sweep's results") from None
         return store
 
     def _check_same(self, existing: Path, record: dict[str, Any]) -> None:
@@ -226,11 +226,30 @@ class SweepStore:
         return self._group
 
     def write_chunk(self, index: int, arrays: dict[str, NDArray[np.generic]]) -> None:
-        """Write chunk ``index``'s arrays, then its marker."""
+        """Write chunk ``index``'s arrays, then its marker.
+
+        Raises
+        ------
+        OutputError
+            An error of the file system (a full disk): the chunks done so far
+            are kept, and running the sweep again resumes from them.
+        """
         start, stop = self.plan.chunk_range(index)
-        for name, data in arrays.items():
-            self._array(name)[start:stop] = data
-        write_text(self._marker(index), f"{start} {stop}\n")
+        try:
+            for name, data in arrays.items():
+                self._array(name)[start:stop] = data
+            write_text(self._marker(index), f"{start} {stop}\n")
+        except (OSError, OutputError) as exc:
+            cause = exc.cause if isinstance(exc, OutputError) else exc
+            if cause is None:
+                raise
+            error = output_error(cause, self.folder / STORE, f"chunk {index} of the sweep to")
+            raise OutputError(
+                f"{error} The {len(self.done())} chunks done are kept: run the same sweep "
+                "again to resume.",
+                error.path,
+                cause,
+            ) from None
 
     def _array(self, name: str) -> Any:
         if name not in self._arrays:

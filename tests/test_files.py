@@ -1,0 +1,141 @@
+"""Output locations checked before any work; errors of the file system as one clear error."""
+
+from __future__ import annotations
+
+import errno
+import os
+from pathlib import Path
+
+import pytest
+
+from tumble.errors import OutputError
+from tumble.files import check_output, output_error, replaced, write_text
+
+
+def test_a_folder_that_is_a_file_and_a_file_that_is_a_folder_are_refused(tmp_path: Path) -> None:
+    (tmp_path / "file").write_text("")
+    with pytest.raises(
+        OutputError, match=r"Expected the output to be a folder, got '.*file', which is a file\."
+    ):
+        check_output(tmp_path / "file", "the output", folder=True)
+    with pytest.raises(
+        OutputError, match=r"Expected the output to be a file, got '.*', which is a folder\."
+    ):
+        check_output(tmp_path, "the output", folder=False)
+
+
+@pytest.mark.parametrize("depth", [1, 3])
+def test_a_path_under_a_file_names_the_file(tmp_path: Path, depth: int) -> None:
+    (tmp_path / "notes.txt").write_text("")
+    target = tmp_path.joinpath("notes.txt", *(["sub"] * (depth - 1)), "out")
+    with pytest.raises(
+        OutputError,
+        match=r"Expected the output in a folder, got '.*out', which is under the file "
+        r"'.*notes\.txt'\.",
+    ) as caught:
+        check_output(target, "the output", folder=True)
+    assert caught.value.path == str(target)
+
+
+def test_a_device_is_not_a_folder() -> None:
+    with pytest.raises(OutputError, match=r"which is under the file '/dev/null'"):
+        check_output("/dev/null/x", "the run folder", folder=True)
+
+
+def test_folders_that_cannot_be_written_are_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A mocked permission check: the superuser may write anywhere, so a chmod
+    # alone cannot make the case under CI (the test below does it as a user).
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    real = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode: Path(p) != locked and real(p, mode))
+    with pytest.raises(
+        OutputError,
+        match=r"Expected the output in a folder that can be written, got '.*locked/new/out': "
+        r"'.*locked' cannot be written \(permission denied, or a read-only file system\)\.",
+    ):
+        check_output(locked / "new" / "out", "the output", folder=False)
+    with pytest.raises(
+        OutputError,
+        match=r"Expected the output to be a folder that can be written, got '.*locked' "
+        r"\(permission denied",
+    ):
+        check_output(locked, "the output", folder=True)
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="the superuser may write anywhere")
+def test_a_read_only_folder_is_refused(tmp_path: Path) -> None:
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o555)
+    with pytest.raises(OutputError, match=r"'.*locked' cannot be written"):
+        check_output(locked / "out", "the output", folder=True)
+
+
+def test_a_name_too_long_for_the_file_system_is_refused(tmp_path: Path) -> None:
+    longest = os.pathconf(tmp_path, "PC_NAME_MAX")
+    with pytest.raises(
+        OutputError,
+        match=rf"Expected the output with names of at most {longest - 24} bytes, got .* has "
+        rf"{longest} \(use a shorter name\)\.",
+    ):
+        check_output(tmp_path / ("x" * longest), "the output", folder=True)
+    check_output(tmp_path / ("x" * (longest - 24)), "the output", folder=True)
+
+
+def test_missing_folders_above_a_writable_one_are_accepted(tmp_path: Path) -> None:
+    check_output(tmp_path / "a" / "b" / "c", "the output", folder=True)
+    check_output(tmp_path / "a" / "b" / "file.parquet", "the output", folder=False)
+    assert not (tmp_path / "a").exists()  # checking creates nothing
+
+
+@pytest.mark.parametrize(
+    ("code", "advice"),
+    [
+        (errno.ENOSPC, "free some space or write elsewhere"),
+        (errno.EACCES, "choose a folder you can write to"),
+        (errno.EROFS, "the file system is read-only: write elsewhere"),
+        (errno.ENAMETOOLONG, "use a shorter name"),
+    ],
+)
+def test_an_error_of_the_file_system_names_the_path_the_cause_and_the_fix(
+    code: int, advice: str
+) -> None:
+    cause = OSError(code, os.strerror(code))
+    error = output_error(cause, "/data/run", "the run folder")
+    assert str(error) == (
+        f"Expected to write the run folder '/data/run', got: {os.strerror(code)} ({advice})."
+    )
+    assert error.cause is cause and error.path == "/data/run"
+
+
+def test_a_full_disk_while_writing_leaves_the_old_file_and_no_temporary(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    target = tmp_path / "summary.json"
+    write_text(target, "old")
+
+    def full(self: Path, data: bytes) -> int:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(Path, "write_bytes", full)
+    with pytest.raises(
+        OutputError,
+        match=r"Expected to write the file '.*summary\.json', got: No space left on device",
+    ):
+        write_text(target, "new")
+    monkeypatch.undo()
+    assert target.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["summary.json"]
+
+
+def test_a_missing_folder_for_an_atomic_file_is_one_error(tmp_path: Path) -> None:
+    with (
+        pytest.raises(
+            OutputError,
+            match=r"Expected to write the file '.*missing/x\.txt', got: No such file or directory",
+        ),
+        replaced(tmp_path / "missing" / "x.txt"),
+    ):
+        pass

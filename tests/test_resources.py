@@ -1,0 +1,227 @@
+"""Requests that cannot fit are refused before any work, with the estimate and the fix."""
+
+from __future__ import annotations
+
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tumble as tb
+from tumble.batch import PEAK_PER_VALUE as BATCH_PEAK
+from tumble.batch import PER_BODY
+from tumble.errors import RequestTooLargeError
+from tumble.resources import BUDGET_VARIABLE, format_bytes, machine_memory, memory_budget
+from tumble.simulation import PEAK_PER_VALUE
+
+BOX = tb.shapes.box(1.0, [0.1, 0.2, 0.3])
+
+
+@pytest.fixture
+def budget(monkeypatch: pytest.MonkeyPatch) -> float:
+    """A fixed budget of 1 GiB, whatever the machine."""
+    monkeypatch.setenv(BUDGET_VARIABLE, "1 GiB")
+    return float(2**30)
+
+
+def never(*args: object) -> None:
+    raise AssertionError("work started before the request was checked")
+
+
+def test_a_billion_seconds_at_a_millisecond_is_refused_with_its_size(budget: float) -> None:
+    # 1e12 steps recorded: 1e12 + 2 samples of t, ω, q (8 values), each taking
+    # PEAK_PER_VALUE bytes at the end of the run: 1.75e14 B = 175 TiB.
+    expected = format_bytes((1e12 + 2) * 8 * PEAK_PER_VALUE)
+    assert expected == "175 TiB"
+    with pytest.raises(
+        RequestTooLargeError,
+        match=re.escape(
+            "Expected a request that fits in the memory budget of 1 GiB (TUMBLE_MEMORY_BUDGET "
+            "= 1 GiB), got 1e+12 recorded samples of 8 values (1e+09 s at dt = 0.001 s, every "
+            "1 step): about 175 TiB. Record less often (record_every), or ask for a shorter "
+            "duration or a larger dt."
+        ),
+    ):
+        tb.simulate(BOX, [1.0, 2.0, 3.0], duration=1e9, dt=1e-3, progress=never)
+
+
+def test_the_same_run_recording_less_often_fits(budget: float) -> None:
+    run = tb.simulate(BOX, [1.0, 2.0, 3.0], duration=1.0, dt=1e-3, record_every=100)
+    assert len(run.t) == 11
+
+
+def test_a_million_bodies_recorded_at_every_step_are_refused_with_the_sweep_advice(
+    budget: float,
+) -> None:
+    n = 10**6
+    inertia = np.tile([1.0, 2.0, 3.0], (n, 1))
+    omega = np.tile([0.1, 2.0, 0.1], (n, 1))
+    # 1e7 steps, a record each (+ the first and the last), 7 values a record.
+    needed = n * (PER_BODY + (1e7 + 2) * 7 * BATCH_PEAK)
+    with pytest.raises(
+        RequestTooLargeError,
+        match=re.escape(
+            f"got 1000000 bodies × 1e+07 records of 7 values (10000000 steps, every 1): about "
+            f"{format_bytes(needed)}. Record less often (record_every, or None for the final "
+            "states only), or ask for fewer bodies at once; or run a sweep (tumble.sweep.run_sweep, "
+            "`tumble sweep`), which streams its results to disk as it goes."
+        ),
+    ):
+        tb.simulate_batch(inertia, omega, duration=1e4, dt=1e-3, record_every=1, progress=never)
+
+
+def test_a_batch_of_only_final_states_is_sized_by_its_bodies(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # Each body: its arrays, and its final state (7 values).
+    needed = 1000 * (PER_BODY + 7 * BATCH_PEAK)
+    monkeypatch.setenv(BUDGET_VARIABLE, str(needed - 1))
+    inertia = np.tile([1.0, 2.0, 3.0], (1000, 1))
+    with pytest.raises(
+        RequestTooLargeError,
+        match=r"got 1000 bodies: about [\d.]+ KiB\. Ask for fewer bodies at once; or run a sweep",
+    ):
+        tb.simulate_batch(inertia, inertia, duration=1.0, dt=0.1, progress=never)
+    monkeypatch.setenv(BUDGET_VARIABLE, str(needed))
+    tb.simulate_batch(inertia, inertia, duration=1.0, dt=0.1)
+
+
+def test_more_steps_than_float_times_can_count_are_refused() -> None:
+    with pytest.raises(
+        RequestTooLargeError,
+        match=r"Expected at most 2\^53 steps \(step times are counted in float64\), got "
+        r"duration / dt = 1e\+09 s / 1e-300 s = inf steps: use a larger dt or a shorter "
+        r"duration\.",
+    ):
+        tb.simulate(BOX, [1.0, 2.0, 3.0], duration=1e9, dt=1e-300, record_every=10**9)
+    with pytest.raises(RequestTooLargeError, match=r"= 1e\+17 steps: use a larger dt"):
+        tb.simulate_batch(
+            [[1.0, 2.0, 3.0]], [[1.0, 2.0, 3.0]], duration=1e14, dt=1e-3, progress=never
+        )
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [("16 GiB", 16 * 2**30), ("500 MB", 5e8), ("123456", 123456.0), (" 2 kB ", 2000.0)],
+)
+def test_the_budget_is_read_from_the_environment(
+    text: str, expected: float, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv(BUDGET_VARIABLE, text)
+    assert memory_budget() == (
+        pytest.approx(expected, rel=1e-15),
+        f"{BUDGET_VARIABLE} = {text.strip()}",
+    )
+
+
+@pytest.mark.parametrize("text", ["lots", "-1 GB", "0", "3 m", "nan", "inf B"])
+def test_a_budget_that_is_no_amount_of_memory_is_refused(
+    text: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv(BUDGET_VARIABLE, text)
+    with pytest.raises(
+        tb.InputError,
+        match=re.escape(
+            f"Expected TUMBLE_MEMORY_BUDGET to be an amount of memory > 0 such as '16 GiB', "
+            f"got {text!r}."
+        ),
+    ):
+        memory_budget()
+
+
+def test_the_default_budget_is_half_the_usable_memory(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv(BUDGET_VARIABLE, raising=False)
+    usable = machine_memory()
+    budget, source = memory_budget()
+    assert usable > 0 and budget == usable / 2
+    assert source == (
+        f"half of the {format_bytes(usable)} this process may use; set TUMBLE_MEMORY_BUDGET "
+        "to change it"
+    )
+
+
+def test_a_container_limit_lowers_the_usable_memory(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    limit = tmp_path / "memory.max"
+    limit.write_text("1048576\n")
+    monkeypatch.setattr("tumble.resources._CGROUP_LIMITS", (limit,))
+    assert machine_memory() == 2**20
+    limit.write_text("max\n")  # no limit
+    assert machine_memory() > 2**20
+
+
+@pytest.mark.parametrize(
+    ("amount", "text"),
+    [
+        (0, "0 B"),
+        (1023, "1.02e+03 B"),
+        (1536, "1.5 KiB"),
+        (2**40, "1 TiB"),
+        (2**60, "1.02e+03 PiB"),
+    ],
+)
+def test_amounts_of_memory_read_as_people_write_them(amount: float, text: str) -> None:
+    assert format_bytes(amount) == text
+
+
+# ----------------------------------------------------------------------- sweeps
+SWEEP = """
+[sweep]
+name = "roomy"
+seed = 1
+samples = 10
+chunk_size = 5
+
+[base]
+duration = 1.0
+dt = 0.01
+moment_1 = 1.0
+ratio_3 = 2.0
+spin_axis = 2
+spin_rate = "1 rad/s"
+
+[vary.ratio_2]
+values = [1.2, 1.5]
+"""
+
+
+def test_a_sweep_whose_chunks_cannot_fit_asks_for_smaller_chunks(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from tumble.sweep import run_sweep
+    from tumble.sweep.build import parse_sweep
+
+    monkeypatch.setenv(BUDGET_VARIABLE, "100 B")
+    with pytest.raises(
+        RequestTooLargeError,
+        match=r"got chunks of 5 bodies: about [\d.]+ KiB\. Ask for a smaller chunk_size in "
+        r"\[sweep\]: the chunks stream to disk one by one\.",
+    ):
+        run_sweep(parse_sweep(SWEEP), tmp_path / "out", progress=never)
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_sweep_short_of_disk_space_warns_that_it_can_resume(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import shutil
+
+    from tumble.sweep import run_sweep
+    from tumble.sweep.build import parse_sweep
+
+    real = shutil.disk_usage
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: real(p)._replace(free=100))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        run_sweep(parse_sweep(SWEEP), tmp_path / "out")
+    messages = [str(w.message) for w in caught if "free" in str(w.message)]
+    assert len(messages) == 1
+    assert re.fullmatch(
+        r"The sweep's 4 chunks to compute take up to [\d.]+ KiB uncompressed, and "
+        r"'.*out' has 100 B free: if the disk fills, free some space and run the sweep again "
+        r"\(it resumes\)\.",
+        messages[0],
+    )
