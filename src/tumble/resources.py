@@ -103,7 +103,8 @@ def format_bytes(amount: float) -> str:
     """``1.5 GiB``: an amount of memory for people."""
     for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
         if abs(amount) < 1024 or unit == "PiB":
-            return f"{amount:.3g} {unit}"
+            # Three significant digits, without an exponent from 1000 to 1023.
+            return f"{amount:.3g} {unit}" if abs(amount) < 1000 else f"{amount:.0f} {unit}"
         amount /= 1024
     raise AssertionError("unreachable")
 
