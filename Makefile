@@ -62,6 +62,7 @@ bench: setup
 	$(BIN)/python bench/accuracy.py
 	$(BIN)/python bench/end_to_end.py
 	$(BIN)/python bench/spacecraft.py
+	$(BIN)/python bench/refusals.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache .hypothesis

@@ -44,12 +44,16 @@ def run_scenario(
     """Simulate a scenario, compare with theory, and write a run folder with a report."""
 
     def work() -> None:
-        from tumble.report import check_folder, write_run
+        from tumble.report import check_folder
+
+        if output is not None:
+            check_folder(output, force)  # before anything else: say it at once
+        from tumble.report import write_run
         from tumble.scenario import load, run
 
         loaded = load(scenario)
         folder = output if output is not None else default_folder(loaded.name)
-        check_folder(folder, force)  # before simulating: say it at once
+        check_folder(folder, force)  # before simulating
         with LazyProgress(enabled=not quiet) as progress:
             result = run(loaded, progress=progress.steps)
             write_run(result, folder, force=force, progress=progress.stage)
