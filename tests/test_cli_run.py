@@ -280,10 +280,16 @@ def test_a_permission_lost_while_writing_is_one_line_and_leaves_nothing(
 ) -> None:
     # The folder passed the check, then the permission went (or the superuser
     # met a read-only mount): the staging folder cannot even be made.
-    def denied(*args: object, **kwargs: object) -> str:
-        raise PermissionError(errno.EACCES, os.strerror(errno.EACCES))
+    import tempfile
 
-    monkeypatch.setattr("tumble.report.tempfile.mkdtemp", denied)
+    real = tempfile.mkdtemp
+
+    def denied(*args: object, **kwargs: object) -> str:
+        if kwargs.get("suffix") == ".partial":  # the staging folder, not the check's probe
+            raise PermissionError(errno.EACCES, os.strerror(errno.EACCES))
+        return real(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(tempfile, "mkdtemp", denied)
     out_dir = tmp_path / "run"
     code, _, err = invoke("run", str(quick), "-o", str(out_dir))
     assert code == 2
@@ -343,8 +349,8 @@ def test_a_request_beyond_the_memory_budget_is_one_line(
     assert re.fullmatch(
         r"error: .*quick\.toml, line \d+, `simulation`: Expected a request that fits in the "
         r"memory budget of 9\.77 KiB \(TUMBLE_MEMORY_BUDGET = 10 kB\), got [\d.e+]+ recorded "
-        r"samples of 8 values .*: about [\d.]+ KiB\. Record less often \(record_every\), or "
-        r"ask for a shorter duration or a larger dt\.",
+        r"samples of 8 values .*: about [\d.]+ KiB\. Ask for fewer samples in \[output\], or a "
+        r"shorter duration or a larger dt in \[simulation\]\.",
         line,
     )
     assert only_entries(tmp_path) == ["quick.toml"]

@@ -74,14 +74,49 @@ def test_a_read_only_folder_is_refused(tmp_path: Path) -> None:
 
 
 def test_a_name_too_long_for_the_file_system_is_refused(tmp_path: Path) -> None:
+    # Room is left for the prefix and suffix of the temporary names beside it.
     longest = os.pathconf(tmp_path, "PC_NAME_MAX")
     with pytest.raises(
         OutputError,
         match=rf"Expected the output with names of at most {longest - 24} bytes, got .* has "
-        rf"{longest} \(use a shorter name\)\.",
+        rf"{longest + 45} bytes \(use a shorter name\)\.",
     ):
-        check_output(tmp_path / ("x" * longest), "the output", folder=True)
+        check_output(tmp_path / ("x" * (longest + 45)), "the output", folder=True)
     check_output(tmp_path / ("x" * (longest - 24)), "the output", folder=True)
+
+
+def test_a_broken_link_is_refused_as_the_output_and_above_it(tmp_path: Path) -> None:
+    link = tmp_path / "link"
+    link.symlink_to(tmp_path / "gone")
+    with pytest.raises(
+        OutputError,
+        match=r"Expected the output at a path that exists or can be made, got '.*link', a "
+        r"broken symbolic link \(remove it or write elsewhere\)\.",
+    ):
+        check_output(link, "the output", folder=True)
+    with pytest.raises(
+        OutputError, match=r"got '.*link/run', which is under the broken link '.*link'\."
+    ):
+        check_output(link / "run", "the output", folder=True)
+
+
+def test_a_folder_where_nothing_can_be_created_is_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Permissions can say yes where creating fails (the superuser on /proc, a
+    # read-only mount): the check tries to create a folder there.
+    import tempfile
+
+    real = tempfile.mkdtemp
+
+    def refused(*args: object, **kwargs: object) -> str:
+        if kwargs.get("dir") == tmp_path:
+            raise OSError(errno.EROFS, os.strerror(errno.EROFS))
+        return real(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(tempfile, "mkdtemp", refused)
+    with pytest.raises(OutputError, match=r"'.*' cannot be written \(permission denied"):
+        check_output(tmp_path / "run", "the output", folder=True)
 
 
 def test_missing_folders_above_a_writable_one_are_accepted(tmp_path: Path) -> None:

@@ -15,6 +15,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
+from numpy.testing import assert_allclose
 from scipy.optimize import minimize_scalar
 from scipy.spatial.transform import Rotation
 
@@ -369,3 +370,16 @@ def test_a_sleeping_top_stays_where_it_is(lever, tilt, limit) -> None:
     gyro = tb.theory.gyroscope(disk, pivot, omega0=[0.0, 0.0, 200.0], attitude0=q0)
     assert gyro.nutation_limits == (limit, limit)
     np.testing.assert_allclose(gyro.tilt_at([0.0, 0.5, 1.0]), limit, atol=1e-15)
+
+
+@pytest.mark.parametrize("weight", [1e-200, 1e-320])
+def test_a_vanishing_gravity_gives_the_free_top(weight: float) -> None:
+    # |g| = 1e-200 m/s² squares to 0: the closed form must use |g| itself, not
+    # its square root of squares, and give the free motion about the pivot (the
+    # torque-free closed form) to round-off.
+    cylinder = tb.shapes.solid_cylinder(1.0, 0.04, 0.02)
+    kwargs = {"pivot": [0, 0, -0.04], "duration": 1.0, "dt": 0.01, "method": "exact"}
+    heavy = tb.simulate(cylinder, [0.3, 0.0, 100.0], gravity=[0, 0, -weight], **kwargs)
+    free = tb.simulate(cylinder, [0.3, 0.0, 100.0], gravity=[0, 0, 0], **kwargs)
+    assert_allclose(heavy.omega, free.omega, rtol=0, atol=1e-12)
+    assert_allclose(np.abs(np.sum(heavy.quaternion * free.quaternion, axis=1)), 1.0, atol=1e-12)

@@ -117,7 +117,15 @@ def test_an_existing_folder_needs_force(folder: Path, gyroscope: object, tmp_pat
         match=r"Expected an empty or new output folder, got '.*out', which holds files \(use --force to replace them\)\.",
     ):
         write_run(gyroscope, target)  # type: ignore[arg-type]
+    # --force replaces run folders only: a folder of other files is never deleted.
+    with pytest.raises(
+        RunFolderExistsError,
+        match=r"Expected a run folder to replace with --force \(one holding summary\.json\), got "
+        r"'.*out', which holds other files: name another folder\.",
+    ):
+        write_run(gyroscope, target, force=True)  # type: ignore[arg-type]
     assert (target / "old.txt").exists()
+    (target / "summary.json").write_text("{}")
     write_run(gyroscope, target, force=True)  # type: ignore[arg-type]
     assert not (target / "old.txt").exists()  # replaced whole, never mixed
     assert (target / "report.html").exists()
@@ -302,3 +310,25 @@ def test_the_viewer_draws_the_poinsot_construction_of_a_torque_free_body(
     mesh = np.array(poinsot["ellipsoid"])
     on = np.einsum("ni,ij,nj->n", mesh, body.inertia, mesh) / (2 * traj.energy[0])
     assert np.max(np.abs(on - 1)) < 1e-3
+
+
+def test_the_current_folder_and_mount_points_are_not_run_folders(
+    gyroscope: object, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Replacing a run folder moves it aside: the current folder, one above it
+    # or a mount point cannot be moved, so they are refused before any work.
+    inside = tmp_path / "work"
+    inside.mkdir()
+    monkeypatch.chdir(inside)
+    for target in (".", "", "..", str(tmp_path)):
+        with pytest.raises(
+            tb.OutputError,
+            match=r"Expected a run folder that can be replaced whole, got '.*', the current "
+            r"folder or above it: name a new folder inside it\.",
+        ):
+            write_run(gyroscope, target, force=True)  # type: ignore[arg-type]
+    monkeypatch.setattr(os.path, "ismount", lambda p: Path(p) == inside)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(tb.OutputError, match=r"got '.*work', a mount point: name a new folder"):
+        write_run(gyroscope, inside, force=True)  # type: ignore[arg-type]
+    assert sorted(os.listdir(tmp_path)) == ["work"]

@@ -11,7 +11,7 @@ import pytest
 
 import tumble as tb
 from tumble.batch import PEAK_PER_VALUE as BATCH_PEAK
-from tumble.batch import PER_BODY
+from tumble.batch import PER_BODY, PER_RECORD
 from tumble.errors import RequestTooLargeError
 from tumble.resources import BUDGET_VARIABLE, format_bytes, machine_memory, memory_budget
 from tumble.simulation import PEAK_PER_VALUE
@@ -32,15 +32,15 @@ def never(*args: object) -> None:
 
 def test_a_billion_seconds_at_a_millisecond_is_refused_with_its_size(budget: float) -> None:
     # 1e12 steps recorded: 1e12 + 2 samples of t, ω, q (8 values), each taking
-    # PEAK_PER_VALUE bytes at the end of the run: 1.75e14 B = 175 TiB.
+    # PEAK_PER_VALUE bytes at the end of the run: 2.56e14 B = 233 TiB.
     expected = format_bytes((1e12 + 2) * 8 * PEAK_PER_VALUE)
-    assert expected == "175 TiB"
+    assert expected == "233 TiB"
     with pytest.raises(
         RequestTooLargeError,
         match=re.escape(
             "Expected a request that fits in the memory budget of 1 GiB (TUMBLE_MEMORY_BUDGET "
             "= 1 GiB), got 1e+12 recorded samples of 8 values (1e+09 s at dt = 0.001 s, every "
-            "1 step): about 175 TiB. Record less often (record_every), or ask for a shorter "
+            "1 step): about 233 TiB. Record less often (record_every), or ask for a shorter "
             "duration or a larger dt."
         ),
     ):
@@ -59,7 +59,7 @@ def test_a_million_bodies_recorded_at_every_step_are_refused_with_the_sweep_advi
     inertia = np.tile([1.0, 2.0, 3.0], (n, 1))
     omega = np.tile([0.1, 2.0, 0.1], (n, 1))
     # 1e7 steps, a record each (+ the first and the last), 7 values a record.
-    needed = n * (PER_BODY + (1e7 + 2) * 7 * BATCH_PEAK)
+    needed = n * (PER_BODY + (1e7 + 2) * 7 * BATCH_PEAK) + (1e7 + 2) * PER_RECORD
     with pytest.raises(
         RequestTooLargeError,
         match=re.escape(
@@ -225,3 +225,17 @@ def test_a_sweep_short_of_disk_space_warns_that_it_can_resume(
         r"\(it resumes\)\.",
         messages[0],
     )
+
+
+def test_a_few_bodies_recorded_often_are_sized_by_their_records(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # One body, 1e6 records: the arrays of each record cost ~1.1 KiB whatever
+    # the number of bodies (measured), more than the body's 7 values.
+    needed = PER_BODY + (1e6 + 2) * (7 * BATCH_PEAK + PER_RECORD)
+    monkeypatch.setenv(BUDGET_VARIABLE, str(needed - 1))
+    with pytest.raises(RequestTooLargeError, match=r"got 1 bodies × 1e\+06 records"):
+        tb.simulate_batch(
+            [[1.0, 2.0, 3.0]], [[1.0, 2.0, 3.0]], duration=1e3, dt=1e-3, record_every=1,
+            progress=never,
+        )  # fmt: skip

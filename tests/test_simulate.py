@@ -465,3 +465,16 @@ def test_a_pencil_tumbling_end_over_end_at_a_fine_step_does_not_warn() -> None:
         * Rotation.from_quat(exact.quaternion, scalar_first=True).inv()
     )
     assert turned.magnitude().max() < 1e-6
+
+
+@pytest.mark.parametrize("scale", [1e-110, 1e-30, 1e30, 1e110])
+def test_the_largest_rate_does_not_depend_on_the_scale_of_the_moments(scale: float) -> None:
+    # The motion depends on the ratios of the moments only. Oracle at unit scale:
+    # the largest |ω| the exact solution reaches (sampled finely, see above).
+    from tumble.body import largest_rate
+
+    moments, omega = np.array([0.2, 0.9, 1.0]), np.array([1.0, 0.1, 3.0])
+    unit = largest_rate(moments, omega)
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag(moments))
+    assert unit == pytest.approx(largest_rate_reached(body, list(omega)), rel=4e-5)
+    assert largest_rate(moments * scale, omega) == pytest.approx(unit, rel=1e-15)

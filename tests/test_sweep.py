@@ -827,8 +827,8 @@ def test_a_full_disk_mid_sweep_is_one_error_and_the_sweep_resumes(
     with pytest.raises(
         OutputError,
         match=r"Expected to write chunk \d+ of the sweep to '.*results\.zarr', got: No space left "
-        r"on device \(free some space or write elsewhere\)\. The 2 chunks done are kept: run the "
-        r"same sweep again to resume\.",
+        r"on device \(free some space or write elsewhere\)\. The chunks done \(2\) are kept: run "
+        r"the same sweep again to resume\.",
     ):
         run_sweep(parse_sweep(SMALL), folder)
     monkeypatch.undo()

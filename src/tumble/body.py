@@ -445,15 +445,16 @@ def largest_rate(moments: Array, omega: Array) -> float:
     x1 ∝ cn², x2 ∝ sn², x3 ∝ dn² about axis 3, and the like about axis 1, all
     linear in sn² ∈ [0, 1]), and |ω|² = Σ x_i is linear along it, so its largest
     value is at an end: where ω2 = 0, since Σ d = (I1 − I2)(I2 − I3)(I3 − I1) ≥ 0.
+    There, with s = x2 / |d2|,
+
+        max |ω|² = |ω|² + ω2² (I2 − I1)(I3 − I2) / (I1 I3),
+
+    free of the scale of the moments (no I³ to overflow or underflow).
     """
     i1, i2, i3 = (float(m) for m in moments)
     x = np.asarray(omega, dtype=float) ** 2
-    d = np.array([i2 * i3 * (i3 - i2), i3 * i1 * (i1 - i3), i1 * i2 * (i2 - i1)])
-    total = float(x.sum())
-    if not d[1] < 0.0:  # a sphere: |ω| is constant
-        return math.sqrt(total)
-    reach = x[1] / -d[1]  # s where ω2 = 0
-    return math.sqrt(max(total, total + reach * float(d.sum())))
+    gain = (i2 - i1) / i1 * ((i3 - i2) / i3) if i1 > 0.0 else 0.0
+    return math.sqrt(float(x.sum()) + float(x[1]) * max(gain, 0.0))
 
 
 @dataclass(frozen=True, eq=False)

@@ -57,70 +57,98 @@ def check_output(path: str | os.PathLike[str], what: str, *, folder: bool) -> No
     """Refuse, before any work, an output location that cannot be written.
 
     ``path`` is a file (``folder`` false) or a folder (true) to be created or
-    replaced; ``what`` names it in messages (e.g. "the run folder `-o`"). The
-    folders above it that do not exist yet will be created. Checked: that a
-    folder is not a file and a file not a folder; that the nearest existing
-    folder above it is a folder (not a file) that this process can write; that
-    an existing output folder can be written; that no name is longer than the
-    file system allows.
+    replaced; ``what`` names it in messages (e.g. "the run folder"). The
+    folders above it that do not exist yet will be created. Checked: that no
+    name is longer than the file system allows; that the path is not a broken
+    symbolic link; that a folder is not a file and a file not a folder; that
+    the nearest existing folder above it is a folder (not a file) in which
+    this process can create a folder (tried, and removed: permissions, a
+    read-only or virtual file system, whoever runs it); that an existing
+    output folder can be written.
 
     Raises
     ------
     OutputError
         Naming the path and what stands in the way.
     """
-    target = Path(path)
-    if target.exists():
+    target = Path(os.path.abspath(path))
+    shown = str(path)
+    above = target.parent
+    missing = [target.name]
+    while not (_exists(above) or os.path.lexists(above)) and above != above.parent:
+        missing.append(above.name)
+        above = above.parent
+    try:
+        longest = os.pathconf(above, "PC_NAME_MAX") if above.is_dir() else 255
+    except (OSError, ValueError):
+        longest = 255
+    # The temporary names beside a file or a replaced folder add a prefix and a suffix.
+    room = longest - 24
+    too_long = [name for name in missing if len(os.fsencode(name)) > room]
+    if too_long:
+        raise OutputError(
+            f"Expected {what} with names of at most {room} bytes, got {shown[:60]!r}..., "
+            f"whose name {too_long[0][:40]!r}... has {len(os.fsencode(too_long[0]))} bytes "
+            "(use a shorter name).",
+            shown,
+        )
+    if os.path.lexists(target) and not _exists(target):
+        raise OutputError(
+            f"Expected {what} at a path that exists or can be made, got {shown!r}, a broken "
+            "symbolic link (remove it or write elsewhere).",
+            shown,
+        )
+    if _exists(target):
         if folder and not target.is_dir():
             raise OutputError(
-                f"Expected {what} to be a folder, got {str(target)!r}, which is a file.",
-                str(target),
+                f"Expected {what} to be a folder, got {shown!r}, which is a file.", shown
             )
         if not folder and target.is_dir():
             raise OutputError(
-                f"Expected {what} to be a file, got {str(target)!r}, which is a folder.",
-                str(target),
+                f"Expected {what} to be a file, got {shown!r}, which is a folder.", shown
             )
-        if folder and not os.access(target, os.W_OK | os.X_OK):
+        if folder and not _can_create_in(target):
             raise OutputError(
-                f"Expected {what} to be a folder that can be written, got {str(target)!r} "
+                f"Expected {what} to be a folder that can be written, got {shown!r} "
                 "(permission denied, or a read-only file system).",
-                str(target),
+                shown,
             )
-    above = target.absolute().parent
-    missing = [target.name]
-    while not above.exists() and above != above.parent:
-        if os.path.lexists(above):  # a dangling link, or a path through a file
-            break
-        missing.append(above.name)
-        above = above.parent
     if not above.is_dir():
-        # A path "through" a file: find the file.
-        blocker = next((p for p in [above, *above.parents] if p.is_file()), above)
+        # A path "through" a file, or a broken link: find what is in the way.
+        blocker = next((p for p in [above, *above.parents] if os.path.lexists(p)), above)
+        kind = "the broken link" if not _exists(blocker) else "the file"
         raise OutputError(
-            f"Expected {what} in a folder, got {str(target)!r}, which is under the file "
-            f"{str(blocker)!r}.",
-            str(target),
+            f"Expected {what} in a folder, got {shown!r}, which is under {kind} {str(blocker)!r}.",
+            shown,
         )
-    if not os.access(above, os.W_OK | os.X_OK):
+    if not _can_create_in(above):
         raise OutputError(
-            f"Expected {what} in a folder that can be written, got {str(target)!r}: "
+            f"Expected {what} in a folder that can be written, got {shown!r}: "
             f"{str(above)!r} cannot be written (permission denied, or a read-only file system).",
-            str(target),
+            shown,
         )
+
+
+def _exists(path: Path) -> bool:
+    """Whether ``path`` exists; False where the system cannot even look (a name
+    too long, a path through a file, a loop of links)."""
     try:
-        longest = os.pathconf(above, "PC_NAME_MAX")
-    except (OSError, ValueError):
-        longest = 255
-    # The temporary names beside the target add a prefix and a suffix.
-    too_long = [name for name in missing if len(os.fsencode(name)) + 24 > longest]
-    if too_long:
-        raise OutputError(
-            f"Expected {what} with names of at most {longest - 24} bytes, got "
-            f"{str(target)!r}, whose name {too_long[0][:40]!r}... has "
-            f"{len(os.fsencode(too_long[0]))} (use a shorter name).",
-            str(target),
-        )
+        return path.exists()
+    except OSError:
+        return False
+
+
+def _can_create_in(folder: Path) -> bool:
+    """Whether this process can create (and remove) a folder in ``folder``: tried,
+    since permissions alone do not tell (the superuser, read-only mounts, /proc)."""
+    if not os.access(folder, os.W_OK | os.X_OK):
+        return False
+    try:
+        probe = tempfile.mkdtemp(prefix=".tumble-probe.", dir=folder)
+    except OSError:
+        return False
+    os.rmdir(probe)
+    return True
 
 
 def permissions(directory: bool = False) -> int:

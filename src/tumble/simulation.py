@@ -211,19 +211,27 @@ def simulate(
 
 #: Memory a recorded sample takes while a run ends, per value kept (t, ω, q
 #: and the parts' values, 8 bytes each): the kernels' output, its conversion to
-#: body axes and the trajectory's arrays (measured: 1.9 for a rigid body, 2.8
-#: with a rotor).
-PEAK_PER_VALUE = 3 * 8
+#: body axes and the trajectory's arrays (measured: 1.9 times the 8 bytes for a
+#: rigid body, 2.8 with a rotor, 3.1 with a damper).
+PEAK_PER_VALUE = 4 * 8
 
 
-def check_recording(duration: float, step: float, record_every: int, part_values: int) -> None:
+def check_recording(
+    duration: float,
+    step: float,
+    record_every: int,
+    part_values: int,
+    advice: str = "Record less often (record_every), or ask for a shorter duration or a larger dt.",
+) -> None:
     """Refuse a run whose recorded samples cannot fit in the memory budget
     (:mod:`tumble.resources`), or of more than 2^53 steps, before any work.
+
+    ``advice`` says how to ask for less.
 
     Raises
     ------
     RequestTooLargeError
-        With the estimate and how to ask for less.
+        With the estimate and the advice.
     """
     whole_steps(duration, step)  # at most 2^53 steps
     samples = recorded_samples(duration, step, record_every)
@@ -232,7 +240,7 @@ def check_recording(duration: float, step: float, record_every: int, part_values
         samples * values * PEAK_PER_VALUE,
         f"{samples:.3g} recorded samples of {values} values ({duration:.3g} s at dt = "
         f"{step:.3g} s, every {record_every} step{'s' if record_every > 1 else ''})",
-        "Record less often (record_every), or ask for a shorter duration or a larger dt.",
+        advice,
     )
 
 

@@ -32,6 +32,7 @@ from tumble.units import to_si, vector_to_si
 __all__ = [
     "PEAK_PER_VALUE",
     "PER_BODY",
+    "PER_RECORD",
     "Batch",
     "BatchResult",
     "BatchRun",
@@ -328,10 +329,13 @@ def simulate_batch(
 
 
 #: Memory a batch takes, bytes: per body (its tensors, frames and states, with
-#: copies) and per recorded value of a body (the records, their stacking and
-#: their conversion to body axes: measured 3.0 to 3.3 times the 8 bytes kept).
+#: copies), per recorded value of a body (the records, their stacking and
+#: their conversion to body axes: measured 3.0 to 3.3 times the 8 bytes kept),
+#: and per record whatever the number of bodies (the arrays' own headers and
+#: copies: measured 1.1 KiB).
 PER_BODY = 400
 PEAK_PER_VALUE = 4 * 8
+PER_RECORD = 1536
 
 
 def check_batch_memory(
@@ -348,6 +352,8 @@ def check_batch_memory(
     records = 1 if record_every is None else n_steps / record_every + 2
     values = 7 + part_values
     needed = bodies * (PER_BODY + records * values * PEAK_PER_VALUE)
+    if record_every is not None:
+        needed += records * PER_RECORD
     what = f"{bodies} bodies"
     advice = "Ask for fewer bodies at once"
     if record_every is not None:

@@ -368,7 +368,7 @@ def run_exact(integrator: Any, problem: Problem, schedule: Schedule, progress: P
 MIN_STEPS_PER_TURN = 20
 
 #: Steps per turn of the fastest rotation when ``dt`` is not given: RK4 then
-#: keeps ω to about 1e-10 relative per turn.
+#: keeps ω and the attitude to about 2e-9 (relative, and rad) per turn.
 DEFAULT_STEPS_PER_TURN = 200
 
 

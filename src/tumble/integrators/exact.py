@@ -359,7 +359,7 @@ def symmetric_top(
     (``axial``) about the pivot (kg·m²), m l (``mass_lever``, kg·m, > 0) and
     ``gravity`` (3,) m/s² in space axes (≠ 0)."""
     g = np.asarray(gravity, dtype=float)
-    weight = float(np.linalg.norm(g))
+    weight = math.hypot(*g)  # no underflow of the squares of a tiny gravity
     up = -g / weight
     omega0 = np.asarray(omega0, dtype=float)
     attitude0 = np.asarray(attitude0, dtype=float)

@@ -90,15 +90,35 @@ def _write_parquet(traj: Trajectory, path: Path, scenario: str, label: str) -> N
 
 def check_folder(folder: Path, force: bool) -> None:
     """Refuse, before any work, a run folder that cannot be written (see
-    :func:`tumble.files.check_output`), or that holds files unless ``force``."""
+    :func:`tumble.files.check_output`) or replaced whole (the current folder or
+    one above it, a mount point), or that holds files unless ``force``; with
+    ``force``, a folder that holds files but is not a run folder (no
+    ``summary.json``) is refused too, so that no other work is deleted."""
     from tumble.files import check_output
 
     check_output(folder, "the run folder", folder=True)
-    if folder.is_dir() and any(folder.iterdir()) and not force:
-        raise RunFolderExistsError(
-            f"Expected an empty or new output folder, got {str(folder)!r}, which holds files "
-            "(use --force to replace them)."
-        )
+    target = Path(os.path.abspath(folder))
+    if target.is_dir():
+        here = Path.cwd()
+        if target == here or target in here.parents or os.path.ismount(target):
+            kind = "a mount point" if os.path.ismount(target) else "the current folder or above it"
+            raise OutputError(
+                f"Expected a run folder that can be replaced whole, got {str(folder)!r}, "
+                f"{kind}: name a new folder inside it.",
+                str(folder),
+            )
+        if any(target.iterdir()):
+            if not force:
+                raise RunFolderExistsError(
+                    f"Expected an empty or new output folder, got {str(folder)!r}, which "
+                    "holds files (use --force to replace them)."
+                )
+            if not (target / "summary.json").is_file():
+                raise RunFolderExistsError(
+                    f"Expected a run folder to replace with --force (one holding "
+                    f"summary.json), got {str(folder)!r}, which holds other files: name "
+                    "another folder."
+                )
 
 
 def write_run(
@@ -200,7 +220,11 @@ def _replace(staging: Path, target: Path) -> None:
     """Move the finished folder into place; an old one is moved aside first, then removed."""
     if target.exists():
         aside = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent))
-        os.replace(target, aside / target.name)
+        try:
+            os.replace(target, aside / target.name)
+        except OSError:
+            aside.rmdir()
+            raise
         try:
             os.replace(staging, target)
         except OSError:

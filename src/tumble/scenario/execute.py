@@ -145,7 +145,8 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
 def _rigid_body(
     loaded: LoadedScenario, mp: MassProperties, parts: tuple[Any, ...], progress: Progress
 ) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str | None, list[str]]:
-    from tumble.simulation import prepare, simulate
+    from tumble.parts import value_columns
+    from tumble.simulation import check_recording, prepare, simulate
 
     spec = loaded.spec
     state = initial_state(spec)
@@ -165,6 +166,12 @@ def _rigid_body(
             dt = sim.duration / spec.output.samples
         # The default step is known here, so that only the samples kept are recorded.
         step = prepared.step_size(dt, sim.duration)
+        every = record_every(sim.duration, step, spec.output.samples)
+        check_recording(
+            sim.duration, step, every, len(value_columns(prepared.body.parts)),
+            "Ask for fewer samples in [output], or a shorter duration or a larger dt in "
+            "[simulation].",
+        )  # fmt: skip
         traj = simulate(
             mp,
             state.omega,
@@ -175,7 +182,7 @@ def _rigid_body(
             gravity=env.gravity,
             torque=torque,
             method=sim.method,
-            record_every=record_every(sim.duration, step, spec.output.samples),
+            record_every=every,
             progress=progress,
             internal=parts,
         )

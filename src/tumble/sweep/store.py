@@ -245,7 +245,7 @@ class SweepStore:
                 raise
             error = output_error(cause, self.folder / STORE, f"chunk {index} of the sweep to")
             raise OutputError(
-                f"{error} The {len(self.done())} chunks done are kept: run the same sweep "
+                f"{error} The chunks done ({len(self.done())}) are kept: run the same sweep "
                 "again to resume.",
                 error.path,
                 cause,
