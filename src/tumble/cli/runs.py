@@ -34,7 +34,8 @@ def run_scenario(
         ),
     ] = None,
     force: Annotated[
-        bool, typer.Option("--force", help="Replace the output folder if it holds files.")
+        bool,
+        typer.Option("--force", help="Replace the output folder if it holds an earlier run."),
     ] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")] = False,
     as_json: Annotated[
