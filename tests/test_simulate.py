@@ -471,7 +471,7 @@ def test_a_pencil_tumbling_end_over_end_at_a_fine_step_does_not_warn() -> None:
 def test_the_largest_rate_does_not_depend_on_the_scale_of_the_moments(scale: float) -> None:
     # The motion depends on the ratios of the moments only. Oracle at unit scale:
     # the largest |ω| the exact solution reaches (sampled finely, see above).
-    from tumble.body import largest_rate
+    from tumble.invariants import largest_rate
 
     moments, omega = np.array([0.2, 0.9, 1.0]), np.array([1.0, 0.1, 3.0])
     unit = largest_rate(moments, omega)

@@ -36,6 +36,7 @@ from tumble.invariants import (
     INVARIANTS,
     Invariant,
     label,
+    largest_rate,
     reduce_invariants,
 )
 from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, principal_decomposition
@@ -49,7 +50,6 @@ __all__ = [
     "Invariant",
     "RigidBody",
     "label",
-    "largest_rate",
     "reduce_invariants",
 ]
 
@@ -432,29 +432,6 @@ class RigidBody:
         if self.pivot is None:
             return 0.0
         return math.sqrt(weight * float(np.linalg.norm(self.lever)) / self.moments[0])
-
-
-def largest_rate(moments: Array, omega: Array) -> float:
-    """The largest |ω| (rad/s) that the torque-free motion from ``omega``
-    (principal axes, rad/s) reaches, for principal ``moments`` I1 ≤ I2 ≤ I3.
-
-    In the squares x_i = ω_i², the energy Σ I_i x_i and the momentum Σ I_i² x_i
-    are linear: the motion keeps x on the segment of the line x0 + s d, with
-    d = (I2 I3 (I3 − I2), I3 I1 (I1 − I3), I1 I2 (I2 − I1)) orthogonal to both,
-    where every x_i ≥ 0. The solution sweeps that whole segment (Jacobi's
-    x1 ∝ cn², x2 ∝ sn², x3 ∝ dn² about axis 3, and the like about axis 1, all
-    linear in sn² ∈ [0, 1]), and |ω|² = Σ x_i is linear along it, so its largest
-    value is at an end: where ω2 = 0, since Σ d = (I1 − I2)(I2 − I3)(I3 − I1) ≥ 0.
-    There, with s = x2 / |d2|,
-
-        max |ω|² = |ω|² + ω2² (I2 − I1)(I3 − I2) / (I1 I3),
-
-    free of the scale of the moments (no I³ to overflow or underflow).
-    """
-    i1, i2, i3 = (float(m) for m in moments)
-    x = np.asarray(omega, dtype=float) ** 2
-    gain = (i2 - i1) / i1 * ((i3 - i2) / i3) if i1 > 0.0 else 0.0
-    return math.sqrt(float(x.sum()) + float(x[1]) * max(gain, 0.0))
 
 
 @dataclass(frozen=True, eq=False)

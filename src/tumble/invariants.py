@@ -2,18 +2,24 @@
 
 :data:`INVARIANTS` holds every quantity a body model or a torque model can
 declare conserved; :func:`reduce_invariants` leaves out those implied by another
-(the components of a conserved vector L).
+(the components of a conserved vector L). :func:`largest_rate` gives the
+largest |ω| that the conserved energy and momentum allow a torque-free body.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
 
 __all__ = [
     "FREE_BODY_INVARIANTS",
     "INVARIANTS",
     "Invariant",
     "label",
+    "largest_rate",
     "reduce_invariants",
 ]
 
@@ -92,3 +98,26 @@ def reduce_invariants(names: frozenset[str] | set[str]) -> tuple[str, ...]:
         for name, invariant in INVARIANTS.items()
         if name in names and invariant.implied_by not in names
     )
+
+
+def largest_rate(moments: NDArray[np.float64], omega: NDArray[np.float64]) -> float:
+    """The largest |ω| (rad/s) that the torque-free motion from ``omega``
+    (principal axes, rad/s) reaches, for principal ``moments`` I1 ≤ I2 ≤ I3.
+
+    In the squares x_i = ω_i², the energy Σ I_i x_i and the momentum Σ I_i² x_i
+    are linear: the motion keeps x on the segment of the line x0 + s d, with
+    d = (I2 I3 (I3 − I2), I3 I1 (I1 − I3), I1 I2 (I2 − I1)) orthogonal to both,
+    where every x_i ≥ 0. The solution sweeps that whole segment (Jacobi's
+    x1 ∝ cn², x2 ∝ sn², x3 ∝ dn² about axis 3, and the like about axis 1, all
+    linear in sn² ∈ [0, 1]), and |ω|² = Σ x_i is linear along it, so its largest
+    value is at an end: where ω2 = 0, since Σ d = (I1 − I2)(I2 − I3)(I3 − I1) ≥ 0.
+    There, with s = x2 / |d2|,
+
+        max |ω|² = |ω|² + ω2² (I2 − I1)(I3 − I2) / (I1 I3),
+
+    free of the scale of the moments (no I³ to overflow or underflow).
+    """
+    i1, i2, i3 = (float(m) for m in moments)
+    x = np.asarray(omega, dtype=float) ** 2
+    gain = (i2 - i1) / i1 * ((i3 - i2) / i3) if i1 > 0.0 else 0.0
+    return math.sqrt(float(x.sum()) + float(x[1]) * max(gain, 0.0))
