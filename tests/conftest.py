@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from datetime import timedelta
 
 from hypothesis import HealthCheck, settings
 
@@ -21,6 +22,16 @@ settings.register_profile(
 # A long search for counter-examples, run by hand: TUMBLE_HYPOTHESIS=stress pytest
 settings.register_profile(
     "stress", deadline=None, max_examples=3000, suppress_health_check=[HealthCheck.too_slow]
+)
+# Fuzzing, run by hand (see tests/test_fuzz.py): many examples per test, and a deadline
+# per example, so that a hang fails instead of stalling. 5 s is 50 times the slowest
+# example seen (a built-in scenario's run, compiled) and above a kernel's compile
+# time (1 to 5 s), should one compile during the run.
+settings.register_profile(
+    "fuzz",
+    deadline=timedelta(seconds=5),
+    max_examples=int(os.environ.get("TUMBLE_FUZZ_EXAMPLES", "5000")),
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 settings.load_profile(
     os.environ.get("TUMBLE_HYPOTHESIS") or ("ci" if os.environ.get("CI") else "default")

@@ -85,27 +85,35 @@ class MassProperties:
         com = vector_to_si(center_of_mass, "length", "center_of_mass", (3,))
         tensor = vector_to_si(inertia, "inertia", "inertia", (3, 3))
         scale = float(np.max(np.abs(tensor)))
-        asymmetry = np.abs(tensor - tensor.T)
-        if asymmetry.max() > PHYSICAL_TOLERANCE * scale:
+        # The checks work on the tensor over its largest entry, so that sums and
+        # eigenvalues of entries near 1e308 neither overflow nor fail to converge.
+        unit = tensor / scale if scale > 0 else tensor
+        asymmetry = np.abs(unit - unit.T)
+        if asymmetry.max() > PHYSICAL_TOLERANCE:
             i, j = np.unravel_index(int(np.argmax(asymmetry)), (3, 3))
             raise InputError(
                 f"Expected `inertia` to be symmetric, got inertia[{i}, {j}] = "
                 f"{float(tensor[i, j])!r} but inertia[{j}, {i}] = {float(tensor[j, i])!r} kg·m²."
             )
-        tensor = 0.5 * (tensor + tensor.T)
-        moments = np.linalg.eigvalsh(tensor)
+        if scale <= np.finfo(float).max / 2:
+            tensor = 0.5 * (tensor + tensor.T)
+        else:  # halves first: the sum would overflow (halving rounds only subnormals)
+            tensor = 0.5 * tensor + 0.5 * tensor.T
+        unit = 0.5 * unit + 0.5 * unit.T
+        moments = np.linalg.eigvalsh(unit)
         # The floor `tiny` admits subnormal round-off when the tensor is (near) zero.
-        tolerance = PHYSICAL_TOLERANCE * max(float(np.trace(tensor)), 0.0) + np.finfo(float).tiny
+        tolerance = PHYSICAL_TOLERANCE * max(float(np.trace(unit)), 0.0) + np.finfo(float).tiny
         if moments[0] < -tolerance:
             raise InputError(
                 f"Expected the principal moments of `inertia` to be >= 0, got "
-                f"{_format(moments)} kg·m² (no distribution of mass has a negative moment)."
+                f"{_format(moments * scale)} kg·m² (no distribution of mass has a negative "
+                "moment)."
             )
         if moments[0] + moments[1] < moments[2] - tolerance:
             raise InputError(
                 "Expected the principal moments of `inertia` to satisfy the triangle inequality "
-                f"I1 + I2 >= I3, got I1 + I2 = {moments[0] + moments[1]:.6g} < "
-                f"I3 = {moments[2]:.6g} kg·m² (no distribution of mass has these moments)."
+                f"I1 + I2 >= I3, got I1 + I2 = {(moments[0] + moments[1]) * scale:.6g} < "
+                f"I3 = {moments[2] * scale:.6g} kg·m² (no distribution of mass has these moments)."
             )
         object.__setattr__(self, "mass", mass_si)
         object.__setattr__(self, "center_of_mass", readonly(com))

@@ -122,7 +122,11 @@ def to_si(value: Any, kind: str, name: str) -> float:
     value = _parse(value, name)
     if isinstance(value, pint.Quantity):
         value = _quantity_to_si(value, kind, name)
-    if isinstance(value, bool | np.bool_) or np.ndim(value) != 0:
+    try:
+        scalar = np.ndim(value) == 0
+    except ValueError:  # numpy refuses ragged nestings such as [[1], {}, 2]
+        scalar = False
+    if isinstance(value, bool | np.bool_) or not scalar:
         raise InputError(f"Expected `{name}` to be a scalar, got {value!r}.")
     if np.iscomplexobj(value):
         raise InputError(f"Expected `{name}` to be a real number, got {value!r}.")
@@ -131,6 +135,11 @@ def to_si(value: Any, kind: str, name: str) -> float:
     except (TypeError, ValueError):
         raise InputError(
             f"Expected `{name}` to be a number or a quantity such as '250 g', got {value!r}."
+        ) from None
+    except OverflowError:  # an integer beyond float range (TOML and Python allow them)
+        given = f"an integer of {len(str(abs(value)))} digits" if isinstance(value, int) else value
+        raise InputError(
+            f"Expected `{name}` to be within float range (|x| < 1.8e308), got {given}."
         ) from None
     if not math.isfinite(result):
         raise InputError(f"Expected `{name}` to be finite, got {result}.")
@@ -239,7 +248,7 @@ def length_scale(units: Any, name: str = "units") -> float:
     if isinstance(units, str):
         try:
             quantity = ureg.Quantity(1, units) if units.strip() else None
-        except (pint.errors.PintError, AttributeError, TypeError, ValueError):
+        except Exception:  # pint's parser raises many kinds ("{": TokenError, "\b": assert)
             quantity = None
         if quantity is None:
             raise InputError(

@@ -32,6 +32,7 @@ __all__ = [
     "dotted",
     "first_error",
     "key_error",
+    "key_text",
     "shown",
     "unknown_key",
     "where",
@@ -58,9 +59,20 @@ def unknown_key(key: str, known: Sequence[str]) -> PydanticCustomError:
     hint = f" Did you mean `{close[0]}`?" if close else ""
     return PydanticCustomError(
         "unknown_key",
-        "Expected one of {known}, got the unknown key `{key}`.{hint}",
-        {"key": key, "known": ", ".join(f"`{k}`" for k in known), "hint": hint},
+        "Expected one of {known}, got the unknown key `{shown}`.{hint}",
+        {
+            "key": key,
+            "shown": key_text(key),
+            "known": ", ".join(f"`{k}`" for k in known),
+            "hint": hint,
+        },
     )
+
+
+def key_text(key: str) -> str:
+    """A key as messages write it: as it is, or with its line breaks and other
+    unprintable characters escaped (``a\\nb``), so that a message stays one line."""
+    return key if key.isprintable() else repr(key)[1:-1]
 
 
 def key_error(key: str | tuple[str | int, ...], message: str) -> PydanticCustomError:
@@ -76,7 +88,11 @@ def dotted(path: Sequence[Any]) -> str:
     """A key path as written in messages: ``body.parts[0].radius``."""
     text = ""
     for part in path:
-        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
+        if isinstance(part, int):
+            text += f"[{part}]"
+        else:
+            name = key_text(str(part))
+            text += f".{name}" if text else name
     return text
 
 

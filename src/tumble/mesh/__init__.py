@@ -1,9 +1,11 @@
 """Mass properties of a solid bounded by a closed triangle mesh.
 
 Files are read with trimesh (STL, OBJ, PLY, GLB/glTF, OFF, ...; STEP through
-cascadio, which tessellates it with OpenCASCADE and converts its units to metres); the volume
-integrals are tumble's own compiled kernel, :func:`tumble.core.polyhedron.mesh_integrals`,
-which is exact for the polyhedron (Tonon 2004, via the divergence theorem).
+cascadio, which tessellates it with OpenCASCADE in a child process that a crash
+of OpenCASCADE cannot take down with it (:mod:`tumble.mesh.step`) and converts
+its units to metres); the volume integrals are tumble's own compiled kernel,
+:func:`tumble.core.polyhedron.mesh_integrals`, which is exact for the polyhedron
+(Tonon 2004, via the divergence theorem).
 
 Before integrating, the mesh is checked, because the integrals of a mesh that
 does not bound a solid are meaningless rather than approximately right:
@@ -29,6 +31,7 @@ does not bound a solid are meaningless rather than approximately right:
 from __future__ import annotations
 
 import os
+import tempfile
 import warnings
 from pathlib import Path
 from typing import Any
@@ -37,15 +40,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core.polyhedron import mesh_integrals
-from tumble.core.topology import bounds_and_mean
 from tumble.errors import InputError, MeshError
 from tumble.massprops import MassProperties
 from tumble.mesh.checks import (
     DEFAULT_MERGE_FRACTION,
     MeshRepairWarning,
+    bounds_and_centre,
     check_parts,
     checked_topology,
+    cubic_metres,
+    scaled_inertia,
 )
+from tumble.mesh.step import STEP_SUFFIXES, tessellate_step
 from tumble.units import length_scale, to_si
 
 __all__ = ["DEFAULT_MERGE_FRACTION", "MeshOrientationWarning", "MeshRepairWarning", "from_mesh"]
@@ -104,10 +110,12 @@ def from_mesh(
     Raises
     ------
     InputError
-        Unreadable file, both or neither of density and mass, non-positive
-        density or mass, a unit that is not a length.
+        Unreadable file (also a STEP file OpenCASCADE crashes on), both or
+        neither of density and mass, non-positive density or mass, a unit that
+        is not a length, a mass or inertia beyond float range.
     MeshError
-        No triangles, non-finite vertices, holes (the message counts the
+        No triangles, non-finite vertices, a mesh wider than float range
+        (a diagonal over 1.8e308 m), holes (the message counts the
         boundary edges, gives their length, and suggests the
         ``merge_tolerance`` that closes a seam), edges shared by more than two
         triangles that do not split the mesh into closed pieces, inconsistent
@@ -182,7 +190,15 @@ def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str |
         try:
             # process=False: keep the file's triangles as they are; merging and
             # the checks below are ours, so that errors can say what is wrong.
-            loaded = trimesh.load_mesh(path, process=False)
+            if path.suffix.lower() in STEP_SUFFIXES:
+                with tempfile.TemporaryDirectory() as folder:
+                    glb = Path(folder) / "tessellated.glb"
+                    tessellate_step(path, glb)
+                    loaded = trimesh.load_mesh(glb, process=False)
+            else:
+                loaded = trimesh.load_mesh(path, process=False)
+        except InputError:
+            raise
         except ImportError as exc:
             raise InputError(
                 f"Reading {str(path)!r} needs a package that is not installed: {exc}."
@@ -221,7 +237,7 @@ def mesh_mass_properties(
     in m (None: the default); ``epsilon`` the relative round-off of the
     coordinates as stored (double precision for arrays). See :func:`from_mesh`."""
     vertices, faces = checked_topology(vertices, faces, label, merge_tolerance, epsilon)
-    low, high, reference = bounds_and_mean(vertices)
+    low, high, reference = bounds_and_centre(vertices)
     size = float(np.max(high - low))
     # Integrate in units of the mesh's own size about a point near it: the sums
     # neither cancel (far from the origin) nor overflow or underflow (1e±100 m).
@@ -232,13 +248,13 @@ def mesh_mass_properties(
     if abs(volume) <= ZERO_VOLUME_FRACTION * area:
         raise MeshError(
             f"Expected {label} to enclose a volume, got a signed volume of "
-            f"{volume * size**3:.3g} m³ (flat or self-cancelling)."
+            f"{cubic_metres(volume, size, '.3g')} (flat or self-cancelling)."
         )
     check_parts(scaled, faces, volume, label, size)
     if volume < 0:
         warnings.warn(
             f"{label} is inside out (normals point inward, signed volume "
-            f"{volume * size**3:.6g} m³); its winding was reversed.",
+            f"{cubic_metres(volume, size)}); its winding was reversed.",
             MeshOrientationWarning,
             stacklevel=3,
         )
@@ -262,6 +278,5 @@ def mesh_mass_properties(
         total = float(mass)  # type: ignore[arg-type]
     # Inertia per unit mass is (trace(C) E − C) / V in units of size²: no size³ or
     # size⁵ factors that would overflow for huge meshes or vanish for tiny ones.
-    with np.errstate(over="ignore"):
-        inertia = total * size**2 * ((np.trace(second) * np.eye(3) - second) / volume)
+    inertia = scaled_inertia(total, size, (np.trace(second) * np.eye(3) - second) / volume, label)
     return MassProperties(total, reference + size * centroid, inertia)

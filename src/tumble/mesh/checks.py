@@ -28,19 +28,23 @@ from tumble.core.topology import (
     unpaired_edges,
     weld,
 )
-from tumble.errors import MeshError
+from tumble.errors import InputError, MeshError
 
 __all__ = [
     "DEFAULT_MERGE_FRACTION",
     "LARGEST_SUGGESTED_FRACTION",
     "ROUND_OFF_ULPS",
     "MeshRepairWarning",
+    "bounds_and_centre",
+    "box_diagonal",
     "check_arrays",
     "check_edges",
     "check_parts",
     "checked_topology",
+    "cubic_metres",
     "drop_cancelling",
     "merge_identical_vertices",
+    "scaled_inertia",
     "weld_seams",
 ]
 
@@ -95,19 +99,69 @@ def check_parts(
             raise MeshError(
                 f"Expected every part of {label} to be wound like the whole (or to be a cavity "
                 f"inside another part), got part {k + 1} of {n_parts} with signed volume "
-                f"{volumes[k] * size**3:.6g} m³ against {volume * size**3:.6g} m³ in all: "
+                f"{cubic_metres(volumes[k], size)} against {cubic_metres(volume, size)} in all: "
                 "it is inside out."
             )
 
 
+def bounds_and_centre(
+    vertices: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The corners of the bounding box of ``vertices`` and a point near them to
+    integrate about: their mean, or the box's centre when the sum of coordinates
+    near 1e308 overflows."""
+    low, high, reference = bounds_and_mean(vertices)
+    if not np.all(np.isfinite(reference)):
+        reference = low + 0.5 * (high - low)
+    return low, high, reference
+
+
+def scaled_inertia(
+    mass: float, size: float, per_mass: NDArray[np.float64], label: str
+) -> NDArray[np.float64]:
+    """The inertia tensor ``mass × size² × per_mass`` (kg·m²), from the inertia per unit
+    mass in units of the mesh's ``size`` (m).
+
+    Raises
+    ------
+    InputError
+        When it is beyond float range or below its normal numbers (a mesh
+        1e200 m or 1e-200 m across): inf or a tensor rounded to zero.
+    """
+    scale = np.float64(size)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        # Paired so that no partial product leaves float range before the result does.
+        inertia = (per_mass * scale) * (scale * mass)
+    largest = float(np.max(np.abs(inertia)))  # NaN where inf met 0
+    if not np.finfo(float).tiny <= largest < np.inf:
+        raise InputError(
+            f"Expected the inertia of {label} within float range (normal floats, 2.2e-308 to "
+            f"1.8e308 kg·m²), got about {mass:.3g} kg × ({size:.3g} m)²."
+        )
+    return np.asarray(inertia)
+
+
+def cubic_metres(volume: float, size: float, spec: str = ".6g") -> str:
+    """A volume ``volume`` in units of ``size``³ (m³), formatted with ``spec``; as that
+    product when m³ would overflow or underflow (a mesh 1e200 m or 1e-200 m across)."""
+    scale = np.float64(size)
+    with np.errstate(over="ignore", under="ignore"):
+        # |volume| <= 1 in units of size³: each product moves towards the result.
+        value = float(volume * scale * scale * scale)
+    if np.isfinite(value) and (value != 0 or volume == 0):
+        return f"{value:{spec}} m³"
+    return f"{volume:{spec}} × ({size:.3g} m)³"
+
+
 def check_arrays(vertices: NDArray[np.float64], faces: NDArray[np.int64], label: str) -> None:
-    """Triangles (k, 3) with indices into ``vertices`` (n, 3), all finite.
+    """Triangles (k, 3) with indices into ``vertices`` (n, 3), all finite, within a box
+    whose diagonal is within float range.
 
     Raises
     ------
     MeshError
         Faces not of shape (k, 3) or none, vertices not (n, 3), indices out of
-        range, NaN or infinite coordinates.
+        range, NaN or infinite coordinates, a diagonal over 1.8e308 m.
     """
     if faces.ndim != 2 or faces.shape[1] != 3:
         raise MeshError(f"Expected {label} to have triangles, got faces of shape {faces.shape}.")
@@ -124,6 +178,24 @@ def check_arrays(vertices: NDArray[np.float64], faces: NDArray[np.int64], label:
     bad = count_nonfinite_rows(vertices)
     if bad:
         raise MeshError(f"Expected {label} vertices to be finite, got {bad} with NaN or inf.")
+    low_corner, high_corner, _ = bounds_and_mean(vertices)
+    if not np.isfinite(box_diagonal(low_corner, high_corner)):
+        raise MeshError(
+            f"Expected {label} to fit in float range (a diagonal below 1.8e308 m), got "
+            f"vertices from {low_corner.tolist()} to {high_corner.tolist()}."
+        )
+
+
+def box_diagonal(low: NDArray[np.float64], high: NDArray[np.float64]) -> float:
+    """The length of the box from corner ``low`` to ``high``, without the overflow or
+    underflow of squaring its sides (a mesh 1e-300 m across has a diagonal, not 0);
+    inf when it is beyond float range."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        sides = high - low
+        size = float(np.max(sides))
+        if not 0 < size < np.inf:
+            return size
+        return float(size * np.linalg.norm(sides / size))
 
 
 def checked_topology(
@@ -146,11 +218,11 @@ def checked_topology(
     keys.sort()
     boundary, crowded, _ = (int(n) for n in edge_defects(keys))
     corner_low, corner_high, _ = bounds_and_mean(unique)
-    diagonal = float(np.linalg.norm(corner_high - corner_low))
+    extent = box_diagonal(corner_low, corner_high)
     tolerance = merge_tolerance
     if tolerance is None:
         largest = float(max(np.max(np.abs(corner_low)), np.max(np.abs(corner_high))))
-        tolerance = max(DEFAULT_MERGE_FRACTION * diagonal, ROUND_OFF_ULPS * epsilon * largest)
+        tolerance = max(DEFAULT_MERGE_FRACTION * extent, ROUND_OFF_ULPS * epsilon * largest)
     if boundary and tolerance > 0:
         welded_faces, count, largest, touched = weld_seams(unique, faces, keys, tolerance)
         if count:
@@ -183,7 +255,7 @@ def checked_topology(
                 raise MeshError(f"Expected {label} to enclose a volume, got triangles that cancel.")
             keys = directed_edge_keys(faces, unique.shape[0])
             keys.sort()
-    check_edges(faces, unique.shape[0], label, keys, unique, diagonal, tolerance)
+    check_edges(faces, unique.shape[0], label, keys, unique, extent, tolerance)
     return unique, faces
 
 
@@ -334,7 +406,9 @@ def _holes_message(
     edges, uses = np.unique(keys >> 1, return_counts=True)
     edges = edges[uses == 1]
     starts, ends = edges // n, edges % n
-    length = float(np.sum(np.linalg.norm(vertices[starts] - vertices[ends], axis=1)))
+    sides = vertices[starts] - vertices[ends]
+    scale = float(np.max(np.abs(sides)))  # > 0: the triangles of zero area were dropped
+    length = scale * float(np.sum(np.linalg.norm(sides / scale, axis=1)))
     message = (
         f"Expected {label} to be closed (watertight), got {boundary} boundary edges (edges of "
         f"only one triangle, {length:.3g} m long in all, {length / diagonal:.2g} of the "

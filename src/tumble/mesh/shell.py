@@ -14,10 +14,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core.polyhedron import shell_integrals
-from tumble.core.topology import bounds_and_mean
 from tumble.errors import InputError, MeshError
 from tumble.massprops import MassProperties
-from tumble.mesh.checks import check_arrays
+from tumble.mesh.checks import bounds_and_centre, check_arrays, scaled_inertia
 
 __all__ = ["shell_mass_properties"]
 
@@ -42,7 +41,7 @@ def shell_mass_properties(
         No triangles, indices out of range, non-finite vertices, zero area.
     """
     check_arrays(vertices, faces, label)
-    corner_low, corner_high, reference = bounds_and_mean(vertices)
+    corner_low, corner_high, reference = bounds_and_centre(vertices)
     size = float(np.max(corner_high - corner_low))
     if not size > 0:
         raise MeshError(f"Expected {label} to have a surface, got all its vertices at one point.")
@@ -63,6 +62,5 @@ def shell_mass_properties(
     sxx, syy, szz, sxy, sxz, syz = integrals[4:10]
     second = np.array([[sxx, sxy, sxz], [sxy, syy, syz], [sxz, syz, szz]])
     second -= area * np.outer(centroid, centroid)
-    with np.errstate(over="ignore"):
-        inertia = total * scale**2 * ((np.trace(second) * np.eye(3) - second) / area)
+    inertia = scaled_inertia(total, size, (np.trace(second) * np.eye(3) - second) / area, label)
     return MassProperties(total, reference + size * centroid, inertia)

@@ -85,8 +85,38 @@ def parse(
 
 def run(scenario: LoadedScenario | str | Path | None = None, progress: Any = None) -> RunResult:
     """Simulate a scenario (a :class:`LoadedScenario`, a built-in name or a file) and
-    compare with theory. ``progress`` is None or a callable ``(done, total)``."""
+    compare with theory. ``progress`` is None or a callable ``(done, total)``.
+
+    Raises
+    ------
+    ScenarioError
+        As :func:`load`; a body, part or torque the library refuses; an
+        integration that diverges; a run of more than
+        :data:`~tumble.scenario.schema.MAX_STEPS` steps (without ``dt``, the
+        step follows the fastest rotation: a file that spins a body at 1e9 rad/s
+        would otherwise run for hours).
+    """
     from tumble.scenario.execute import execute
 
     loaded = scenario if isinstance(scenario, LoadedScenario) else load(scenario)
-    return execute(loaded, progress=progress)
+    return execute(loaded, progress=_within_steps(loaded, progress))
+
+
+def _within_steps(loaded: LoadedScenario, progress: Any) -> Any:
+    """``progress`` behind a check of the steps the run announces: the stepping
+    drivers report their total after their first chunk of steps (milliseconds),
+    so a run over the limit is refused before it takes its time."""
+    from tumble.scenario.schema import MAX_STEPS, MAX_STEPS_TEXT
+
+    def report(done: int, total: int) -> None:
+        if total > MAX_STEPS:
+            raise ScenarioError(
+                f"{where(loaded, ('simulation',))}: Expected at most {MAX_STEPS_TEXT} steps, got "
+                f"{total:.3g} (dt follows the fastest rotation when it is not given): a scenario "
+                "should run in seconds (give a longer `dt` or a shorter `duration`, or use "
+                "tumble.simulate for long runs)."
+            )
+        if progress is not None:
+            progress(done, total)
+
+    return report

@@ -131,9 +131,9 @@ class Attitude(StrictModel):
         if forms == ["axis"]:
             if self.axis is None or self.angle is None:
                 raise ValueError("Expected both `axis` and `angle` for an axis-angle attitude.")
-            if not np.linalg.norm(self.axis) > 0:
+            if not _length(self.axis) > 0:
                 raise ValueError(f"Expected `axis` to be a non-zero vector, got {list(self.axis)}.")
-        if self.quaternion is not None and not np.linalg.norm(self.quaternion) > 1e-12:
+        if self.quaternion is not None and not _length(self.quaternion) > 1e-12:
             raise ValueError(
                 f"Expected `quaternion` to be non-zero [w, x, y, z], got {list(self.quaternion)}."
             )
@@ -146,13 +146,31 @@ class Attitude(StrictModel):
         if self.euler_zxz is not None:
             rotation = Rotation.from_euler("ZXZ", self.euler_zxz)
         elif self.quaternion is not None:
-            rotation = Rotation.from_quat(self.quaternion, scalar_first=True)
+            rotation = Rotation.from_quat(_unit(self.quaternion), scalar_first=True)
         else:
             assert self.axis is not None and self.angle is not None  # checked above
-            axis = np.asarray(self.axis) / np.linalg.norm(self.axis)
-            rotation = Rotation.from_rotvec(axis * self.angle)
+            # [cos θ/2, sin θ/2 n], as Rotation.from_rotvec(θ n) gives, without the
+            # product θ n, whose length overflows for an angle of 1e300 rad.
+            half = 0.5 * self.angle
+            q = np.array([np.cos(half), *(np.sin(half) * _unit(self.axis))])
+            rotation = Rotation.from_quat(q, scalar_first=True)
         q = rotation.as_quat(scalar_first=True)
         return (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
+
+
+def _length(vector: Any) -> float:
+    """The Euclidean length of ``vector``, without the overflow or underflow of squaring
+    entries near 1e±200."""
+    array = np.asarray(vector, dtype=float)
+    largest = float(np.max(np.abs(array)))
+    return largest * float(np.linalg.norm(array / largest)) if largest > 0 else 0.0
+
+
+def _unit(vector: Any) -> Any:
+    """``vector`` (non-zero) scaled to unit length, as :func:`_length` measures it."""
+    array = np.asarray(vector, dtype=float)
+    array = array / np.max(np.abs(array))
+    return array / np.linalg.norm(array)
 
 
 # ------------------------------------------------------------ bodies

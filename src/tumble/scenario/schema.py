@@ -20,7 +20,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Field, field_validator, model_validator
 
-from tumble.config import StrictModel
+from tumble.config import StrictModel, key_error
 from tumble.config.registries import method_choice, theory_choice, torque_entry
 from tumble.scenario.bodies import (
     Angle,
@@ -36,6 +36,8 @@ from tumble.scenario.bodies import (
 from tumble.scenario.internal import InternalSpec
 
 __all__ = [
+    "MAX_STEPS",
+    "MAX_STEPS_TEXT",
     "Attitude",
     "Body",
     "Environment",
@@ -49,6 +51,12 @@ __all__ = [
     "Torque",
     "key_path",
 ]
+
+
+#: The most steps a scenario may take (a few seconds of the compiled kernels); longer
+#: runs are for :func:`tumble.simulate`. ``MAX_STEPS_TEXT`` is how messages write it.
+MAX_STEPS = 50_000_000
+MAX_STEPS_TEXT = "5e7"
 
 
 # ------------------------------------------------------------ the rest
@@ -122,10 +130,11 @@ class Simulation(StrictModel):
 
     @model_validator(mode="after")
     def _steps(self) -> Simulation:
-        if self.dt is not None and self.duration / self.dt > 5e7:
+        if self.dt is not None and self.duration / self.dt > MAX_STEPS:
             raise ValueError(
-                f"Expected at most 5e7 steps (duration / dt), got {self.duration / self.dt:.3g}: "
-                "a scenario should run in seconds (use tumble.simulate for long runs)."
+                f"Expected at most {MAX_STEPS_TEXT} steps (duration / dt), got "
+                f"{self.duration / self.dt:.3g}: a scenario should run in seconds (use "
+                "tumble.simulate for long runs)."
             )
         return self
 
@@ -192,6 +201,13 @@ class Scenario(StrictModel):
 
     @model_validator(mode="after")
     def _consistent(self) -> Scenario:
+        samples = self.output.samples
+        if not self.simulation.duration / samples > 0:
+            raise key_error(
+                ("simulation", "duration"),
+                f"Expected `duration` long enough to space [output] samples = {samples} apart, "
+                f"got {self.simulation.duration!r} s (duration / samples rounds to 0 s).",
+            )
         if self.gyrocompass is not None:
             extra = [
                 name

@@ -30,7 +30,12 @@ from tumble.sweep.plan import (
 )
 from tumble.sweep.schema import SweepError, SweepFile, Vary, check_address
 
-__all__ = ["PlanBuilder", "parse_sweep"]
+__all__ = ["MAX_COUNT", "PlanBuilder", "parse_sweep"]
+
+#: The most steps per body, and bodies, a sweep may have: 2**53, below which
+#: float64 counts them exactly (the step times k·dt stay distinct), and far beyond
+#: any run (2**53 body-steps at a billion a second take a hundred days).
+MAX_COUNT = 2**53
 
 
 def parse_sweep(text: str, source: str = "<sweep>") -> Plan:
@@ -150,10 +155,23 @@ class PlanBuilder:
             raise self.fail(("base", "duration"), f"Expected `duration` > 0 s, got {duration!r}.")
         if not dt > 0:
             raise self.fail(("base", "dt"), f"Expected `dt` > 0 s, got {dt!r}.")
-        n_steps = max(1, math.ceil(duration / dt * (1 - 1e-12)))
+        steps = duration / dt
+        if not steps <= MAX_COUNT:
+            raise self.fail(
+                ("base", "dt"),
+                f"Expected at most 2**53 steps per body (duration / dt), got {steps:.3g} from "
+                f"duration = {duration!r} s and dt = {dt!r} s.",
+            )
+        n_steps = max(1, math.ceil(steps * (1 - 1e-12)))
         if INTEGRATORS[base.method].kind != "sampling":  # a closed form takes no steps
             self.warn_coarse(ranges, duration / n_steps)
 
+        bodies = math.prod(len(axis.values) for axis in grid) * spec.sweep.samples
+        if bodies > MAX_COUNT:
+            raise self.fail(
+                ("sweep", "samples") if spec.sweep.samples > 1 else ("vary",),
+                f"Expected at most 2**53 bodies (grid points × samples), got {bodies:.3g}.",
+            )
         maps = self.maps(tuple(spec.vary), tuple(spec.outputs.metrics))
         scheduler = spec.dask.scheduler
         if scheduler is not None and spec.dask.workers is not None:

@@ -43,6 +43,7 @@ from tumble.config import (
     ConfigError,
     StrictModel,
     key_error,
+    key_text,
     shown,
     unknown_key,
 )
@@ -203,7 +204,8 @@ class SweepFile(StrictModel):
                     hint = f" Did you mean `{close[0]}`?" if close else ""
                     raise key_error(
                         ("vary", str(key)),
-                        f"Expected a parameter ({', '.join(known)}), got `{key}`.{hint}",
+                        f"Expected a parameter ({', '.join(known)}), got "
+                        f"`{key_text(str(key))}`.{hint}",
                     )
         return data
 
