@@ -375,3 +375,18 @@ def test_errors_of_the_standard_output_are_one_line(tmp_path: Path) -> None:
     assert done.stderr.strip().splitlines() == [
         "error: Expected to read or write the output, got: No space left on device."
     ]
+
+
+def test_running_out_of_memory_is_one_line(
+    quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def exhausted(*args: object, **kwargs: object) -> None:
+        raise MemoryError("Unable to allocate 7.28 TiB")
+
+    monkeypatch.setattr("tumble.scenario.run", exhausted)
+    code, _, err = invoke("run", str(quick), "-o", str(tmp_path / "run"))
+    assert code == 2
+    assert err.strip().splitlines() == [
+        "error: Expected the request to fit in memory, got a MemoryError (Unable to allocate "
+        "7.28 TiB): record fewer samples, or run a sweep, which streams its results to disk."
+    ]
