@@ -64,9 +64,7 @@ def main() -> None:
     inertia = np.tile([1.0, 2.0, 3.0], (BODIES, 1))
     omega = np.tile([0.1, 2.0, 0.1], (BODIES, 1))
     cases: dict[str, Callable[[], object]] = {
-        "simulate, 1e12 samples": lambda: tb.simulate(
-            BOX, [1.0, 2.0, 3.0], duration=1e9, dt=1e-3
-        ),
+        "simulate, 1e12 samples": lambda: tb.simulate(BOX, [1.0, 2.0, 3.0], duration=1e9, dt=1e-3),
         "simulate_batch, 1e6 bodies x 1e7 records": lambda: tb.simulate_batch(
             inertia, omega, duration=1e4, dt=1e-3, record_every=1
         ),

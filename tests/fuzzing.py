@@ -13,8 +13,7 @@ check and reach the deeper ones, and changes them the way files go wrong:
   infinite or huge, faces pointing outside the vertices, triangles dropped,
   flipped or made degenerate, written as binary or ASCII STL, OBJ, OFF or PLY
   (:func:`mesh_bytes`).
-* :class:`ScenarioRunner` — scenarios run in a child process, timed from outside;
-  :data:`KNOWN_DEFECTS` — the failures whose fix lies elsewhere.
+* :class:`ScenarioRunner` — scenarios run in a child process, timed from outside.
 """
 
 from __future__ import annotations
@@ -27,7 +26,7 @@ import re
 import struct
 import time
 import traceback
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from multiprocessing.connection import Connection
 from typing import Any
 
@@ -35,14 +34,11 @@ import numpy as np
 from hypothesis import strategies as st
 
 __all__ = [
-    "GUARDED",
-    "KNOWN_DEFECTS",
     "MESH_FORMATS",
     "OPERATIONS",
     "ScenarioRunner",
     "corrupted_bytes",
     "damaged_meshes",
-    "known_defect",
     "mesh_bytes",
     "mutated_documents",
     "toml_text",
@@ -528,77 +524,6 @@ def damaged_meshes(
     return points, polygons
 
 
-# ------------------------------------------------------------------ known defects
-def _raised_in(exc: BaseException, *modules: str) -> bool:
-    """Whether the innermost frame of tumble's code that ``exc`` passed through is in
-    one of ``modules`` (paths below ``src/tumble``, such as ``"theory/"``)."""
-    frames = [
-        frame.filename.replace("\\", "/").split("/tumble/", 1)[-1]
-        for frame in traceback.extract_tb(exc.__traceback__)
-        if "/tumble/" in frame.filename.replace("\\", "/")
-    ]
-    return bool(frames) and frames[-1].startswith(modules)
-
-
-#: The modules whose failures the fuzz tests never excuse (paths below src/tumble).
-GUARDED = (
-    "config/",
-    "scenario/schema.py",
-    "scenario/bodies.py",
-    "scenario/build.py",
-    "scenario/files.py",
-    "scenario/__init__.py",
-    "sweep/schema.py",
-    "sweep/build.py",
-    "sweep/plan.py",
-    "mesh/",
-    "units.py",
-    "massprops.py",
-    "shapes.py",
-)
-
-#: Failures whose fix lies outside the code these tests guard (the integrators,
-#: the closed forms and their checks), each reproduced by a strict xfail test in
-#: test_fuzz.py; an example that meets one is counted as a hypothesis event, not a
-#: failure, until the fix lands (then the xfail test fails, and the entry goes).
-KNOWN_DEFECTS: dict[str, Callable[[BaseException], bool]] = {
-    # The exact drivers return NaN samples without a status when the motion's
-    # quantities overflow (|L|² of a 1e300 kg body, a rotor at 1e102 rad/s) or its
-    # phase is lost (t = 1e300 s); scipy's Rotation then refuses the zero quaternions.
-    "NaN samples from an exact driver": lambda exc: (
-        isinstance(exc, ValueError)
-        and "zero norm quaternions" in str(exc)
-        and _raised_in(exc, "trajectory.py", "integrators/")
-    ),
-    # The libration check divides by the pitch frequency, 0 when the pitch does
-    # not librate (an orbit normal reversed: orbit_normal = [0, 0, -1]).
-    "ZeroDivisionError in the libration check": lambda exc: (
-        isinstance(exc, ZeroDivisionError) and _raised_in(exc, "checks/attitude.py")
-    ),
-    # Values near the float limits overflow or underflow in code that takes them as
-    # validated: Python float powers (x**2) raise OverflowError where numpy's give
-    # inf (a top of 1e308 kg in theory.gyroscope, a rotor of 1.8e306 m radius in
-    # scenario/internal.py) or round to 0 and divide (a top of 1e-300 kg), and
-    # numpy's norm squares its entries (a gravity of 1.8e308 m/s² has an infinite
-    # norm, hence a zero direction that scipy's align_vectors refuses).
-    "arithmetic at the float limits after validation": lambda exc: (
-        (isinstance(exc, OverflowError) and not _raised_in(exc, *GUARDED))
-        or (
-            (
-                isinstance(exc, ZeroDivisionError)
-                or (isinstance(exc, ValueError) and "zero" in str(exc) and "vector" in str(exc))
-            )
-            and _raised_in(exc, "theory/", "checks/")
-        )
-    ),
-}
-
-
-def known_defect(exc: BaseException) -> str | None:
-    """The name of the known defect ``exc`` comes from, or None."""
-    return next((name for name, test in KNOWN_DEFECTS.items() if test(exc)), None)
-
-
 # ------------------------------------------------------------------ runs
 def _integrator_kind(loaded: Any) -> str:
     """The kind of integrator (``stepping``, ``sampling``, ``adaptive``) a scenario's
@@ -645,9 +570,7 @@ def _serve(connection: Connection) -> None:
         except InputError as exc:
             connection.send(("refused", phase, f"{type(exc).__name__}: {exc}"))
         except Exception as exc:
-            known = known_defect(exc)
-            detail = known or "".join(traceback.format_exception(exc))
-            connection.send(("known" if known else "raised", phase, detail))
+            connection.send(("raised", phase, "".join(traceback.format_exception(exc))))
         else:
             connection.send(("accepted", phase, ""))
 
@@ -670,8 +593,8 @@ class ScenarioRunner:
 
     def run(self, text: str, folder: str) -> tuple[str, str, str]:
         """``(outcome, phase or kind, detail)``: ``accepted``, ``refused`` (with the
-        error's type and message), ``raised`` (with the traceback), ``known``
-        (with the defect's name), ``timeout`` or ``crashed`` (with the kind of
+        error's type and message), ``raised`` (with the traceback),
+        ``timeout`` or ``crashed`` (with the kind of
         integrator the run had, when it was found)."""
         connection = self._start()
         connection.send((text, folder))

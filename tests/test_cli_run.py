@@ -326,6 +326,35 @@ def test_a_full_disk_while_writing_is_one_line_and_leaves_no_partial_folder(
     assert only_entries(tmp_path) == ["quick.toml"]
 
 
+def test_warnings_come_before_the_error_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # dt of 0.1 s at 3 rad/s: about 20 steps a turn at most, a CoarseStepWarning;
+    # then the disk fills while the report is written.
+    path = tmp_path / "coarse.toml"
+    path.write_text(
+        QUICK.replace('duration = "5 s"', 'duration = "5 s"\ndt = "0.2 s"\nmethod = "rk4"')
+    )
+    full_disk_at("report.html", monkeypatch)
+    code, _, err = invoke("run", str(path), "-o", str(tmp_path / "run"))
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 2
+    assert lines[0].startswith("warning: ") and "steps per turn" in lines[0]
+    assert lines[1].startswith("error: Expected to write the run folder")
+
+
+def test_a_failed_write_removes_the_folders_it_created_above_the_run(
+    quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    full_disk_at("report.html", monkeypatch)
+    (tmp_path / "kept").mkdir()
+    out_dir = tmp_path / "kept" / "new" / "deeper" / "run"
+    code, _, err = invoke("run", str(quick), "-o", str(out_dir))
+    assert code == 2 and "No space left on device" in err
+    assert only_entries(tmp_path) == ["kept", "quick.toml"]
+    assert list((tmp_path / "kept").iterdir()) == []
+
+
 def test_a_full_disk_while_replacing_a_run_keeps_the_old_one(
     quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -516,6 +516,19 @@ def test_trajectory_describes_the_disk_and_records_every_kth_step(
     assert_allclose(back.pivot, traj.pivot, atol=0)
 
 
+def test_samples_keeps_every_kth_step_of_the_default_step() -> None:
+    # The default step is 1/200 of a turn at the fastest rate of θ: asked for
+    # about 40 samples, the run keeps every (steps // 40)-th step and the last.
+    full = gyrocompass(DISK, 400.0, 2.0, 0.5, duration=0.5)
+    steps = full.trajectory.steps
+    kept = gyrocompass(DISK, 400.0, 2.0, 0.5, duration=0.5, samples=40)
+    every = steps // 40
+    assert steps > 400 and kept.trajectory.steps == steps
+    assert np.array_equal(kept.angle[:-1], full.angle[::every][: len(kept.angle) - 1])
+    assert kept.angle[-1] == full.angle[-1]
+    assert 40 <= len(kept.angle) <= 42
+
+
 def test_quantities_at_the_edge_give_the_si_run() -> None:
     with_units = gyrocompass(
         DISK, "20000 rpm", "7.292115e-5 rad/s", "170 deg", angle_rate0="0.01 rad/s",
@@ -564,6 +577,12 @@ def test_a_coarse_step_warns_and_a_diverging_one_raises() -> None:
         ({"dt": -1e-3}, r"Expected `dt` > 0 s, got -0\.001\."),
         ({"record_every": 0}, r"Expected `record_every` to be an integer >= 1, got 0\."),
         ({"record_every": 2.0}, r"Expected `record_every` to be an integer >= 1, got 2\.0\."),
+        ({"samples": 0}, r"Expected `samples` to be an integer >= 1, got 0\."),
+        ({"samples": 10.0}, r"Expected `samples` to be an integer >= 1, got 10\.0\."),
+        (
+            {"samples": 10, "record_every": 3},
+            r"Expected one of `record_every` and `samples`, got both \(3, 10\)\.",
+        ),
         ({"spin_rate": "3 kg"}, r"Expected `spin_rate`"),
         ({"platform_rate": math.inf}, r"Expected `platform_rate` to be finite, got inf\."),
         ({"angle0": math.nan}, r"Expected `angle0` to be finite, got nan\."),

@@ -239,3 +239,57 @@ def test_a_few_bodies_recorded_often_are_sized_by_their_records(
             [[1.0, 2.0, 3.0]], [[1.0, 2.0, 3.0]], duration=1e3, dt=1e-3, record_every=1,
             progress=never,
         )  # fmt: skip
+
+
+def test_a_gyrocompass_recording_too_much_is_refused_before_it_starts(budget: float) -> None:
+    # 1e4 s at 1 µs, every step kept: 1e10 + 1 samples of t, ω, q and θ, θ̇, χ.
+    expected = format_bytes((1e10 + 1) * 11 * PEAK_PER_VALUE)
+    with pytest.raises(
+        RequestTooLargeError,
+        match=re.escape(
+            f"got 1e+10 recorded samples of 11 values (1e+04 s at dt = 1e-06 s, every 1 step): "
+            f"about {expected}. Record less often (record_every or samples), or ask for a "
+            "shorter duration or a larger dt."
+        ),
+    ):
+        tb.models.gyrocompass(
+            tb.shapes.solid_cylinder(1.0, 0.1, 0.02), 100.0, 2.0, 0.3, duration=1e4, dt=1e-6,
+            progress=never,
+        )  # fmt: skip
+
+
+def test_a_fixed_step_run_beyond_max_steps_is_refused_before_it_starts() -> None:
+    with pytest.raises(
+        RequestTooLargeError,
+        match=re.escape(
+            "Expected at most max_steps = 1000 steps, got duration / dt = 10 s / 0.001 s = "
+            "10000 steps: use a larger dt or a shorter duration."
+        ),
+    ):
+        tb.simulate(BOX, [1.0, 2.0, 3.0], duration=10.0, dt=1e-3, method="rk4", max_steps=1000,
+                    progress=never)  # fmt: skip
+
+
+def test_an_adaptive_run_stops_at_max_steps() -> None:
+    # ω of 1e7 rad/s about a non-principal direction: the steps follow the
+    # motion (~1e-8 s), so 10 s would take ~1e9 of them; it stops at 1e4.
+    with pytest.raises(
+        RequestTooLargeError,
+        match=r"^Expected the adaptive integration to end within 1e\+04 steps \(max_steps\), got "
+        r"1e\+04 steps to t = [\d.e-]+ s of 10 s: the motion is too fast or too stiff for it;",
+    ):
+        tb.simulate(BOX, [1e7, 1.0, 0.0], duration=10.0, dt=1.0, method="adaptive",
+                    max_steps=10_000)  # fmt: skip
+    # Below the limit it runs, and says how many steps it took.
+    run = tb.simulate(BOX, [1.0, 1.0, 0.0], duration=10.0, dt=0.01, method="adaptive",
+                      max_steps=10_000)  # fmt: skip
+    assert 0 < run.steps <= 10_000
+
+
+@pytest.mark.parametrize("value", [0, -3, 1.5, True, "10"])
+def test_max_steps_is_a_positive_integer(value: object) -> None:
+    with pytest.raises(
+        tb.InputError,
+        match=rf"^Expected `max_steps` to be an integer >= 1 or None, got {re.escape(repr(value))}\.$",
+    ):
+        tb.simulate(BOX, [1.0, 2.0, 3.0], duration=1.0, max_steps=value)  # type: ignore[arg-type]

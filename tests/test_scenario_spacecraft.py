@@ -68,6 +68,22 @@ def test_gravity_gradient_pitches_at_the_pendulum_frequency() -> None:
     assert rows(result)["pitch libration frequency"]["theory"] < small.pitch_frequency
 
 
+def test_in_a_reversed_orbit_the_pitch_turns_over_and_no_libration_is_compared() -> None:
+    # The orbit normal reversed: the body, still turning at n about +z, turns at
+    # −2n relative to the orbiting frame, past the pitch pendulum's separatrix
+    # (θ̇² ≥ ω_p² with ω_p = n √(3 (B − A) / C) < √3 n): the pitch goes round.
+    text = builtin_text("gravity-gradient").replace(
+        "orbit_normal = [0, 0, 1]", "orbit_normal = [0, 0, -1]"
+    )
+    result = run(parse(text, "gravity-gradient.toml"))
+    assert "pitch libration frequency" not in rows(result)
+    (panel,) = [p for p in result.panels if p.name == "libration"]
+    assert panel.title.endswith("; the pitch turns over, past its separatrix)")
+    (pitch,) = [c for c in panel.curves if c.label.startswith("pitch")]
+    assert np.max(np.abs(pitch.values)) > 170.0  # degrees: all the way round
+    assert not any(c.style == "theory" for c in panel.curves)
+
+
 def test_the_reaction_wheel_slew_reaches_its_target_with_l_kept() -> None:
     result = run("reaction-wheel-slew")
     assert rows(result)["decay rate of the pointing error"]["relative_error"] < 1e-3

@@ -407,20 +407,17 @@ class RigidBody:
         """
         moments = self.moments
         principal = self.to_principal(omega)
-        momentum = float(np.linalg.norm(moments * principal))
+        # Norms by hypot: no overflow of the squares of a body of 1e300 kg.
         if self.parts:
             omega = np.asarray(omega, dtype=float)
-            momentum = float(np.linalg.norm(self.angular_momentum(omega))) + sum(
-                float(np.linalg.norm(part.momenta(omega, part.initial_values(omega))))
-                for part in self.parts
+            momentum = math.hypot(*self.angular_momentum(omega)) + sum(
+                math.hypot(*part.momenta(omega, part.initial_values(omega))) for part in self.parts
             )
             rate = momentum / moments[0]
-        # principal_decomposition makes repeated moments exactly equal; an oblate
-        # body (I1 = I2) keeps |L| / I1.
-        elif exact_spin and moments[2] == moments[1]:  # prolate: axis 1
-            rate = momentum / moments[1]
-        elif exact_spin and moments[0] == moments[1]:
-            rate = momentum / moments[0]
+        # principal_decomposition makes repeated moments exactly equal: I⊥ = I2 for
+        # a prolate body (I2 = I3) and an oblate one (I1 = I2).
+        elif exact_spin and moments[1] in (moments[0], moments[2]):
+            rate = math.hypot(*(moments / moments[1] * principal))  # |L| / I⊥
         else:
             rate = largest_rate(moments, principal)
         return rate + self.pendulum_rate(weight)

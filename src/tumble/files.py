@@ -22,6 +22,7 @@ from tumble.errors import OutputError
 
 __all__ = [
     "check_output",
+    "created_parents",
     "output_error",
     "permissions",
     "replaced",
@@ -187,6 +188,24 @@ def replaced(path: str | os.PathLike[str]) -> Iterator[Path]:
         raise output_error(exc, target, "the file") from exc
     finally:
         temporary.unlink(missing_ok=True)
+
+
+@contextmanager
+def created_parents(path: str | os.PathLike[str]) -> Iterator[None]:
+    """Create the missing folders above ``path`` for the block, and remove those
+    it created (still empty) when the block raises: a failed write leaves the
+    file system as it found it."""
+    missing = [p for p in Path(path).parents if not _exists(p)]  # deepest first
+    try:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        yield
+    except BaseException:
+        for folder in missing:
+            try:
+                folder.rmdir()
+            except OSError:  # not created here after all, or no longer empty
+                break
+        raise
 
 
 def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:

@@ -118,6 +118,9 @@ def largest_rate(moments: NDArray[np.float64], omega: NDArray[np.float64]) -> fl
     free of the scale of the moments (no I³ to overflow or underflow).
     """
     i1, i2, i3 = (float(m) for m in moments)
-    x = np.asarray(omega, dtype=float) ** 2
+    omega = np.asarray(omega, dtype=float)
+    # ω scaled by a power of two to order one, so that its squares cannot overflow.
+    exponent = math.frexp(float(np.max(np.abs(omega))))[1]
+    x = np.ldexp(omega, -exponent) ** 2
     gain = (i2 - i1) / i1 * ((i3 - i2) / i3) if i1 > 0.0 else 0.0
-    return math.sqrt(float(x.sum()) + float(x[1]) * max(gain, 0.0))
+    return math.ldexp(math.sqrt(float(x.sum()) + float(x[1]) * max(gain, 0.0)), exponent)

@@ -29,8 +29,15 @@ from scipy.spatial.transform import Rotation
 
 from tumble.core import gimbal
 from tumble.errors import InputError
-from tumble.integrators.drivers import Schedule, step_in_chunks, time_step, warn_if_coarse
+from tumble.integrators.drivers import (
+    Schedule,
+    step_in_chunks,
+    time_step,
+    warn_if_coarse,
+    whole_steps,
+)
 from tumble.massprops import MassProperties, as_mass_properties, axisymmetric_moments, readonly
+from tumble.simulation import check_recording
 from tumble.trajectory import Trajectory
 from tumble.units import to_si
 
@@ -153,6 +160,7 @@ def gyrocompass(
     latitude: Any = None,
     damping: Any = 0.0,
     record_every: int = 1,
+    samples: int | None = None,
     progress: Callable[[int, int], object] | None = None,
 ) -> GyrocompassRun:
     """Simulate a spinning disk in a gimbal on a turning platform (a gyrocompass).
@@ -217,6 +225,9 @@ def gyrocompass(
     damping : c, the viscous torque coefficient of the gimbal's bearings about
         AB, N·m·s, >= 0: the torque is ``−c θ̇``.
     record_every : keep every k-th step (the final state is always kept).
+    samples : instead of ``record_every``: about how many samples to keep,
+        evenly spaced in steps (with the default ``dt``, the step is known only
+        here).
     progress : None or a callable ``progress(done, total)`` in steps.
 
     Returns
@@ -229,7 +240,11 @@ def gyrocompass(
     InputError
         If the disk is not symmetric about body z or has no moment about it,
         the latitude is outside [−90°, 90°], the damping is negative, the
-        duration or dt is not positive, or ``record_every`` is not an integer >= 1.
+        duration or dt is not positive, ``record_every`` or ``samples`` is not
+        an integer >= 1, or both are given.
+    RequestTooLargeError
+        Before any work, when the recorded samples would not fit in the memory
+        budget (:func:`tumble.simulation.check_recording`).
     IntegrationError
         If the integration produced NaN or infinity (``dt`` far too large).
 
@@ -284,6 +299,21 @@ def gyrocompass(
     step = time_step(dt, fastest, total_time)
     if dt is not None:
         warn_if_coarse(step, fastest, "the fastest rate of the gimbal angle")
+    if samples is not None:
+        if record_every != 1:
+            raise InputError(
+                f"Expected one of `record_every` and `samples`, got both ({record_every!r}, "
+                f"{samples!r})."
+            )
+        if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 1:
+            raise InputError(f"Expected `samples` to be an integer >= 1, got {samples!r}.")
+        record_every = max(1, whole_steps(total_time, step) // int(samples))
+    # θ, θ̇, χ from the kernel besides the trajectory's values.
+    check_recording(
+        total_time, step, record_every, 3,
+        "Record less often (record_every or samples), or ask for a shorter duration or a "
+        "larger dt.",
+    )  # fmt: skip
     schedule = Schedule.build(total_time, step, record_every)
     times, n_steps, step = schedule.times, schedule.n_steps, schedule.step
     y = np.array([theta0, theta_rate0, 0.0])

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.body import RigidBody
-from tumble.errors import CoarseStepWarning, InputError, IntegrationError
+from tumble.errors import CoarseStepWarning, InputError, IntegrationError, RequestTooLargeError
 from tumble.integrators import INTEGRATORS, Integrator, auto_choice, get_integrator
 from tumble.integrators.drivers import (
     DEFAULT_STEPS_PER_TURN,
@@ -73,6 +73,7 @@ def simulate(
     rtol: float = 1e-10,
     atol: float = 1e-12,
     internal: Any = None,
+    max_steps: int | None = None,
 ) -> Trajectory:
     """Simulate the rotation of a rigid body under Euler's equations.
 
@@ -131,6 +132,10 @@ def simulate(
         parts, the splittings for rotors; ``"auto"`` picks the splitting for
         rotors without torques that act from outside or depend on ω, else the
         adaptive method.
+    max_steps : None, or the most steps the run may take: a fixed-step run
+        that needs more is refused before it starts; an adaptive run (whose
+        steps follow the motion) stops when it has tried that many. The
+        closed forms take none.
 
     Returns
     -------
@@ -146,7 +151,8 @@ def simulate(
     RequestTooLargeError
         Before any work, when the recorded samples would not fit in the memory
         budget (half of the machine's memory; :mod:`tumble.resources`), or the
-        run would take more than 2^53 steps.
+        run would take more than 2^53 steps or ``max_steps``; during an
+        adaptive run, when it has tried ``max_steps`` steps.
 
     Warns
     -----
@@ -179,11 +185,18 @@ def simulate(
             raise InputError(f"Expected `rtol` >= 1e-15 (round-off), got {rtol!r}.")
 
     g = setup.gravity
-    weight = mp.mass * float(np.linalg.norm(g))
+    weight = mp.mass * math.hypot(*g)
     fastest = setup.fastest_rate()
     step = time_step(dt, fastest, total_time)
     check_recording(total_time, step, record_every, len(value_columns(body.parts)))
-    schedule = Schedule.build(total_time, step, record_every, rtol=rtol, atol=atol)
+    most = _most_steps(max_steps)
+    schedule = Schedule.build(total_time, step, record_every, rtol=rtol, atol=atol, most_steps=most)
+    if integrator.kind == "stepping" and schedule.n_steps > most:
+        raise RequestTooLargeError(
+            f"Expected at most max_steps = {most:.6g} steps, got duration / dt = "
+            f"{total_time:.6g} s / {schedule.step:.3g} s = {schedule.n_steps} steps: use a "
+            "larger dt or a shorter duration."
+        )
     if dt is not None and integrator.kind == "stepping":
         if integrator.exact_free_motion:  # only the torque needs resolving
             warn_if_coarse(schedule.step, body.pendulum_rate(weight), "the pendulum swing")
@@ -207,6 +220,15 @@ def simulate(
         internal=body.parts,
         internal_values=samples.values,
     )
+
+
+def _most_steps(max_steps: Any) -> float:
+    """``max_steps`` (an integer >= 1, or None: 2^53) as the float the kernels read."""
+    if max_steps is None:
+        return 2.0**53
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) or max_steps < 1:
+        raise InputError(f"Expected `max_steps` to be an integer >= 1 or None, got {max_steps!r}.")
+    return float(max_steps)
 
 
 #: Memory a recorded sample takes while a run ends, per value kept (t, ω, q
@@ -261,7 +283,7 @@ class Setup:
     def fastest_rate(self) -> float:
         """The fastest rate a step must resolve, rad/s (:meth:`RigidBody.fastest_rate`)."""
         body = self.body
-        weight = body.mass_properties.mass * float(np.linalg.norm(self.gravity))
+        weight = body.mass_properties.mass * math.hypot(*self.gravity)
         return body.fastest_rate(
             self.omega0, weight, exact_spin=self.integrator.exact_symmetric_spin
         )

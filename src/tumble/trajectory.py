@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -171,7 +172,7 @@ class Trajectory:
         if name == "angular_momentum_norm":
             return np.asarray(np.linalg.norm(momentum, axis=1))
         if name == "angular_momentum_vertical":
-            size = float(np.linalg.norm(self.gravity))
+            size = math.hypot(*self.gravity)
             if size == 0.0:
                 raise InputError("Expected gravity for `angular_momentum_vertical`, got none.")
             return np.asarray(momentum @ (-self.gravity / size))

@@ -94,7 +94,7 @@ def test_adaptive_kernel_on_a_uniform_spin_up() -> None:
     params = forcing((0.0, 0.0, 0.2))
     w = np.array([0.0, 0.0, 1.0])
     q = np.array([1.0, 0.0, 0.0, 0.0])
-    control = np.array([0.0, 1e-12, 1e-14, 0.0, 0.0, 0.0])
+    control = np.array([0.0, 1e-12, 1e-14, 0.0, 0.0, 0.0, 2.0**53])
     adaptive_run = adaptive.single_kernel(FORCED, "test.forced")
     times = np.array([0.25, 0.5, 1.0])
     out_w = np.zeros((3, 3))
@@ -113,7 +113,7 @@ def test_adaptive_kernel_on_a_uniform_spin_up() -> None:
 
 def test_adaptive_kernel_reports_an_underflow() -> None:
     params = forcing((math.nan, 0.0, 0.0))
-    control = np.array([0.0, 1e-8, 1e-10, 0.0, 0.0, 0.0])
+    control = np.array([0.0, 1e-8, 1e-10, 0.0, 0.0, 0.0, 2.0**53])
     adaptive_run = adaptive.single_kernel(FORCED, "test.forced")
     status = adaptive_run(
         np.ones(3), np.array([1.0, 0, 0, 0]), np.ones(3), params, 0.0, 0.0, 1.0, control,
@@ -156,7 +156,7 @@ def test_the_user_torque_turns_a_body_torque_into_the_principal_frame() -> None:
     # τ_principal = axesᵀ τ_body = (0, −0.3, 0); ω = τ t / I.
     assert_allclose(w, [0.0, -0.3 * 1.0 / 0.5, 0.0], atol=1e-14)
     w2 = np.zeros(3)
-    control = np.array([0.0, 1e-10, 1e-12, 0.0, 0.0, 0.0])
+    control = np.array([0.0, 1e-10, 1e-12, 0.0, 0.0, 0.0, 2.0**53])
     adaptive_run = adaptive.single_kernel(USER, "test.user")
     status = adaptive_run(
         w2, np.array([1.0, 0.0, 0.0, 0.0]), inertia, np.zeros((1, 1)), context, 0.0, 1.0,

@@ -74,7 +74,7 @@ def vertical_of(trajectory: Trajectory, vertical: Any) -> Array:
     if vertical is not None:
         return unit_vector(vertical, "vertical")
     g = np.asarray(trajectory.gravity, dtype=float)
-    size = float(np.linalg.norm(g))
+    size = math.hypot(*g)
     return -g / size if size > 0 else np.array([0.0, 0.0, 1.0])
 
 

@@ -252,6 +252,18 @@ def simulate_batch(
     -------
     BatchResult — the same states as N separate :func:`tumble.simulate` calls with
     the same method and ``dt``, to round-off.
+
+    Raises
+    ------
+    InputError
+        Bad values (see the messages), a torque batches do not take, a torque
+        with ``method="exact"``.
+    RequestTooLargeError
+        Before any work, when the bodies and their records would not fit in
+        the memory budget (:func:`check_batch_memory`), or the run would take
+        more than 2^53 steps.
+    IntegrationError
+        A body's state became NaN or infinite (the message names the first).
     """
     integrator = get_integrator(method, batch=True)
     values = vector_to_si(

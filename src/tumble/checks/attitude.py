@@ -102,8 +102,14 @@ class LibrationCheck(TheoryCheck):
         pitch = deviation[:, 2]
         swings = np.ptp(pitch) > 1e-9 and result.pitch_stable
         spin = float(setup.omega0 @ normal) - rate  # pitch rate in the orbiting frame
+        turns_over = False
         if swings:
             amplitude = result.pitch_amplitude(float(pitch[0]), spin)
+            # Past the separatrix (θ̇² + ω_p² sin² θ ≥ ω_p²) the pitch turns over
+            # instead of swinging: no libration to compare with.
+            turns_over = amplitude >= 0.5 * math.pi
+            swings = not turns_over
+        if swings:
             rows += self.rows(trajectory, result, pitch=pitch, amplitude=amplitude)
         names = (
             "yaw (about the local vertical)",
@@ -123,8 +129,9 @@ class LibrationCheck(TheoryCheck):
                 )
             )
         frequencies = ", ".join(f"{f:.4g}" for f in result.roll_yaw_frequencies)
+        over = "; the pitch turns over, past its separatrix" if turns_over else ""
         panel = Panel(
-            f"Libration in orbit ({result.region}; roll–yaw at {frequencies} rad/s)",
+            f"Libration in orbit ({result.region}; roll–yaw at {frequencies} rad/s{over})",
             "angle from the equilibrium (deg)",
             curves,
             name="libration",

@@ -108,13 +108,13 @@ class GyroscopeCheck(TheoryCheck):
 
     def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
         g = np.asarray(setup.gravity, dtype=float)
-        up = -g / np.linalg.norm(g)
+        up = -g / math.hypot(*g)  # hypot: no overflow of the squares
         axis = np.array([0.0, 0.0, 1.0])
         # The theory's space z is up: turn the initial attitude into such axes.
         level = Rotation.align_vectors([axis], [up])[0]
         start = level * trajectory.rotation[0]
         result = theory.gyroscope(
-            setup.mass_properties, setup.pivot, gravity=float(np.linalg.norm(g)),
+            setup.mass_properties, setup.pivot, gravity=math.hypot(*g),
             omega0=setup.omega0, attitude0=start,
         )  # fmt: skip
         rows = self.rows(trajectory, result, axis=axis, vertical=up)

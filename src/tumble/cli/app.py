@@ -60,6 +60,7 @@ def run_command(work: Any) -> None:
 
     from tumble.errors import InputError
 
+    error = None
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
@@ -67,11 +68,13 @@ def run_command(work: Any) -> None:
         except (InputError, OSError, MemoryError) as exc:
             if State.debug:
                 raise
-            typer.echo(f"error: {one_line(exc)}", err=True)
-            raise typer.Exit(USER_ERROR) from None
-        finally:
+            error = one_line(exc)
+        finally:  # the warnings first: the error, when there is one, is the last line
             for warning in caught:
                 typer.echo(f"warning: {warning.message}", err=True)
+    if error is not None:
+        typer.echo(f"error: {error}", err=True)
+        raise typer.Exit(USER_ERROR)
 
 
 def one_line(exc: BaseException) -> str:

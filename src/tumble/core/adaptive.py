@@ -66,9 +66,10 @@ SHRINK_MAX = 0.2
 
 #: Status codes of the adaptive kernel besides ``FINITE``.
 STEP_UNDERFLOW = -2
+STEP_LIMIT = -3
 
 # Slots of the ``control`` array shared with the caller.
-STEP, RTOL, ATOL, ACCEPTED, REJECTED, FAILED_AT = 0, 1, 2, 3, 4, 5
+STEP, RTOL, ATOL, ACCEPTED, REJECTED, FAILED_AT, MOST_STEPS = 0, 1, 2, 3, 4, 5, 6
 
 
 def single_kernel(torque, identity):  # type: ignore[no-untyped-def]
@@ -81,10 +82,11 @@ def single_kernel(torque, identity):  # type: ignore[no-untyped-def]
     w, q : (3,), (4,) state at ``t_start``; overwritten with the state at ``t_stop``.
     inertia : (3,) principal moments, kg·m²; ``params``, ``context``: the torque's
         (:mod:`tumble.core.torques`).
-    control : float64 array ``[h, rtol, atol, accepted, rejected, failed_at]``:
-        ``h`` the first trial step (≤ 0: chosen here), updated to the next
-        trial step; the step counts are incremented; ``failed_at`` receives the
-        time of a failure.
+    control : float64 array ``[h, rtol, atol, accepted, rejected, failed_at,
+        most_steps]``: ``h`` the first trial step (≤ 0: chosen here), updated to
+        the next trial step; the step counts are incremented; ``failed_at``
+        receives the time of a failure; ``most_steps`` bounds the steps tried
+        (accepted and rejected, over all calls).
     sample_times : (m,) increasing times in (t_start, t_stop]; the state at
         each, by the dense output, is written to the rows of ``out_w``, ``out_q``.
 
@@ -92,7 +94,8 @@ def single_kernel(torque, identity):  # type: ignore[no-untyped-def]
     -------
     ``FINITE`` (−1) on success; ``STEP_UNDERFLOW`` (−2) when the step size fell
     below round-off of t (the state became NaN or infinite, or the solution is
-    singular); the state is then left at the last accepted step.
+    singular), ``STEP_LIMIT`` (−3) when ``most_steps`` steps were tried; the
+    state is then left at the last accepted step.
     """
 
     @njit(inline="always", cache=False)
@@ -153,6 +156,9 @@ def adaptive_loop(f, args, y, t_start, t_stop, control, sample_times, out):  # t
     n_samples = sample_times.shape[0]
     rejected_last = False
     while t < t_stop:
+        if control[ACCEPTED] + control[REJECTED] >= control[MOST_STEPS]:
+            control[FAILED_AT] = t
+            return STEP_LIMIT
         # ``h`` is the proposed step; the last one is cut (or stretched by up to
         # 1 %) to land on t_stop, and a cut step does not shrink the proposal.
         clipped = t + 1.01 * h >= t_stop

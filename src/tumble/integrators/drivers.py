@@ -102,7 +102,8 @@ def _rigid(problem: Problem, w: Array, q: Array, steps: int) -> Samples:
 class Schedule:
     """When to step and what to keep: ``times`` (n,) the recorded times (s; the
     last is the end, also when it is not a whole number of ``record_every``
-    steps); ``n_steps`` steps of ``step`` s; the adaptive tolerances."""
+    steps); ``n_steps`` steps of ``step`` s; the adaptive tolerances and the
+    most steps the adaptive method may try."""
 
     times: Array
     n_steps: int
@@ -110,6 +111,7 @@ class Schedule:
     record_every: int
     rtol: float = 1e-10
     atol: float = 1e-12
+    most_steps: float = 2.0**53
 
     @classmethod
     def build(
@@ -138,7 +140,7 @@ def whole_steps(duration: float, step: float) -> int:
     RequestTooLargeError
         More than :data:`MAX_STEPS` steps.
     """
-    count = duration / step * (1 - 1e-12)
+    count = duration / step * (1 - 1e-12) if step > 0.0 else math.inf
     if not count <= MAX_STEPS:
         raise RequestTooLargeError(
             f"Expected at most 2^53 steps (step times are counted in float64), got "
@@ -246,13 +248,13 @@ def run_adaptive(
     integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
 ) -> Samples:
     """Adaptive steps, sampled at ``schedule.times`` (times[0] = 0) by dense output."""
-    from tumble.core.adaptive import ACCEPTED, FAILED_AT
+    from tumble.core.adaptive import ACCEPTED
 
     body = problem.body
     torque = problem.torque
     times = schedule.times
     moments = np.ascontiguousarray(body.moments)
-    control = np.array([0.0, schedule.rtol, schedule.atol, 0.0, 0.0, 0.0])
+    control = np.array([0.0, schedule.rtol, schedule.atol, 0.0, 0.0, 0.0, schedule.most_steps])
     if body.parts:
         from tumble.parts import pack_parts, switch_times
 
@@ -286,7 +288,7 @@ def run_adaptive(
             return int(status)
 
         stops = np.zeros(0)
-    _adaptive_chunks(advance, times, stops, progress, control, FAILED_AT)
+    _adaptive_chunks(advance, times, stops, progress, control)
     steps = int(control[ACCEPTED])
     if body.parts:
         omega, quaternion, values = body.from_kernel_state(out)
@@ -300,12 +302,21 @@ def _adaptive_chunks(
     stops: Array,
     progress: Progress,
     control: Array,
-    failed_at: int,
 ) -> None:
     """Call ``advance(start, stop, rows)`` over chunks of at most ``ADAPTIVE_CHUNK``
     samples, each ending at a sample time or at one of ``stops`` (the switches
     of the parts' schedules, where the solution has a kink the steps must not
-    straddle); ``rows`` are the samples in (start, stop]."""
+    straddle); ``rows`` are the samples in (start, stop].
+
+    Raises
+    ------
+    RequestTooLargeError
+        When the kernel has tried the most steps ``control`` allows.
+    IntegrationError
+        When the step size fell below round-off.
+    """
+    from tumble.core.adaptive import ACCEPTED, FAILED_AT, MOST_STEPS, REJECTED, STEP_LIMIT
+
     total = times.size - 1
     start = float(times[0])
     first = 1
@@ -317,10 +328,18 @@ def _adaptive_chunks(
             stop = float(inside[0])
             last = first + int(np.searchsorted(times[first:last], stop, side="right"))
         status = advance(start, stop, slice(first, last))
+        if status == STEP_LIMIT:
+            tried = control[ACCEPTED] + control[REJECTED]
+            raise RequestTooLargeError(
+                f"Expected the adaptive integration to end within {control[MOST_STEPS]:.3g} "
+                f"steps (max_steps), got {tried:.3g} steps to t = {control[FAILED_AT]:.6g} s "
+                f"of {times[-1]:.6g} s: the motion is too fast or too stiff for it; ask for a "
+                "shorter duration, or give dt with a fixed-step method (rk4)."
+            )
         if status != FINITE:
             raise IntegrationError(
                 "Expected the integration to stay finite, got a step size below round-off at "
-                f"t = {control[failed_at]:.6g} s (the state became NaN or infinite, "
+                f"t = {control[FAILED_AT]:.6g} s (the state became NaN or infinite, "
                 "or the torque is singular there)."
             )
         start = stop
@@ -331,7 +350,13 @@ def _adaptive_chunks(
 
 def run_exact(integrator: Any, problem: Problem, schedule: Schedule, progress: Progress) -> Samples:
     """The exact solution at ``schedule.times``: torque-free (a rigid body or a
-    gyrostat) or the Lagrange top under uniform gravity; no steps."""
+    gyrostat) or the Lagrange top under uniform gravity; no steps.
+
+    Raises
+    ------
+    IntegrationError
+        When the solution is not finite at some time (:func:`check_finite_motion`).
+    """
     body = problem.body
     if not problem.torque.torque_free:
         terms = problem.torque.terms
@@ -340,26 +365,48 @@ def run_exact(integrator: Any, problem: Problem, schedule: Schedule, progress: P
             np.zeros(3),
         )
         top = lagrange_top(body, gravity, problem.omega0, problem.attitude0)
-        omega, quaternion = top.at(schedule.times)
-        if progress is not None:
-            progress(schedule.n_steps, schedule.n_steps)
-        return Samples(omega, quaternion, np.zeros((len(omega), 0)), 0)
-    if body.parts:
+        samples = Samples(*top.at(schedule.times), np.zeros((schedule.times.size, 0)), 0)
+    elif body.parts:
         omega, quaternion, values = gyrostat_solution(
             body, problem.omega0, problem.attitude0, schedule.times
         )
-        if progress is not None:
-            progress(schedule.n_steps, schedule.n_steps)
-        return Samples(omega, quaternion, values, 0)
-    w, q = exact_principal(
-        body.moments,
-        body.to_principal(problem.omega0),
-        body.attitude_to_principal(problem.attitude0),
-        schedule.times,
-    )
+        samples = Samples(omega, quaternion, values, 0)
+    else:
+        w, q = exact_principal(
+            body.moments,
+            body.to_principal(problem.omega0),
+            body.attitude_to_principal(problem.attitude0),
+            schedule.times,
+        )
+        samples = _rigid(problem, w, q, 0)
+    check_finite_motion(schedule.times, samples)
     if progress is not None:
         progress(schedule.n_steps, schedule.n_steps)
-    return _rigid(problem, w, q, 0)
+    return samples
+
+
+def check_finite_motion(times: Array, samples: Samples) -> None:
+    """Refuse a closed-form motion that is not finite at some of ``times`` (s).
+
+    The closed forms are evaluated at a scale of order one, so what is left is
+    a motion whose own numbers leave float64 (a rotor's momentum beyond 1e308
+    kg·m²/s) or a phase lost at times so long that a turn is below round-off.
+
+    Raises
+    ------
+    IntegrationError
+        Naming the first such time.
+    """
+    finite = np.isfinite(samples.omega).all(axis=1) & np.isfinite(samples.quaternion).all(axis=1)
+    finite &= np.isfinite(samples.values).all(axis=1)
+    if not finite.all():
+        first = int(np.argmin(finite))
+        raise IntegrationError(
+            "Expected the closed-form motion to stay finite, got NaN or inf at "
+            f"t = {times[first]:.6g} s (sample {first}): its momentum or energy is beyond "
+            "float64's range, or t is too long to keep its phase; use SI values of an "
+            "ordinary size or a shorter duration."
+        )
 
 
 #: Fewer integration steps than this per turn of the fastest rotation trigger a

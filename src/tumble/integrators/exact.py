@@ -20,11 +20,12 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from tumble.body import ZERO_MOMENT, RigidBody
-from tumble.errors import InputError
+from tumble.errors import InputError, IntegrationError
 from tumble.massprops import MassProperties
 from tumble.parts import Rotor
 
 __all__ = [
+    "MAX_PHASE",
     "LagrangeTop",
     "exact_principal",
     "exact_solution",
@@ -61,16 +62,59 @@ def exact_principal(moments: Array, w0: Array, q0: Array, times: Array) -> tuple
     ascending principal ``moments`` (kg·m²)."""
     from tumble.core.freebody import free_attitude, momentum_frame
 
-    on_axis = np.count_nonzero(w0 == 0.0) >= 2 or moments[0] == moments[2]
-    if on_axis:
+    w0 = np.asarray(w0, dtype=float)
+    moment_exponent, rate_exponent = _order_one(moments, w0)
+    phases = _phases(times, rate_exponent)
+    moments, w0 = np.ldexp(moments, -moment_exponent), np.ldexp(w0, -rate_exponent)
+    if np.count_nonzero(w0 == 0.0) >= 2 or moments[0] == moments[2]:
         # Steady rotation about a principal axis, or any rotation of a sphere.
         start = Rotation.from_quat(q0, scalar_first=True)
-        attitude = start * Rotation.from_rotvec(np.outer(times, w0))
-        return np.tile(w0, (times.size, 1)), attitude.as_quat(scalar_first=True)
-    w0 = np.asarray(w0, dtype=float)
-    frame = momentum_frame(moments, w0, np.asarray(q0, dtype=float))  # its z axis along L
-    w, q = free_attitude(moments, w0, frame, times)
-    return w, q
+        attitude = start * Rotation.from_rotvec(np.outer(phases, w0))
+        w, q = np.tile(w0, (times.size, 1)), attitude.as_quat(scalar_first=True)
+    else:
+        frame = momentum_frame(moments, w0, np.asarray(q0, dtype=float))  # its z axis along L
+        w, q = free_attitude(moments, w0, frame, phases)
+    return np.ldexp(w, rate_exponent), q
+
+
+def _order_one(moments: Array, rates: Array) -> tuple[int, int]:
+    """The powers of two that bring the largest of ``moments`` and of ``|rates|``
+    to [0.5, 1).
+
+    A torque-free motion depends on the ratios of the moments only, and ω0
+    scaled by s gives s ω(s t): the closed forms are evaluated for the scaled
+    body, so that |L|², 2T and the elliptic constants (powers of up to four of
+    the moments and rates) stay far from float64's limits for any mass and any
+    rate it holds. Scaling by powers of two is exact.
+    """
+    largest_rate = float(np.max(np.abs(rates)))
+    return math.frexp(float(np.max(moments)))[1], math.frexp(largest_rate)[1]
+
+
+#: The largest phase (rad) a closed form is evaluated at: beyond 2^53 rad,
+#: neighbouring float64 numbers are a radian or more apart and a turn is lost.
+MAX_PHASE = 2.0**53
+
+
+def _phases(times: Array, rate_exponent: int) -> Array:
+    """``times`` (s) in the time unit of the rates scaled by 2^-``rate_exponent``
+    (:func:`_order_one`), in which a unit of time is about a radian of the motion.
+
+    Raises
+    ------
+    IntegrationError
+        When the last of them is past :data:`MAX_PHASE`.
+    """
+    scaled = np.ldexp(np.asarray(times, dtype=float), rate_exponent)
+    largest = float(np.max(np.abs(scaled), initial=0.0))
+    if not largest <= MAX_PHASE:
+        longest = float(np.max(np.abs(times)))
+        raise IntegrationError(
+            f"Expected a motion of at most 2**53 rad of phase for the closed form, got "
+            f"about {largest:.3g} rad (its rates times t = {longest:.6g} s), where a turn "
+            "is below float64's round-off: ask for a shorter duration or slower rates."
+        )
+    return scaled
 
 
 def symmetric_gyrostat(
@@ -95,22 +139,27 @@ def symmetric_gyrostat(
             "motors on the axis of symmetry) for the exact solution, got another body."
         )
     e = np.eye(3)[axis]
-    moments = body.moments
-    transverse, axial = moments[(axis + 1) % 3], moments[axis]
     w0 = body.to_principal(np.asarray(omega0, dtype=float))
     values0 = body.initial_values(np.asarray(omega0, dtype=float))
-    h = _axial_momentum(body, omega0, body.from_principal(e))
+    # Scaled to order one, as in exact_principal (h as a moment times a rate).
+    moment_exponent, _ = _order_one(body.moments, w0)
+    moments = np.ldexp(body.moments, -moment_exponent)
+    h = math.ldexp(_axial_momentum(body, omega0, body.from_principal(e)), -moment_exponent)
+    transverse, axial = moments[(axis + 1) % 3], moments[axis]
+    _, rate_exponent = _order_one(moments, np.append(w0, h / axial))
+    w0, h = np.ldexp(w0, -rate_exponent), math.ldexp(h, -rate_exponent)
+    phases = _phases(times, rate_exponent)
     spin = float(w0 @ e)
     rate = ((axial - transverse) * spin + h) / transverse
     momentum = transverse * (w0 - spin * e) + (axial * spin + h) * e
     size = float(np.linalg.norm(momentum))
     start = Rotation.from_quat(body.attitude_to_principal(attitude0), scalar_first=True)
     direction = start.apply(momentum / size)  # Ĥ in space
-    about_h = Rotation.from_rotvec(np.outer(times * size / transverse, direction))
-    about_e = Rotation.from_rotvec(np.outer(-rate * times, e))
+    about_h = Rotation.from_rotvec(np.outer(phases * size / transverse, direction))
+    about_e = Rotation.from_rotvec(np.outer(-rate * phases, e))
     attitude = about_h * start * about_e
-    turned = Rotation.from_rotvec(np.outer(rate * times, e)).apply(w0 - spin * e)
-    w = turned + spin * e
+    turned = Rotation.from_rotvec(np.outer(rate * phases, e)).apply(w0 - spin * e)
+    w = np.ldexp(turned + spin * e, rate_exponent)
     omega = body.from_principal(w)
     q = body.attitude_from_principal(attitude.as_quat(scalar_first=True))
     return omega, q, np.tile(values0, (len(times), 1))
@@ -178,6 +227,13 @@ def gyrostat_solution(
     h = _axial_momentum(body, omega0, axis)
     w0 = frame.T @ omega0
     start = Rotation.from_quat(attitude0, scalar_first=True) * to_body
+    # Scaled to order one, as in exact_principal (the rotors' momentum h as a moment
+    # times a rate), and back after.
+    moment_exponent, _ = _order_one(moments, w0)
+    moments, h = np.ldexp(moments, -moment_exponent), math.ldexp(h, -moment_exponent)
+    _, rate_exponent = _order_one(moments, np.append(w0, h / moments[2]))
+    w0, h = np.ldexp(w0, -rate_exponent), math.ldexp(h, -rate_exponent)
+    times = _phases(times, rate_exponent)
     rotor_momentum = np.array([0.0, 0.0, h])
     h0 = moments * w0 + rotor_momentum
     if h == 0.0:  # the rotors carry no momentum: the platform turns as a rigid body
@@ -191,7 +247,7 @@ def gyrostat_solution(
         w, attitude = _gyrostat_motion(
             gyrostat_constants(moments, h, *h0), moments, h0, rotor_momentum, start, times
         )
-    omega = w @ frame.T
+    omega = np.ldexp(w, rate_exponent) @ frame.T
     quaternion = (attitude * to_body.inv()).as_quat(scalar_first=True)
     momenta0 = [part.momenta(omega0, part.initial_values(omega0)) for part in body.parts]
     values = np.concatenate(
@@ -369,6 +425,8 @@ def symmetric_top(
         return LagrangeTop(None, frame, omega0, attitude0, up)  # a sleeping top
     from tumble.core.lagrange import top_constants
 
-    beta = 2.0 * mass_lever * weight / transverse
-    constants = top_constants(beta, axial * w[2] / transverse, w[2], k[0], k[1], k[2], w[0], w[1])
+    # Ratios of the moments first: a top of any mass within float64's range.
+    beta = 2.0 * (mass_lever / transverse) * weight
+    spin = axial / transverse * w[2]
+    constants = top_constants(beta, spin, w[2], k[0], k[1], k[2], w[0], w[1])
     return LagrangeTop(constants, frame, omega0, attitude0, up)

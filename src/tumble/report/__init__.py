@@ -145,26 +145,27 @@ def write_run(
         fails while writing (a full disk): no partial folder is left, and an
         existing folder is unchanged.
     """
-    from tumble.files import output_error
+    from tumble.files import created_parents, output_error
 
     target = Path(folder)
     check_folder(target, force)
     try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(
-            tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent)
-        )
+        with created_parents(target):
+            staging = Path(
+                tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent)
+            )
+            try:
+                _fill(result, staging, progress or (lambda _: None))
+                _replace(staging, target)
+            except BaseException:
+                shutil.rmtree(staging, ignore_errors=True)
+                raise
     except OSError as exc:
         raise output_error(exc, target, "the run folder") from exc
-    try:
-        _fill(result, staging, progress or (lambda _: None))
-        _replace(staging, target)
-    except BaseException as exc:
-        shutil.rmtree(staging, ignore_errors=True)
-        cause = exc.cause if isinstance(exc, OutputError) else exc
-        if not isinstance(cause, OSError):
+    except OutputError as exc:
+        if not isinstance(exc.cause, OSError):
             raise
-        raise output_error(cause, target, "the run folder") from cause
+        raise output_error(exc.cause, target, "the run folder") from exc.cause
     return target
 
 

@@ -106,16 +106,10 @@ def _within_steps(loaded: LoadedScenario, progress: Any) -> Any:
     """``progress`` behind a check of the steps the run announces: the stepping
     drivers report their total after their first chunk of steps (milliseconds),
     so a run over the limit is refused before it takes its time."""
-    from tumble.scenario.schema import MAX_STEPS, MAX_STEPS_TEXT
+    from tumble.scenario.execute import check_steps
 
     def report(done: int, total: int) -> None:
-        if total > MAX_STEPS:
-            raise ScenarioError(
-                f"{where(loaded, ('simulation',))}: Expected at most {MAX_STEPS_TEXT} steps, got "
-                f"{total:.3g} (dt follows the fastest rotation when it is not given): a scenario "
-                "should run in seconds (give a longer `dt` or a shorter `duration`, or use "
-                "tumble.simulate for long runs)."
-            )
+        check_steps(loaded, total)
         if progress is not None:
             progress(done, total)
 

@@ -28,8 +28,10 @@ from tumble.scenario.build import (
     mass_properties,
     torque_model,
 )
+from tumble.scenario.files import ScenarioError, where
 from tumble.scenario.gyrocompass import run_gyrocompass
 from tumble.scenario.sampling import decimate, record_every
+from tumble.scenario.schema import MAX_STEPS, MAX_STEPS_TEXT
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
@@ -142,9 +144,27 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
     )
 
 
+def check_steps(loaded: LoadedScenario, total: int) -> None:
+    """Refuse a run of more than :data:`~tumble.scenario.schema.MAX_STEPS` steps.
+
+    Raises
+    ------
+    ScenarioError
+        Naming the file, the line and ``[simulation]``.
+    """
+    if total > MAX_STEPS:
+        raise ScenarioError(
+            f"{where(loaded, ('simulation',))}: Expected at most {MAX_STEPS_TEXT} steps, got "
+            f"{total:.3g} (dt follows the fastest rotation when it is not given): a scenario "
+            "should run in seconds (give a longer `dt` or a shorter `duration`, or use "
+            "tumble.simulate for long runs)."
+        )
+
+
 def _rigid_body(
     loaded: LoadedScenario, mp: MassProperties, parts: tuple[Any, ...], progress: Progress
 ) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str | None, list[str]]:
+    from tumble.integrators.drivers import whole_steps
     from tumble.parts import value_columns
     from tumble.simulation import check_recording, prepare, simulate
 
@@ -166,6 +186,8 @@ def _rigid_body(
             dt = sim.duration / spec.output.samples
         # The default step is known here, so that only the samples kept are recorded.
         step = prepared.step_size(dt, sim.duration)
+        if prepared.integrator.kind == "stepping":
+            check_steps(loaded, whole_steps(sim.duration, step))
         every = record_every(sim.duration, step, spec.output.samples)
         check_recording(
             sim.duration, step, every, len(value_columns(prepared.body.parts)),
@@ -185,6 +207,7 @@ def _rigid_body(
             record_every=every,
             progress=progress,
             internal=parts,
+            max_steps=MAX_STEPS,
         )
     traj = decimate(traj, spec.output.samples)
     options: dict[str, Any] = {"method": sim.method, "dt": dt, "samples": spec.output.samples}

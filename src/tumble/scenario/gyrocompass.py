@@ -15,7 +15,7 @@ import numpy as np
 
 from tumble.checks import THEORY_CHECKS, Curve, Panel, Setup
 from tumble.scenario.build import at_key
-from tumble.scenario.sampling import decimate, kept, record_every
+from tumble.scenario.sampling import decimate, kept
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
@@ -47,7 +47,6 @@ def run_gyrocompass(
     rows: list[dict[str, Any]] = []
     curves: list[Curve] = []
     total = len(settings.amplitudes)
-    every = record_every(spec.simulation.duration, spec.simulation.dt, spec.output.samples)
     for k, amplitude in enumerate(settings.amplitudes):
         label = "main" if k == 0 else f"amplitude-{math.degrees(amplitude):.0f}deg"
 
@@ -59,7 +58,7 @@ def run_gyrocompass(
             run = models.gyrocompass(
                 mp, settings.spin_rate, settings.platform_rate, 0.0,
                 angle_rate0=beta * amplitude, duration=spec.simulation.duration,
-                dt=spec.simulation.dt, record_every=every, progress=report,
+                dt=spec.simulation.dt, samples=spec.output.samples, progress=report,
             )  # fmt: skip
         index = kept(len(run.trajectory.t), spec.output.samples)
         traj = decimate(run.trajectory, spec.output.samples)

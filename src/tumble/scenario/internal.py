@@ -38,12 +38,14 @@ spring–mass damper is always given by its ``mass`` (a point mass tumble adds a
 from __future__ import annotations
 
 import difflib
+import math
 from typing import Annotated, Any
 
 import numpy as np
 from pydantic import model_validator
 
 from tumble.config import StrictModel, key_error
+from tumble.errors import InputError
 from tumble.scenario.bodies import (
     AngularVelocity,
     Length,
@@ -161,7 +163,13 @@ class InternalSpec(StrictModel):
             return self.inertia
         assert self.mass is not None and self.radius is not None  # checked on validation
         factor = 0.5 if self.type == "rotor" else 0.4
-        return factor * self.mass * self.radius**2
+        moment = factor * self.mass * self.radius * self.radius
+        if not math.isfinite(moment):
+            raise InputError(
+                f"Expected a {self.type} whose moment of inertia {factor} m r² is within "
+                f"float64's range, got m = {self.mass:.6g} kg and r = {self.radius:.6g} m."
+            )
+        return moment
 
     def part(self) -> Any:
         """The library's part (:class:`tumble.Rotor` or :class:`tumble.KaneDamper`).

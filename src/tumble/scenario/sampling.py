@@ -30,8 +30,6 @@ def decimate(traj: Trajectory, samples: int) -> Trajectory:
     return traj.samples(index)
 
 
-def record_every(duration: float, dt: float | None, samples: int) -> int:
+def record_every(duration: float, dt: float, samples: int) -> int:
     """The step count between kept samples: about ``samples`` over ``duration``."""
-    if dt is None:
-        return 1
     return max(1, math.ceil(duration / dt) // samples)

@@ -229,23 +229,24 @@ def gyroscope(
     m = mp.mass
     arm = float(offset[2])
     transverse = transverse_com + m * arm * arm
-    spin_momentum = axial * w
-    torque = m * g * arm  # m g l
+    # The steady precession I⊥' cos θ Ω² − I_s ω_s Ω + m g l = 0 divided by I⊥':
+    # cos θ Ω² − a Ω + b = 0 in rates, free of the mass's scale (a top of 1e308 kg
+    # or 1e-300 kg).
+    a = axial / transverse * w  # I_s ω_s / I⊥'
+    b = m / transverse * arm * g  # m g l / I⊥'
     rates: tuple[float, float] | None = None
     small: tuple[float, float] | None = None
-    a_coef = transverse * cos_t
-    discriminant = spin_momentum * spin_momentum - 4.0 * a_coef * torque
+    discriminant = a * a - 4.0 * cos_t * b
     if discriminant >= 0:
-        root = math.copysign(math.sqrt(discriminant), spin_momentum) + spin_momentum
-        slow = 2.0 * torque / root
-        fast = root / (2.0 * a_coef) if a_coef != 0 else math.copysign(math.inf, root)
+        root = math.copysign(math.sqrt(discriminant), a) + a
+        slow = 2.0 * b / root
+        fast = root / (2.0 * cos_t) if cos_t != 0 else math.copysign(math.inf, root)
         rates = (slow, fast)
-        a = spin_momentum / transverse
         small = (
             math.hypot(a - 2.0 * slow * cos_t, slow * sin_t),
             math.hypot(a - 2.0 * fast * cos_t, fast * sin_t),
         )
-    if torque != 0.0:
+    if b != 0.0:
         motion, limits, period, mean_rate = _heavy(
             transverse, axial, m * arm, g, omega, q0, theta, across == 0.0
         )
@@ -261,12 +262,12 @@ def gyroscope(
         axial_moment=axial,
         transverse_moment=transverse,
         lever_arm=arm,
-        precession_rate=torque / spin_momentum,
+        precession_rate=b / a,
         precession_rates=rates,
         mean_precession_rate=mean_rate,
-        nutation_frequency=abs(spin_momentum) / transverse,
+        nutation_frequency=abs(a),
         small_nutation_frequencies=small,
-        nutation_amplitude=abs(torque) * transverse * sin_t / spin_momentum**2,
+        nutation_amplitude=abs(b / a) * sin_t / abs(a),
         nutation_limits=limits,
         nutation_period=period,
         _motion=motion,
@@ -324,8 +325,8 @@ def _heavy(
     )
     period, mean_rate, _ = top.mean_rates()
     if top.constants is None:  # sleeping on the vertical
-        a = axial * float(omega[2]) / transverse
-        beta = 2.0 * abs(mass_lever) * g / transverse
+        a = axial / transverse * float(omega[2])
+        beta = 2.0 * (abs(mass_lever) / transverse) * g
         upright = (theta == 0.0) != flip  # the centre of mass above the pivot
         if upright and a * a < 2.0 * beta:  # unstable: the separatrix's reach
             reach = 2.0 * math.acos(math.sqrt(a * a / (2.0 * beta)))
