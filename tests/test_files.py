@@ -83,6 +83,12 @@ def test_a_name_too_long_for_the_file_system_is_refused(tmp_path: Path) -> None:
     ):
         check_output(tmp_path / ("x" * (longest + 45)), "the output", folder=True)
     check_output(tmp_path / ("x" * (longest - 24)), "the output", folder=True)
+    # Only the output itself gets a temporary name: the folders made above it,
+    # and a folder written into (a sweep's), may take the whole length.
+    check_output(tmp_path / ("y" * longest) / "out", "the output", folder=True)
+    check_output(tmp_path / ("z" * longest), "the output", folder=True, staged=False)
+    with pytest.raises(OutputError, match=rf"names of at most {longest} bytes, got .* has "):
+        check_output(tmp_path / ("z" * (longest + 1)), "the output", folder=True, staged=False)
 
 
 def test_a_broken_link_is_refused_as_the_output_and_above_it(tmp_path: Path) -> None:

@@ -20,7 +20,8 @@ stalling; run it by hand, with hypothesis's counts of examples and outcomes::
     TUMBLE_HYPOTHESIS=fuzz .venv/bin/pytest tests/test_fuzz.py --hypothesis-show-statistics
 
 ``TUMBLE_FUZZ_EXAMPLES=N`` sets the examples per test of that profile (5000 by
-default: about 35,000 in all, 15 to 30 minutes on two cores). Scenarios run in a
+default: 35,250 in all, 11 minutes on two cores; the counts of the last run are
+in bench/RESULTS.md). Scenarios run in a
 child process that times each run itself (:class:`fuzzing.ScenarioRunner`,
 ``RUN_LIMIT``): a compiled kernel cannot be interrupted, and the first run of a
 kernel also compiles it.

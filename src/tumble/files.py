@@ -54,11 +54,16 @@ def output_error(cause: OSError, path: str | os.PathLike[str], what: str) -> Out
     return OutputError(message + ".", str(path), cause)
 
 
-def check_output(path: str | os.PathLike[str], what: str, *, folder: bool) -> None:
+def check_output(
+    path: str | os.PathLike[str], what: str, *, folder: bool, staged: bool = True
+) -> None:
     """Refuse, before any work, an output location that cannot be written.
 
     ``path`` is a file (``folder`` false) or a folder (true) to be created or
-    replaced; ``what`` names it in messages (e.g. "the run folder"). The
+    replaced; ``what`` names it in messages (e.g. "the run folder");
+    ``staged``: it is written under a temporary name beside it (a prefix and a
+    suffix of up to 24 bytes) and moved into place, as files and run folders
+    are; a sweep's folder is written into instead. The
     folders above it that do not exist yet will be created. Checked: that no
     name is longer than the file system allows; that the path is not a broken
     symbolic link; that a folder is not a file and a file not a folder; that
@@ -83,16 +88,15 @@ def check_output(path: str | os.PathLike[str], what: str, *, folder: bool) -> No
         longest = os.pathconf(above, "PC_NAME_MAX") if above.is_dir() else 255
     except (OSError, ValueError):
         longest = 255
-    # The temporary names beside a file or a replaced folder add a prefix and a suffix.
-    room = longest - 24
-    too_long = [name for name in missing if len(os.fsencode(name)) > room]
-    if too_long:
-        raise OutputError(
-            f"Expected {what} with names of at most {room} bytes, got {shown[:60]!r}..., "
-            f"whose name {too_long[0][:40]!r}... has {len(os.fsencode(too_long[0]))} bytes "
-            "(use a shorter name).",
-            shown,
-        )
+    for k, name in enumerate(missing):
+        room = longest - 24 if staged and k == 0 else longest
+        if len(os.fsencode(name)) > room:
+            raise OutputError(
+                f"Expected {what} with names of at most {room} bytes, got {shown[:60]!r}..., "
+                f"whose name {name[:40]!r}... has {len(os.fsencode(name))} bytes "
+                "(use a shorter name).",
+                shown,
+            )
     if os.path.lexists(target) and not _exists(target):
         raise OutputError(
             f"Expected {what} at a path that exists or can be made, got {shown!r}, a broken "

@@ -71,7 +71,7 @@ class SweepStore:
         from tumble import __version__
 
         path = Path(folder)
-        check_output(path, "the sweep's output folder", folder=True)
+        check_output(path, "the sweep's output folder", folder=True, staged=False)
         identity = plan.identity()
         record = {
             "format": FORMAT,
