@@ -24,6 +24,8 @@ $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[dev]'
+	@echo "Compiling the default run's kernels (tumble warm-up)"
+	$(BIN)/tumble warm-up --quiet
 	@touch $(STAMP)
 
 # The main job: the built-in gyroscope scenario; it prints where its report is.

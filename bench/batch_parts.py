@@ -21,28 +21,14 @@ Run from the repository root::
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
-from collections.abc import Callable
 
 import numpy as np
 
 import tumble as tb
-from machine import describe
+from machine import describe, median_rate
 
 J = 0.5
 DT = 1e-2
-
-
-def median_rate(run: Callable[[], object], body_steps: float, repeat: int) -> float:
-    """Body-steps per second: the median over ``repeat`` timed runs (after one warm-up)."""
-    run()
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        run()
-        times.append(time.perf_counter() - start)
-    return body_steps / statistics.median(times)
 
 
 def main() -> None:

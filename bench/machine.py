@@ -1,4 +1,5 @@
-"""The head of every benchmark's output: the date, the machine and the versions.
+"""What the benchmarks share: the head of every output (the date, the machine
+and the versions), and a median rate.
 
 Machines here are shared, noisy and not all alike: a benchmark compares tumble
 with its peers in one run and prints where it ran.
@@ -9,6 +10,9 @@ from __future__ import annotations
 import datetime
 import os
 import platform
+import statistics
+import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numba
@@ -35,3 +39,14 @@ def describe(versions: dict[str, str]) -> str:
         f"numba {numba.__version__} ({numba.get_num_threads()} threads), "
         f"Python {platform.python_version()}"
     )
+
+
+def median_rate(run: Callable[[], object], body_steps: float, repeat: int) -> float:
+    """Body-steps per second: the median over ``repeat`` timed runs (after one warm-up)."""
+    run()
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        run()
+        times.append(time.perf_counter() - start)
+    return body_steps / statistics.median(times)

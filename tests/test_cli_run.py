@@ -6,6 +6,7 @@ import errno
 import json
 import os
 import re
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -86,6 +87,25 @@ def test_run_a_file_writes_the_folder_and_prints_the_report(quick: Path, tmp_pat
     assert f"Report: {out_dir / 'report.html'}" in out.replace("\n", "")
     for name in ("trajectory.parquet", "summary.json", "report.html", "viewer.html", "omega.png"):
         assert (out_dir / name).is_file()
+
+
+@pytest.mark.parametrize(
+    ("flags", "figures", "viewer"),
+    [(["--no-figures"], False, True), (["--no-viewer"], True, False),
+     (["--no-figures", "--no-viewer"], False, False)],
+)  # fmt: skip
+def test_figures_and_the_viewer_can_be_left_out(
+    quick: Path, tmp_path: Path, flags: list[str], figures: bool, viewer: bool
+) -> None:
+    quick.write_text(FULL)
+    out_dir = tmp_path / "out"
+    code, _, err = invoke("run", str(quick), "-o", str(out_dir), "-q", *flags)
+    assert code == 0, err
+    assert (out_dir / "omega.png").is_file() == figures
+    assert (out_dir / "viewer.html").is_file() == viewer
+    summary = json.loads((out_dir / "summary.json").read_text())
+    assert ("omega.png" in summary["files"]) == figures
+    assert ("<img" in (out_dir / "report.html").read_text()) == figures
 
 
 def test_json_prints_the_summary(quick: Path, tmp_path: Path) -> None:
@@ -419,3 +439,21 @@ def test_running_out_of_memory_is_one_line(
         "error: Expected the request to fit in memory, got a MemoryError (Unable to allocate "
         "7.28 TiB): record fewer samples, or run a sweep, which streams its results to disk."
     ]
+
+
+def test_warm_up_runs_each_scenario_and_keeps_nothing(
+    quick: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("TMPDIR", str(tmp_path))
+    monkeypatch.setattr(tempfile, "tempdir", None)  # TMPDIR is read again
+    code, out, err = invoke("warm-up", str(quick))
+    assert code == 0, err
+    assert re.fullmatch(r"quick: ready \(\d+\.\d s\)\n", out)
+    assert only_entries(tmp_path) == ["quick.toml"]
+
+
+def test_warm_up_of_an_unknown_scenario_is_one_line() -> None:
+    code, out, err = invoke("warm-up", "gyroscop")
+    assert code == 2 and out == ""
+    (line,) = err.strip().splitlines()
+    assert line.startswith("error: ") and "gyroscope" in line

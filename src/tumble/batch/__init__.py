@@ -401,8 +401,10 @@ def _attitudes(attitude0: Any, n: int) -> Array:
 
 def _check_moments(moments: Array) -> None:
     """Positive moments satisfying the triangle inequality, for every body."""
-    low = np.min(moments, axis=1)
-    high = np.max(moments, axis=1)
+    # Column by column: reductions along the short axis of (N, 3) are ~10× slower.
+    first, second, third = moments[:, 0], moments[:, 1], moments[:, 2]
+    low = np.minimum(np.minimum(first, second), third)
+    high = np.maximum(np.maximum(first, second), third)
     bad = np.flatnonzero(~(low > ZERO_MOMENT * high))
     if bad.size:
         k = int(bad[0])
@@ -410,8 +412,8 @@ def _check_moments(moments: Array) -> None:
             f"Expected every body to have positive principal moments, got body {k} with "
             f"{moments[k].tolist()} kg·m²."
         )
-    ordered = np.sort(moments, axis=1)
-    short = ordered[:, 0] + ordered[:, 1] < ordered[:, 2] * (1 - PHYSICAL_TOLERANCE)
+    # The two smaller moments sum to the total less the largest.
+    short = (first + second + third) - high < high * (1 - PHYSICAL_TOLERANCE)
     broken = np.flatnonzero(short)
     if broken.size:
         k = int(broken[0])

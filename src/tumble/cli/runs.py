@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 from typing import Annotated, Any
@@ -11,17 +12,20 @@ import typer
 from tumble.cli.app import app, run_command
 from tumble.cli.progress import LazyProgress
 
-__all__ = ["run_scenario", "sweep"]
+__all__ = ["run_scenario", "scenario_argument", "sweep", "warm_up", "without_outputs"]
+
+
+def scenario_argument(help_text: str) -> Any:
+    """The argument naming a scenario: a built-in name or a file."""
+    return typer.Argument(metavar="SCENARIO|FILE.toml", help=help_text, show_default=False)
 
 
 @app.command("run")
 def run_scenario(
     scenario: Annotated[
         str | None,
-        typer.Argument(
-            metavar="SCENARIO|FILE.toml",
-            help="A built-in scenario (see `tumble list`) or a scenario file; default: gyroscope.",
-            show_default=False,
+        scenario_argument(
+            "A built-in scenario (see `tumble list`) or a scenario file; default: gyroscope."
         ),
     ] = None,
     output: Annotated[
@@ -41,6 +45,13 @@ def run_scenario(
     as_json: Annotated[
         bool, typer.Option("--json", help="Print the run's summary as JSON on stdout.")
     ] = False,
+    no_figures: Annotated[
+        bool,
+        typer.Option("--no-figures", help="Write no PNG figures (as [output] figures = false)."),
+    ] = False,
+    no_viewer: Annotated[
+        bool, typer.Option("--no-viewer", help="Write no 3D viewer (as [output] viewer = false).")
+    ] = False,
 ) -> None:
     """Simulate a scenario, compare with theory, and write a run folder with a report."""
 
@@ -52,7 +63,7 @@ def run_scenario(
         from tumble.report import write_run
         from tumble.scenario import load, run
 
-        loaded = load(scenario)
+        loaded = without_outputs(load(scenario), figures=not no_figures, viewer=not no_viewer)
         folder = output if output is not None else default_folder(loaded.name)
         check_folder(folder, force)  # before simulating
         with LazyProgress(enabled=not quiet) as progress:
@@ -71,6 +82,54 @@ def run_scenario(
             print_run(result, folder)
 
     run_command(work)
+
+
+@app.command("warm-up")
+def warm_up(
+    scenarios: Annotated[
+        list[str] | None,
+        scenario_argument(
+            "The scenarios to prepare for; default: gyroscope (what `tumble run` runs)."
+        ),
+    ] = None,
+    every: Annotated[
+        bool, typer.Option("--all", help="Prepare for every built-in scenario.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")] = False,
+) -> None:
+    """Compile the kernels a run needs into numba's cache, and fill matplotlib's font
+    cache, so that the first `tumble run` is as fast as the later ones (`make setup`
+    runs it). Each scenario is run and its folder written to a temporary place."""
+
+    def work() -> None:
+        import tempfile
+        import time
+
+        from tumble.report import write_run
+        from tumble.scenario import builtin_names, load, run
+
+        names = builtin_names() if every else (scenarios or ["gyroscope"])
+        with tempfile.TemporaryDirectory(prefix="tumble-warm-up-") as place:
+            for name in names:
+                start = time.perf_counter()
+                loaded = load(name)
+                write_run(run(loaded), Path(place) / loaded.name)
+                if not quiet:
+                    typer.echo(f"{loaded.name}: ready ({time.perf_counter() - start:.1f} s)")
+
+    run_command(work)
+
+
+def without_outputs(loaded: Any, *, figures: bool, viewer: bool) -> Any:
+    """``loaded`` (a :class:`~tumble.scenario.LoadedScenario`) with its figures or
+    viewer turned off when ``figures`` or ``viewer`` is false."""
+    output = loaded.spec.output
+    if (figures or not output.figures) and (viewer or not output.viewer):
+        return loaded
+    changed = output.model_copy(
+        update={"figures": output.figures and figures, "viewer": output.viewer and viewer}
+    )
+    return dataclasses.replace(loaded, spec=loaded.spec.model_copy(update={"output": changed}))
 
 
 @app.command("sweep")

@@ -35,13 +35,7 @@ import numba
 import numpy as np
 
 from tumble.core._jit import njit
-from tumble.core.dynamics import rotate_to_body
-
-
-@njit(inline="always")
-def no_torque(t, w, q, params, row, column, context):  # type: ignore[no-untyped-def]
-    """Zero: the torque of a free body."""
-    return 0.0, 0.0, 0.0, 0.0
+from tumble.core.dynamics import free_torque, rotate_to_body
 
 
 @njit(inline="always")
@@ -196,10 +190,13 @@ def combine(terms):  # type: ignore[no-untyped-def]
     """One compiled torque function ``torque(t, w, q, params, column, context)`` for
     ``terms``, a sequence of ``(kernel, row)``: the sum of each kernel reading its
     fields from ``row`` on. The kernels and rows are constants of the closures
-    built here, so the compiler inlines every term (and folds away zeros)."""
-    combined = _bound(no_torque, 0)
-    for index, (kernel, row) in enumerate(terms):
-        combined = _bound(kernel, row) if index == 0 else _sum(combined, _bound(kernel, row))
+    built here, so the compiler inlines every term (and folds away zeros); no
+    terms give :func:`~tumble.core.dynamics.free_torque`."""
+    if not terms:
+        return free_torque  # recognised by tumble.core.dynamics.rates
+    combined = _bound(*terms[0])
+    for kernel, row in terms[1:]:
+        combined = _sum(combined, _bound(kernel, row))
     return combined
 
 
