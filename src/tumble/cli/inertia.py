@@ -138,7 +138,6 @@ def _build_body(
 
     from tumble import shapes
     from tumble.errors import InputError
-    from tumble.mesh import from_mesh
 
     shape_name = body.strip().lower().replace("-", "_")
     if shape_name in shapes.__all__:
@@ -164,6 +163,8 @@ def _build_body(
         return shape_name.replace("_", "-"), function(mass, **dimensions)
     path = Path(body)
     if path.suffix.lower() in MESH_SUFFIXES or path.exists():
+        from tumble.mesh import from_mesh  # numba and trimesh: only for meshes
+
         if dimensions:
             raise InputError(
                 f"Expected --density or --mass (and --units) for a mesh, "
