@@ -11,7 +11,9 @@ quaternion, renormalised each step), all in one run, medians of repeats:
   block, full fast-math, no features but the renormalisation, so that its
   results are tumble's): the speed a hand-written numba kernel reaches here.
   tumble's ratio to it, and the largest difference of the states (≤ 1e-12);
-* the fourth-order splitting (one body per thread at a time), and its ratio to
+* the splittings, fourth order (``splitting``) and second (``strang``),
+  vectorised across the bodies of a block like RK4 (their sines and cosines
+  are :func:`tumble.core.trig.cos_sin`), at the same step, and their ratios to
   tumble's RK4;
 * the same RK4 written with numpy arrays over all bodies;
 * the closed form (``method="exact"``, one evaluation a body whatever the
@@ -193,7 +195,8 @@ def one_size(n: int, rng: np.random.Generator, steps: int, repeat: int, peak: fl
     short = max(2, steps // 10)
     ours = median_rate(lambda: batch("rk4", steps), n * steps, repeat)
     reference = median_rate(bare, n * steps, repeat)
-    split = median_rate(lambda: batch("splitting", short), n * short, repeat)
+    split = median_rate(lambda: batch("splitting", steps), n * steps, repeat)
+    strang = median_rate(lambda: batch("strang", steps), n * steps, repeat)
     theirs = median_rate(numpy_run, n * short, repeat)
     result = tb.simulate_batch(moments, omega, duration=steps * dt, dt=dt)
     w, q = bare()
@@ -203,7 +206,7 @@ def one_size(n: int, rng: np.random.Generator, steps: int, repeat: int, peak: fl
     print(
         f"{n:9d} {ours:17.3g} {reference:11.3g} {ours / reference:8.2f} {difference:10.1e} "
         f"{100 * ours * FLOP_PER_BODY_STEP / peak:5.1f}% {split:10.3g} {split / ours:9.3f} "
-        f"{theirs:10.3g} {ours / theirs:9.1f}"
+        f"{strang:10.3g} {strang / ours:10.3f} {theirs:10.3g} {ours / theirs:9.1f}"
     )
     exact = median_rate(lambda: batch("exact", 10**6), n, repeat)  # body-evaluations a second
     return n, 1.0 / exact, ours / exact
@@ -223,12 +226,12 @@ def main() -> None:
     rng = np.random.default_rng(0)
     # Compile (or load) every kernel before timing.
     bare_rk4(np.ones((3, 8)), np.vstack([np.ones(8), np.zeros((3, 8))]), np.ones((3, 8)), 1e-3, 1)
-    for method in ("rk4", "splitting", "exact"):
+    for method in ("rk4", "splitting", "strang", "exact"):
         tb.simulate_batch(np.ones((2, 3)), np.ones((2, 3)), duration=1e-3, dt=1e-3, method=method)
     print(
         f"{'N':>9s} {'rk4 body-steps/s':>17s} {'bare kernel':>11s} {'rk4/bare':>8s} "
         f"{'max |diff|':>10s} {'% peak':>6s} {'splitting':>10s} {'split/rk4':>9s} "
-        f"{'numpy rk4':>10s} {'rk4/numpy':>9s}"
+        f"{'strang':>10s} {'strang/rk4':>10s} {'numpy rk4':>10s} {'rk4/numpy':>9s}"
     )
     rows = [one_size(n, rng, args.steps, args.repeat, peak) for n in (10**4, 10**5, 10**6)]
     # The closed form's cost does not depend on the duration: one evaluation a

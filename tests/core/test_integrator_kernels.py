@@ -31,7 +31,8 @@ USER = combine([(user_torque, 0)])
 def splitting_run(
     w, q, inertia, params, dt, n_steps, first, every, out_w, out_q, order, torque=FORCED
 ):
-    run = splitting.single_kernel(torque, f"test.{id(torque)}", order)
+    step = splitting.strang_step if order == 2 else splitting.yoshida_step
+    run = stepping.single_kernel(step, torque, f"test.{id(torque)}", splitting.MOMENTUM)
     return run(w, q, inertia, params, 0.0, dt, n_steps, first, every, out_w, out_q)
 
 

@@ -11,8 +11,8 @@ Equations: Euler's ``I ω̇ + ω × (I ω) = τ``, in the principal frame
 ``I1 ω̇1 + (I3 − I2) ω2 ω3 = τ1`` and cyclic, and ``q̇ = ½ q ⊗ (0, ω)``.
 
 The body enters the kernels as its :func:`euler_coefficients`
-``c1 = (I2 − I3)/I1`` (cyclic) and ``r = 1/I``, so that a step needs
-multiplications only (they vectorise across bodies). The torque enters as a
+``c1 = (I2 − I3)/I1`` (cyclic), ``r = 1/I`` and the moments themselves, so
+that a step needs multiplications only (they vectorise across bodies). The torque enters as a
 compiled function of the shared signature of :mod:`tumble.core.torques`,
 ``torque(t, w, q, params, column, context) -> (τ1, τ2, τ3, c)``: the torque on
 the body is ``τ − c ω`` (N·m, principal-body axes). A free body's torque is
@@ -34,9 +34,12 @@ from tumble.core._jit import njit
 
 @njit(inline="always")
 def euler_coefficients(i1, i2, i3):  # type: ignore[no-untyped-def]
-    """``(c1, c2, c3, r1, r2, r3)``: ``c1 = (I2 − I3)/I1`` (cyclic), ``r = 1/I``, from
-    the principal moments (kg·m², scalars or arrays of the same shape)."""
-    return (i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3, 1.0 / i1, 1.0 / i2, 1.0 / i3
+    """``(c1, c2, c3, r1, r2, r3, I1, I2, I3)``: ``c1 = (I2 − I3)/I1`` (cyclic),
+    ``r = 1/I`` and the moments, from the principal moments (kg·m², scalars or
+    arrays of the same shape)."""
+    return (
+        (i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3, 1.0 / i1, 1.0 / i2, 1.0 / i3, i1, i2, i3
+    )  # fmt: skip
 
 
 @njit(inline="always")
@@ -57,9 +60,15 @@ def free_torque(t, w, q, params, column, context):  # type: ignore[no-untyped-de
     return 0.0, 0.0, 0.0, 0.0
 
 
+def is_free(torque) -> bool:  # type: ignore[no-untyped-def]
+    """Whether the numba type of a torque function is that of :func:`free_torque`:
+    for the overloads that leave out the torque's terms while compiling."""
+    return isinstance(torque, types.Dispatcher) and torque.dispatcher is free_torque
+
+
 def _with_torque(torque, t, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
     w1, w2, w3, q0, q1, q2, q3 = state
-    c1, c2, c3, r1, r2, r3 = coefficients
+    c1, c2, c3, r1, r2, r3 = coefficients[:6]
     t1, t2, t3, c = torque(t, (w1, w2, w3), (q0, q1, q2, q3), params, column, context)
     return (
         (t1 - c * w1) * r1 + c1 * w2 * w3,
@@ -81,9 +90,7 @@ def euler_rates(torque, t, state, coefficients, params, column, context):  # typ
 
 @overload(euler_rates, inline="always")
 def _euler_rates(torque, t, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
-    if isinstance(torque, types.Dispatcher) and torque.dispatcher is free_torque:
-        return _without_torque
-    return _with_torque
+    return _without_torque if is_free(torque) else _with_torque
 
 
 @njit(inline="always")

@@ -427,11 +427,11 @@ def _kick(torque, drive, layout, t, hold, h, y, system):  # type: ignore[no-unty
 @njit(inline="always")
 def _strang(torque, drive, layout, t, h, hold, y, system):  # type: ignore[no-untyped-def]
     """kick(h/2) ∘ link(h/2) ∘ free(h) ∘ link(h/2) ∘ kick(h/2), from time t."""
-    moments = system[0]
+    inverse = system[1]
     _kick(torque, drive, layout, t, hold, 0.5 * h, y, system)
     _link(layout, 0.5 * h, y, system)
     y[0], y[1], y[2], y[3], y[4], y[5], y[6] = free_flow(
-        h, y[0], y[1], y[2], y[3], y[4], y[5], y[6], moments[0], moments[1], moments[2]
+        h, y[0], y[1], y[2], y[3], y[4], y[5], y[6], inverse[0], inverse[1], inverse[2]
     )
     _link(layout, 0.5 * h, y, system)
     _kick(torque, drive, layout, t + h, hold, 0.5 * h, y, system)

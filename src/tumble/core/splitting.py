@@ -1,8 +1,12 @@
 """Symplectic splitting of a rigid body's motion: exact rotations and torque kicks.
 
-The state is the body's angular momentum ``L`` in principal-body coordinates
-(kg·m²/s, inertia diag(I1, I2, I3), ascending) and the attitude quaternion
-``q`` (principal → space). The kernels take and return ω = L / I.
+The method works on the body's angular momentum ``L`` in principal-body
+coordinates (kg·m²/s, inertia diag(I1, I2, I3), ascending) and the attitude
+quaternion ``q`` (principal → space). Its steps are steppers of
+:mod:`tumble.core.stepping` of these variables (:data:`MOMENTUM`), so one body, a
+batch vectorised across bodies and a measured batch run it as they run RK4:
+the rotations' sines and cosines are :func:`tumble.core.trig.cos_sin`, which
+vectorises, and every choice inside a step is a select, not a branch.
 
 The kinetic energy is split into three parts whose flows are exact rotations
 (in the spirit of Dullweber, Leimkuhler & McLachlan, J. Chem. Phys. 107 (1997)
@@ -34,7 +38,10 @@ One Strang step of length h at time t:
 and time-reversible; with a conservative torque (gravity) it is symplectic,
 so the energy error stays bounded over any number of steps. The fourth-order
 method is Yoshida's triple jump of that step (Phys. Lett. A 150 (1990) 262):
-steps of w1 h, w0 h, w1 h with w1 = 1/(2 − 2^(1/3)), w0 = 1 − 2 w1.
+steps of w1 h, w0 h, w1 h with w1 = 1/(2 − 2^(1/3)), w0 = 1 − 2 w1. For a
+free body the three steps' adjacent rotations about axis 1 merge, and the
+rotations about L (which commute with the others) merge into one, so the step
+takes eight sines and cosines rather than twelve; the map is the same.
 """
 
 from __future__ import annotations
@@ -42,20 +49,31 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import types
+from numba.extending import overload
 
-from tumble.core._jit import FINITE, njit, njit_parallel, prange, specialise
-from tumble.core.dynamics import is_finite, normalised, record
+from tumble.core._jit import njit
+from tumble.core.dynamics import is_free, normalised
 from tumble.core.freebody import free_step
-from tumble.core.metrics import (
-    ENERGY_DEVIATION,
-    FIRST_FLIP,
-    FLIPS,
-    MIN_COS,
-    MOMENTUM_DEVIATION,
-    finish,
-    initial,
-    observe,
-)
+from tumble.core.stepping import Variables
+from tumble.core.trig import LARGEST_ANGLE, cos_sin
+
+__all__ = [
+    "MOMENTUM",
+    "YOSHIDA_INNER",
+    "YOSHIDA_OUTER",
+    "decay_integral",
+    "exact_free_flow",
+    "exact_strang_step",
+    "exact_yoshida_step",
+    "free_flow",
+    "momentum_state",
+    "strang_step",
+    "sub_steps",
+    "turn",
+    "velocity_state",
+    "yoshida_step",
+]
 
 YOSHIDA_OUTER = 1.0 / (2.0 - 2.0 ** (1.0 / 3.0))
 YOSHIDA_INNER = 1.0 - 2.0 * YOSHIDA_OUTER
@@ -85,47 +103,91 @@ def _plane_rotation(x, y, c, s):  # type: ignore[no-untyped-def]
     1 whatever the rounding of its coefficient, so a rotation repeated with the
     same angle step after step (a steady spin) keeps the length of the vector
     bounded instead of scaling it by the same 1 + O(ε) every step. Larger
-    angles (far too coarse a step) use the rotation matrix.
+    angles (far too coarse a step) use the rotation matrix. Both are computed
+    and one is selected, so that a loop over bodies vectorises.
     """
-    if c > 0.5:
-        shear = -s / c
-        x += shear * y
-        y += 2.0 * s * c * x
-        x += shear * y
-        return x, y
-    cosine = (c - s) * (c + s)
+    tangent = -s / c
     sine = 2.0 * s * c
-    return cosine * x - sine * y, sine * x + cosine * y
+    sheared_x = x + tangent * y
+    sheared_y = y + sine * sheared_x
+    sheared_x += tangent * sheared_y
+    cosine = (c - s) * (c + s)
+    turned_x = cosine * x - sine * y
+    turned_y = sine * x + cosine * y
+    shears = c > 0.5
+    return (sheared_x if shears else turned_x), (sheared_y if shears else turned_y)
 
 
-@njit
-def free_flow(h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3):  # type: ignore[no-untyped-def]
-    """The second-order free flow R1(h/2) R3(h) R1(h/2) R_L(h), exact for a
-    symmetric body. Returns the new (L, q). One sine and cosine of each half
-    angle serve both the quaternion and the rotation of L, so the two turn by
-    the same angle to round-off.
-    """
-    # R1(h/2): turn about axis 1 at ν = L1 (1/I1 − 1/I2); L turns by −ν h/2.
-    half = 0.25 * h * l1 * (1.0 / i1 - 1.0 / i2)
-    c, s = math.cos(half), math.sin(half)
+@njit(inline="always")
+def _about_axis_1(h, l1, l2, l3, q0, q1, q2, q3, a1):  # type: ignore[no-untyped-def]
+    """R1(h): the body turns about its axis 1 at ν = L1 a1 (``a1`` = 1/I1 − 1/I2)
+    and L by −ν h in the body. One sine and cosine of the half angle serve both,
+    so the two turn by the same angle to round-off."""
+    c, s = cos_sin(0.5 * h * l1 * a1)
     l3, l2 = _plane_rotation(l3, l2, c, s)
-    q0, q1, q2, q3 = turn(q0, q1, q2, q3, c, s, 1.0, 0.0, 0.0)
-    # R3(h)
-    half = 0.5 * h * l3 * (1.0 / i3 - 1.0 / i2)
-    c, s = math.cos(half), math.sin(half)
+    # q ⊗ (c, s, 0, 0), written out: the compiler keeps the products by zero
+    # of turn() (they are NaN for an infinite factor).
+    return l1, l2, l3, q0 * c - q1 * s, q0 * s + q1 * c, q2 * c + q3 * s, q3 * c - q2 * s
+
+
+@njit(inline="always")
+def _about_axis_3(h, l1, l2, l3, q0, q1, q2, q3, a3):  # type: ignore[no-untyped-def]
+    """R3(h), as :func:`_about_axis_1` about axis 3 (``a3`` = 1/I3 − 1/I2)."""
+    c, s = cos_sin(0.5 * h * l3 * a3)
     l2, l1 = _plane_rotation(l2, l1, c, s)
-    q0, q1, q2, q3 = turn(q0, q1, q2, q3, c, s, 0.0, 0.0, 1.0)
-    # R1(h/2)
-    half = 0.25 * h * l1 * (1.0 / i1 - 1.0 / i2)
-    c, s = math.cos(half), math.sin(half)
-    l3, l2 = _plane_rotation(l3, l2, c, s)
-    q0, q1, q2, q3 = turn(q0, q1, q2, q3, c, s, 1.0, 0.0, 0.0)
-    # R_L(h): about L (fixed in the body during this part) at |L|/I2.
-    size = math.sqrt(l1 * l1 + l2 * l2 + l3 * l3)
-    if size > 0.0:
-        half = 0.5 * h * size / i2
-        c, s = math.cos(half), math.sin(half)
-        q0, q1, q2, q3 = turn(q0, q1, q2, q3, c, s, l1 / size, l2 / size, l3 / size)
+    # q ⊗ (c, 0, 0, s), written out as in _about_axis_1.
+    return l1, l2, l3, q0 * c - q3 * s, q1 * c + q2 * s, q2 * c - q1 * s, q3 * c + q0 * s
+
+
+@njit(inline="always")
+def _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2):  # type: ignore[no-untyped-def]
+    """R_L(h): the body turns about L (fixed in the body during this part) at
+    |L|/I2 (``r`` = 1/I); no turn when L = 0. Returns the new q.
+
+    Every angle of a free flow over h, here and in R1 and R3 (which keep |L|),
+    is at most |h| |L| / I1; beyond :data:`~tumble.core.trig.LARGEST_ANGLE` q is
+    NaN, a step that did not stay finite: :func:`~tumble.core.trig.cos_sin` is
+    accurate only up to there (and the step is then absurdly coarse).
+    """
+    size = (l1 * l1 + l2 * l2 + l3 * l3) ** 0.5
+    inverse = 1.0 / size if size > 0.0 else 0.0
+    c, s = cos_sin(0.5 * h * size * r2)
+    inside = abs(h) * size * r1 <= LARGEST_ANGLE
+    c = c if inside else math.nan
+    return turn(q0, q1, q2, q3, c, s, l1 * inverse, l2 * inverse, l3 * inverse)
+
+
+@njit(inline="always")
+def free_flow(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3):  # type: ignore[no-untyped-def]
+    """The second-order free flow R1(h/2) R3(h) R1(h/2) R_L(h) (``r`` = 1/I), exact
+    for a symmetric body. Returns the new (L, q)."""
+    a1 = r1 - r2
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * h, l1, l2, l3, q0, q1, q2, q3, a1)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(h, l1, l2, l3, q0, q1, q2, q3, r3 - r2)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * h, l1, l2, l3, q0, q1, q2, q3, a1)
+    q0, q1, q2, q3 = _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2)
+    return l1, l2, l3, q0, q1, q2, q3
+
+
+@njit(inline="always")
+def _free_triple_jump(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3):  # type: ignore[no-untyped-def]
+    """Yoshida's triple jump of :func:`free_flow` over h, its adjacent turns about
+    axis 1 merged and its turns about L (which commute with the others) made one:
+    R1(a/2) R3(a) R1((a+b)/2) R3(b) R1((a+b)/2) R3(a) R1(a/2) R_L(h) with
+    a, b = w1 h, w0 h. Returns the new (L, q)."""
+    a1 = r1 - r2
+    a3 = r3 - r2
+    outer = YOSHIDA_OUTER * h
+    inner = YOSHIDA_INNER * h
+    middle = 0.5 * (outer + inner)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * outer, l1, l2, l3, q0, q1, q2, q3, a1)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(outer, l1, l2, l3, q0, q1, q2, q3, a3)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(middle, l1, l2, l3, q0, q1, q2, q3, a1)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(inner, l1, l2, l3, q0, q1, q2, q3, a3)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(middle, l1, l2, l3, q0, q1, q2, q3, a1)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(outer, l1, l2, l3, q0, q1, q2, q3, a3)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * outer, l1, l2, l3, q0, q1, q2, q3, a1)
+    q0, q1, q2, q3 = _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2)
     return l1, l2, l3, q0, q1, q2, q3
 
 
@@ -146,6 +208,19 @@ def exact_free_flow(h, l1, l2, l3, q0, q1, q2, q3, i1, i2, i3):  # type: ignore[
 
 
 @njit(inline="always")
+def _rotations(h, m, body):  # type: ignore[no-untyped-def]
+    """:func:`free_flow` of the state ``m`` = (L, q) of a body of :func:`euler
+    coefficients <tumble.core.dynamics.euler_coefficients>` ``body``."""
+    return free_flow(h, m[0], m[1], m[2], m[3], m[4], m[5], m[6], body[3], body[4], body[5])
+
+
+@njit(inline="always")
+def _exact(h, m, body):  # type: ignore[no-untyped-def]
+    """:func:`exact_free_flow` of the state ``m`` = (L, q), as :func:`_rotations`."""
+    return exact_free_flow(h, m[0], m[1], m[2], m[3], m[4], m[5], m[6], body[6], body[7], body[8])
+
+
+@njit
 def decay_integral(c, moment, h):  # type: ignore[no-untyped-def]
     """∫₀ʰ exp(−c s / I) ds = (1 − exp(−c h / I)) I / c, and h when c = 0."""
     rate = c / moment
@@ -154,25 +229,119 @@ def decay_integral(c, moment, h):  # type: ignore[no-untyped-def]
     return -math.expm1(-rate * h) / rate
 
 
-@njit(inline="always")
-def _kick(torque, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # type: ignore[no-untyped-def]
-    """The exact flow of ``L̇ = τ − c L / I`` over h with the attitude and τ held."""
-    t1, t2, t3, c = torque(t, (l1 / i1, l2 / i2, l3 / i3), q, params, column, context)
-    l1 += (t1 - c * l1 / i1) * decay_integral(c, i1, h)
-    l2 += (t2 - c * l2 / i2) * decay_integral(c, i2, h)
-    l3 += (t3 - c * l3 / i3) * decay_integral(c, i3, h)
-    return l1, l2, l3
+def _torque_kick(torque, t, h, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    w1, w2, w3 = m[0] * body[3], m[1] * body[4], m[2] * body[5]
+    t1, t2, t3, c = torque(t, (w1, w2, w3), m[3:], params, column, context)
+    return (
+        m[0] + (t1 - c * w1) * decay_integral(c, body[6], h),
+        m[1] + (t2 - c * w2) * decay_integral(c, body[7], h),
+        m[2] + (t3 - c * w3) * decay_integral(c, body[8], h),
+        m[3], m[4], m[5], m[6],
+    )  # fmt: skip
+
+
+def _no_kick(torque, t, h, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    return m
+
+
+def kick(torque, t, h, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    """The state ``m`` = (L, q) after the exact flow of ``L̇ = τ − c L / I`` over h
+    s from time t with the attitude and τ held; compiled, ``m`` itself for a free
+    body (:func:`tumble.core.dynamics.free_torque`)."""
+    return _torque_kick(torque, t, h, m, body, params, column, context)
+
+
+@overload(kick, inline="always")
+def _kick(torque, t, h, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    return _no_kick if is_free(torque) else _torque_kick
 
 
 @njit(inline="always")
-def _strang(torque, flow, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context):  # type: ignore[no-untyped-def]
-    """One Strang step of length h (may be negative) from time t, with the free
-    flow ``flow`` (:func:`free_flow` or :func:`exact_free_flow`)."""
-    l1, l2, l3 = _kick(torque, t, 0.5 * h, l1, l2, l3, q, i1, i2, i3, params, column, context)
-    l1, l2, l3, q0, q1, q2, q3 = flow(h, l1, l2, l3, q[0], q[1], q[2], q[3], i1, i2, i3)
-    q = (q0, q1, q2, q3)
-    l1, l2, l3 = _kick(torque, t + h, 0.5 * h, l1, l2, l3, q, i1, i2, i3, params, column, context)
-    return l1, l2, l3, q
+def _strang(torque, flow, t, h, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    """One Strang step of length h (may be negative) from time t of the state
+    ``m`` = (L, q), with the free flow ``flow`` (:func:`_rotations` or
+    :func:`_exact`)."""
+    m = kick(torque, t, 0.5 * h, m, body, params, column, context)
+    m = flow(h, m, body)
+    return kick(torque, t + h, 0.5 * h, m, body, params, column, context)
+
+
+def _triple_jump(torque, flow, t, dt, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    outer = YOSHIDA_OUTER * dt
+    inner = YOSHIDA_INNER * dt
+    m = _strang(torque, flow, t, outer, m, body, params, column, context)
+    m = _strang(torque, flow, t + outer, inner, m, body, params, column, context)
+    return _strang(torque, flow, t + outer + inner, outer, m, body, params, column, context)
+
+
+def _free_rotations(torque, flow, t, dt, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    return _free_triple_jump(
+        dt, m[0], m[1], m[2], m[3], m[4], m[5], m[6], body[3], body[4], body[5]
+    )
+
+
+def triple_jump(torque, flow, t, dt, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    """Yoshida's triple jump of :func:`_strang` over dt from time t; compiled, for a
+    free body and the rotations, :func:`_free_triple_jump`, the same map with
+    fewer rotations."""
+    return _triple_jump(torque, flow, t, dt, m, body, params, column, context)
+
+
+@overload(triple_jump, inline="always")
+def _triple_jump_overload(torque, flow, t, dt, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    rotations = isinstance(flow, types.Dispatcher) and flow.dispatcher is _rotations
+    return _free_rotations if is_free(torque) and rotations else _triple_jump
+
+
+@njit(inline="always")
+def momentum_state(state, coefficients):  # type: ignore[no-untyped-def]
+    """The state (L, q) of the state (ω, q): L = I ω."""
+    i1, i2, i3 = coefficients[6], coefficients[7], coefficients[8]
+    return i1 * state[0], i2 * state[1], i3 * state[2], state[3], state[4], state[5], state[6]
+
+
+@njit(inline="always")
+def velocity_state(state, coefficients):  # type: ignore[no-untyped-def]
+    """The state (ω, q) of the state (L, q): ω = L / I."""
+    i1, i2, i3 = coefficients[6], coefficients[7], coefficients[8]
+    return state[0] / i1, state[1] / i2, state[2] / i3, state[3], state[4], state[5], state[6]
+
+
+#: The splittings step (L, q): :func:`momentum_state` and :func:`velocity_state`.
+MOMENTUM = Variables(momentum_state, velocity_state)
+
+
+@njit(inline="always")
+def strang_step(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    """One Strang step of ``dt`` s from time t around the rotations, a stepper of
+    :mod:`tumble.core.stepping` of the :data:`MOMENTUM` variables: the new state
+    (L, q), q renormalised."""
+    return normalised(
+        _strang(torque, _rotations, t, dt, state, coefficients, params, column, context)
+    )
+
+
+@njit(inline="always")
+def yoshida_step(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    """One step of Yoshida's triple jump of :func:`strang_step`, as it."""
+    return normalised(
+        triple_jump(torque, _rotations, t, dt, state, coefficients, params, column, context)
+    )
+
+
+@njit(inline="always")
+def exact_strang_step(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    """One Strang step around the exact free flow (:func:`exact_free_flow`), as
+    :func:`strang_step`."""
+    return normalised(_strang(torque, _exact, t, dt, state, coefficients, params, column, context))
+
+
+@njit(inline="always")
+def exact_yoshida_step(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    """One step of Yoshida's triple jump of :func:`exact_strang_step`, as it."""
+    return normalised(
+        triple_jump(torque, _exact, t, dt, state, coefficients, params, column, context)
+    )
 
 
 @njit(inline="always")
@@ -182,185 +351,3 @@ def sub_steps(order):  # type: ignore[no-untyped-def]
     if order == 2:
         return (1.0, 0.0, 0.0), 1
     return (YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER), 3
-
-
-@njit(inline="always")
-def splitting_step(torque, flow, t, dt, order, state, inertia, params, column, context):  # type: ignore[no-untyped-def]
-    """One step of ``dt`` s from time t of ``state`` = (L1, L2, L3, q0, … q3) (L in
-    kg·m²/s, principal axes; ``inertia`` the principal moments): Strang
-    (``order`` 2) or Yoshida's triple jump of it (4), as sub-steps at one call
-    site so the compiler inlines the Strang step once; ``flow`` is the free
-    flow. Returns the new state, the quaternion renormalised."""
-    fractions, n_sub = sub_steps(order)
-    l1, l2, l3, q0, q1, q2, q3 = state
-    i1, i2, i3 = inertia
-    q = (q0, q1, q2, q3)
-    for j in range(n_sub):
-        h = fractions[j] * dt
-        l1, l2, l3, q = _strang(
-            torque, flow, t, h, l1, l2, l3, q, i1, i2, i3, params, column, context
-        )
-        t += h
-    return normalised((l1, l2, l3, q[0], q[1], q[2], q[3]))
-
-
-@njit(inline="always")
-def _momentum(w, q, i1, i2, i3):  # type: ignore[no-untyped-def]
-    """The state (L, q) of (ω, q) arrays: L = I ω."""
-    return (i1 * w[0], i2 * w[1], i3 * w[2], q[0], q[1], q[2], q[3])
-
-
-@njit(inline="always")
-def _velocity(state, i1, i2, i3):  # type: ignore[no-untyped-def]
-    """The state (ω, q) of (L, q)."""
-    return (
-        state[0] / i1, state[1] / i2, state[2] / i3, state[3], state[4], state[5], state[6]
-    )  # fmt: skip
-
-
-@njit(inline="always")
-def _steps(  # type: ignore[no-untyped-def]
-    torque, flow, w, q, inertia, params, column, context, t0, dt, n_steps, order, record_every,
-    out_w, out_q, first_step,
-):  # fmt: skip
-    """``n_steps`` splitting steps of one body, in place; its status. The time of
-    step k is ``t0 + k dt`` (global step ``first_step + k``)."""
-    i1, i2, i3 = inertia[0], inertia[1], inertia[2]
-    state = _momentum(w, q, i1, i2, i3)
-    status = FINITE
-    for k in range(n_steps):
-        step = splitting_step(
-            torque, flow, t0 + k * dt, dt, order, state, (i1, i2, i3), params, column, context
-        )
-        if not is_finite(step):
-            status = first_step + k + 1
-            break
-        state = step
-        record(first_step + k + 1, record_every, out_w, out_q, _velocity(state, i1, i2, i3))
-    final = _velocity(state, i1, i2, i3)
-    for i in range(3):
-        w[i] = final[i]
-    for i in range(4):
-        q[i] = final[3 + i]
-    return status
-
-
-def _flow(exact_flow):  # type: ignore[no-untyped-def]
-    """The free flow and the kernels' name: the rotations, or the exact flow."""
-    return (exact_free_flow, "splitting-exact") if exact_flow else (free_flow, "splitting")
-
-
-def single_kernel(torque, identity, order, exact_flow=False):  # type: ignore[no-untyped-def]
-    """``run(w, q, inertia, params, context, dt, n_steps, first_step, record_every,
-    out_w, out_q) -> status``: ``n_steps`` steps of ``order`` 2 (Strang) or 4
-    (Yoshida), arguments, recording and status as
-    :func:`tumble.core.stepping.single_kernel`; with ``exact_flow``, around the
-    exact free flow (:func:`exact_free_flow`)."""
-    flow, name = _flow(exact_flow)
-
-    @specialise(njit, f"{name}.single.{order}|{identity}")
-    def run(w, q, inertia, params, context, dt, n_steps, first_step, record_every, out_w, out_q):  # type: ignore[no-untyped-def]
-        return _steps(
-            torque, flow, w, q, inertia, params, 0, context, first_step * dt, dt, n_steps, order,
-            record_every, out_w, out_q, first_step,
-        )  # fmt: skip
-
-    return run
-
-
-def batch_kernel(torque, identity, order, exact_flow=False):  # type: ignore[no-untyped-def]
-    """``batch(w, q, inertia, params, context, t0, dt, n_steps, status)``: N bodies
-    (arrays as :func:`tumble.core.stepping.batch_kernel`) advanced in place, one body
-    per thread at a time (the rotations' sines and cosines do not vectorise
-    across bodies as RK4's products do); ``status`` (N,) int64 receives each
-    body's status (the body then keeps its last finite state). ``exact_flow``
-    as :func:`single_kernel`."""
-    flow, name = _flow(exact_flow)
-
-    # One body per call of a compiled function of its own: inlined into the
-    # parallel loop, the stepping's tuples defeat numba's parfor analysis.
-    @specialise(njit, f"{name}.body.{order}|{identity}")
-    def one_body(w, q, inertia, params, column, context, t0, dt, n_steps):  # type: ignore[no-untyped-def]
-        never = np.iinfo(np.int64).max  # a record_every that no step number reaches
-        return _steps(
-            torque, flow, w, q, inertia, params, column, context, t0, dt, n_steps, order, never,
-            np.zeros((1, 3)), np.zeros((1, 4)), 0,
-        )  # fmt: skip
-
-    @specialise(njit_parallel, f"{name}.batch.{order}|{identity}")
-    def batch(w, q, inertia, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
-        stride = 0 if params.shape[1] == 1 else 1  # shared or per-body params
-        for body in prange(w.shape[1]):
-            status[body] = one_body(
-                w[:, body], q[:, body], inertia[:, body], params, body * stride, context, t0,
-                dt, n_steps,
-            )  # fmt: skip
-
-    return batch
-
-
-def metrics_kernel(torque, identity, order, exact_flow=False):  # type: ignore[no-untyped-def]
-    """``batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status)``:
-    as :func:`batch_kernel`, measuring each body after every step into ``out``
-    (``N_METRICS``, N) (see :mod:`tumble.core.metrics`); a body's measures stop
-    at its last finite state. ``exact_flow`` as :func:`single_kernel`."""
-    flow, name = _flow(exact_flow)
-
-    @specialise(njit, f"{name}.measured.{order}|{identity}")
-    def one_body(w, q, inertia, params, column, context, axis, t0, dt, n_steps, out):  # type: ignore[no-untyped-def]
-        return _measured(
-            torque, flow, w, q, inertia, params, column, context, axis, t0, dt, n_steps, order,
-            out,
-        )  # fmt: skip
-
-    @specialise(njit_parallel, f"{name}.metrics.{order}|{identity}")
-    def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
-        stride = 0 if params.shape[1] == 1 else 1
-        for body in prange(w.shape[1]):
-            status[body] = one_body(
-                w[:, body], q[:, body], inertia[:, body], params, body * stride, context,
-                axis[:, body], t0, dt, n_steps, out[:, body],
-            )  # fmt: skip
-
-    return batch
-
-
-@njit(inline="always")
-def _measured(  # type: ignore[no-untyped-def]
-    torque, flow, w, q, inertia, params, column, context, axis, t0, dt, n_steps, order, out
-):
-    i1, i2, i3 = inertia[0], inertia[1], inertia[2]
-    a1, a2, a3 = axis[0], axis[1], axis[2]
-    state = _momentum(w, q, i1, i2, i3)
-    reference, energy0, squared0, lowest = initial(w[0], w[1], w[2], i1, i2, i3, a1, a2, a3)
-    flips = 0.0
-    crossed_at = before = after = 0.0
-    energy_dev = 0.0
-    smallest = largest = squared0
-    status = FINITE
-    for k in range(n_steps):
-        step = splitting_step(
-            torque, flow, t0 + k * dt, dt, order, state, (i1, i2, i3), params, column, context
-        )
-        if not is_finite(step):
-            status = k + 1
-            break
-        state = step
-        reference, flips, crossed_at, before, after, lowest, energy_dev, smallest, largest = (
-            observe(
-                t0 + (k + 1) * dt, state[0] / i1, state[1] / i2, state[2] / i3, i1, i2, i3,
-                a1, a2, a3, reference, flips, crossed_at, before, after, lowest, energy0,
-                energy_dev, smallest, largest,
-            )
-        )  # fmt: skip
-    final = _velocity(state, i1, i2, i3)
-    for i in range(3):
-        w[i] = final[i]
-    for i in range(4):
-        q[i] = final[3 + i]
-    (
-        out[FLIPS], out[FIRST_FLIP], out[MIN_COS], out[ENERGY_DEVIATION], out[MOMENTUM_DEVIATION],
-    ) = finish(
-        dt, flips, crossed_at, before, after, lowest, energy_dev, squared0, smallest, largest
-    )  # fmt: skip
-    return status

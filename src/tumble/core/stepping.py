@@ -7,14 +7,15 @@ frame, ``(ω1, ω2, ω3, q0, q1, q2, q3)`` (:mod:`tumble.core.dynamics`)::
     def step(torque, t, dt, state, coefficients, params, column, context):
         ...  # the new state after dt s from time t, its quaternion renormalised
 
-with the body's Euler coefficients and the torque function, its ``params``
-column and ``context`` (:mod:`tumble.core.torques`). The factories below build,
+with the body's :func:`~tumble.core.dynamics.euler_coefficients` and the
+torque function, its ``params`` column and ``context``
+(:mod:`tumble.core.torques`). The factories below build,
 for one stepper and one torque, the kernels the integrator registry
 (:mod:`tumble.integrators`) takes: one body with recording, batches
 vectorised across bodies, and batches measured as they step
 (:mod:`tumble.core.metrics`). RK4 (:mod:`tumble.core.rk4`) is such a
-stepper; an integrator whose scheme is one is a step function and a registry
-entry.
+stepper, and so are the splittings (:mod:`tumble.core.splitting`); an
+integrator whose scheme is one is a step function and a registry entry.
 
 Batches are structures of arrays: ``w`` (3, N) principal-frame angular
 velocities, ``q`` (4, N) quaternions (principal → space), ``inertia`` (3, N)
@@ -23,6 +24,8 @@ principal moments, ``params`` (rows, M) the packed torque parameters, shared
 """
 
 from __future__ import annotations
+
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -39,7 +42,16 @@ from tumble.core.metrics import (
     observe,
 )
 
-__all__ = ["BLOCK", "batch_kernel", "load_block", "metrics_kernel", "single_kernel", "store_block"]
+__all__ = [
+    "BLOCK",
+    "VELOCITY",
+    "Variables",
+    "batch_kernel",
+    "load_block",
+    "metrics_kernel",
+    "single_kernel",
+    "store_block",
+]
 
 #: Bodies per block of the batch kernels: a block's state and coefficients stay
 #: in L1 cache for all its steps, and the inner loop over the block's bodies is
@@ -47,7 +59,34 @@ __all__ = ["BLOCK", "batch_kernel", "load_block", "metrics_kernel", "single_kern
 BLOCK = 128
 
 
-def single_kernel(step, torque, identity):  # type: ignore[no-untyped-def]
+class Variables(NamedTuple):
+    """The variables a stepper steps, as two compiled functions of ``(state,
+    coefficients)``: ``enter`` from ``(ω, q)`` to them and ``leave`` back. The
+    loops convert once when they load a body and when they record, store or
+    measure it, never between steps, so a stepper of other variables (the
+    splittings step ``(L, q)``) accumulates no round-off from the conversions."""
+
+    enter: Any
+    leave: Any
+
+
+@njit(inline="always")
+def _unchanged(state, coefficients):  # type: ignore[no-untyped-def]
+    return state
+
+
+#: The stepper steps ``(ω, q)`` itself (RK4).
+VELOCITY = Variables(_unchanged, _unchanged)
+
+
+def _stamp(step: Any, variables: Variables) -> str:
+    """The stepper's part of a kernel's identity."""
+    if variables is VELOCITY:
+        return file_stamp(step)
+    return f"{file_stamp(step)}|{file_stamp(variables.enter)}|{file_stamp(variables.leave)}"
+
+
+def single_kernel(step, torque, identity, variables=VELOCITY):  # type: ignore[no-untyped-def]
     """``run(w, q, inertia, params, context, dt, n_steps, first_step, record_every,
     out_w, out_q) -> status``: advance one body's (w, q) in place by ``n_steps``
     steps of ``dt`` s.
@@ -57,13 +96,14 @@ def single_kernel(step, torque, identity):  # type: ignore[no-untyped-def]
     ``number // record_every`` of ``out_w`` (·, 3) and ``out_q`` (·, 4). The
     time of global step k is ``k dt``. Returns ``FINITE`` if every step stayed
     finite, else the global number of the first step that did not (the state
-    is left as it was before that step).
+    is left as it was before that step). ``variables``: those ``step`` steps.
     """
+    enter, leave = variables
 
-    @specialise(njit, f"stepping.single|{file_stamp(step)}|{identity}")
+    @specialise(njit, f"stepping.single|{_stamp(step, variables)}|{identity}")
     def run(w, q, inertia, params, context, dt, n_steps, first_step, record_every, out_w, out_q):  # type: ignore[no-untyped-def]
         coefficients = euler_coefficients(inertia[0], inertia[1], inertia[2])
-        state = (w[0], w[1], w[2], q[0], q[1], q[2], q[3])
+        state = enter((w[0], w[1], w[2], q[0], q[1], q[2], q[3]), coefficients)
         status = FINITE
         for k in range(n_steps):
             new = step(torque, (first_step + k) * dt, dt, state, coefficients, params, 0, context)
@@ -71,21 +111,38 @@ def single_kernel(step, torque, identity):  # type: ignore[no-untyped-def]
                 status = first_step + k + 1
                 break
             state = new
-            record(first_step + k + 1, record_every, out_w, out_q, state)
+            if (first_step + k + 1) % record_every == 0:
+                record(first_step + k + 1, record_every, out_w, out_q, leave(state, coefficients))
+        final = leave(state, coefficients)
         for i in range(3):
-            w[i] = state[i]
+            w[i] = final[i]
         for i in range(4):
-            q[i] = state[3 + i]
+            q[i] = final[3 + i]
         return status
 
     return run
 
 
 @njit(inline="always")
-def load_block(w, q, inertia, params, start, stop):  # type: ignore[no-untyped-def]
+def _entries(arrays, j):  # type: ignore[no-untyped-def]
+    """Entry j of each of a state's 7 arrays, as a tuple."""
+    a = arrays
+    return (a[0][j], a[1][j], a[2][j], a[3][j], a[4][j], a[5][j], a[6][j])
+
+
+@njit(inline="always")
+def _coefficients(arrays, j):  # type: ignore[no-untyped-def]
+    """Entry j of each of the 9 arrays of a block's Euler coefficients."""
+    a = arrays
+    return (a[0][j], a[1][j], a[2][j], a[3][j], a[4][j], a[5][j], a[6][j], a[7][j], a[8][j])
+
+
+@njit(inline="always")
+def load_block(enter, w, q, inertia, params, start, stop):  # type: ignore[no-untyped-def]
     """The block of bodies ``start:stop`` as its own arrays (they stay in L1 cache
-    through its steps): ω1, ω2, ω3, q0 … q3, the Euler coefficients, and the
-    block's columns of ``params`` (shared or per body) as (rows, m)."""
+    through its steps): the stepper's variables (``enter`` of ω1, ω2, ω3, q0 …
+    q3), the Euler coefficients, and the block's columns of ``params`` (shared
+    or per body) as (rows, m)."""
     m = stop - start
     block_params = np.empty((params.shape[0], m))
     shared = params.shape[1] == 1
@@ -93,77 +150,89 @@ def load_block(w, q, inertia, params, start, stop):  # type: ignore[no-untyped-d
         for j in range(m):
             block_params[r, j] = params[r, 0] if shared else params[r, start + j]
     coefficients = euler_coefficients(
-        inertia[0, start:stop], inertia[1, start:stop], inertia[2, start:stop]
-    )
-    state = (
-        w[0, start:stop].copy(), w[1, start:stop].copy(), w[2, start:stop].copy(),
-        q[0, start:stop].copy(), q[1, start:stop].copy(), q[2, start:stop].copy(),
-        q[3, start:stop].copy(),
+        inertia[0, start:stop].copy(), inertia[1, start:stop].copy(),
+        inertia[2, start:stop].copy(),
     )  # fmt: skip
+    state = (
+        np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m)
+    )  # fmt: skip
+    for j in range(m):
+        k = start + j
+        entered = enter(
+            (w[0, k], w[1, k], w[2, k], q[0, k], q[1, k], q[2, k], q[3, k]),
+            _coefficients(coefficients, j),
+        )  # fmt: skip
+        for i in range(7):
+            state[i][j] = entered[i]
     return state, coefficients, block_params
 
 
 @njit(inline="always")
-def store_block(w, q, start, state):  # type: ignore[no-untyped-def]
-    """Write a block's state arrays back into ``w`` (3, N) and ``q`` (4, N)."""
+def store_block(leave, w, q, start, state, coefficients):  # type: ignore[no-untyped-def]
+    """Write a block's state arrays back into ``w`` (3, N) and ``q`` (4, N), as
+    ω and q (``leave``)."""
     for j in range(state[0].shape[0]):
+        final = leave(_entries(state, j), _coefficients(coefficients, j))
         for i in range(3):
-            w[i, start + j] = state[i][j]
+            w[i, start + j] = final[i]
         for i in range(4):
-            q[i, start + j] = state[3 + i][j]
+            q[i, start + j] = final[3 + i]
 
 
 @njit(inline="always")
 def _block_steps(step, torque, t0, dt, n_steps, state, coefficients, params, context):  # type: ignore[no-untyped-def]
     """``n_steps`` steps of every body of a block, in place."""
     w1, w2, w3, q0, q1, q2, q3 = state
-    c1, c2, c3, r1, r2, r3 = coefficients
     for k in range(n_steps):
         t = t0 + k * dt
         for j in range(w1.shape[0]):
             new = step(
                 torque, t, dt, (w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j]),
-                (c1[j], c2[j], c3[j], r1[j], r2[j], r3[j]), params, j, context,
+                _coefficients(coefficients, j), params, j, context,
             )  # fmt: skip
             w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j] = new
 
 
-def batch_kernel(step, torque, identity):  # type: ignore[no-untyped-def]
+def batch_kernel(step, torque, identity, variables=VELOCITY):  # type: ignore[no-untyped-def]
     """``batch(w, q, inertia, params, context, t0, dt, n_steps, status)``: advance N
     bodies in place by ``n_steps`` steps of ``dt`` s from time ``t0``, in parallel
     over blocks of ``BLOCK`` bodies, vectorised within a block. A body whose
     state became NaN or infinite keeps that state (fast-math may not keep a
     finiteness test inside the loop): the caller checks; ``status`` is left as is.
+    ``variables``: those ``step`` steps.
     """
+    enter, leave = variables
 
-    @specialise(njit_vector, f"stepping.batch|{file_stamp(step)}|{identity}")
+    @specialise(njit_vector, f"stepping.batch|{_stamp(step, variables)}|{identity}")
     def batch(w, q, inertia, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
         n = w.shape[1]
         for block in prange((n + BLOCK - 1) // BLOCK):
             start = block * BLOCK
             stop = min(start + BLOCK, n)
-            state, coefficients, block_params = load_block(w, q, inertia, params, start, stop)
+            state, coefficients, block_params = load_block(
+                enter, w, q, inertia, params, start, stop
+            )
             _block_steps(step, torque, t0, dt, n_steps, state, coefficients, block_params, context)
-            store_block(w, q, start, state)
+            store_block(leave, w, q, start, state, coefficients)
 
     return batch
 
 
-def metrics_kernel(step, torque, identity):  # type: ignore[no-untyped-def]
+def metrics_kernel(step, torque, identity, variables=VELOCITY):  # type: ignore[no-untyped-def]
     """``batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status)``:
     as :func:`batch_kernel`, measuring each body after every step into ``out``
     (``N_METRICS``, N) (see :mod:`tumble.core.metrics`; ``axis`` (3, N) the
     nominal axes)."""
 
-    @specialise(njit_vector, f"stepping.metrics|{file_stamp(step)}|{identity}")
+    @specialise(njit_vector, f"stepping.metrics|{_stamp(step, variables)}|{identity}")
     def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
         n = w.shape[1]
         for block in prange((n + BLOCK - 1) // BLOCK):
             start = block * BLOCK
             stop = min(start + BLOCK, n)
             _metrics_block(
-                step, torque, w, q, inertia, params, context, axis, t0, dt, n_steps, out, start,
-                stop,
+                step, variables, torque, w, q, inertia, params, context, axis, t0, dt, n_steps,
+                out, start, stop,
             )  # fmt: skip
 
     return batch
@@ -171,10 +240,11 @@ def metrics_kernel(step, torque, identity):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def _metrics_block(  # type: ignore[no-untyped-def]
-    step, torque, w, q, inertia, params, context, axis, t0, dt, n_steps, out, start, stop
-):
-    state, coefficients, block_params = load_block(w, q, inertia, params, start, stop)
-    w1, w2, w3 = state[0], state[1], state[2]
+    step, variables, torque, w, q, inertia, params, context, axis, t0, dt, n_steps, out, start,
+    stop,
+):  # fmt: skip
+    enter, leave = variables
+    state, coefficients, block_params = load_block(enter, w, q, inertia, params, start, stop)
     m = stop - start
     i1 = inertia[0, start:stop]
     i2 = inertia[1, start:stop]
@@ -194,8 +264,9 @@ def _metrics_block(  # type: ignore[no-untyped-def]
     smallest = np.empty(m)
     largest = np.empty(m)
     for j in range(m):
+        w1, w2, w3 = w[0, start + j], w[1, start + j], w[2, start + j]
         along, energy, squared, ratio = initial(
-            w1[j], w2[j], w3[j], i1[j], i2[j], i3[j], a1[j], a2[j], a3[j]
+            w1, w2, w3, i1[j], i2[j], i3[j], a1[j], a2[j], a3[j]
         )
         reference[j] = along
         lowest[j] = ratio
@@ -209,15 +280,16 @@ def _metrics_block(  # type: ignore[no-untyped-def]
         # A loop of its own: with the measures in the stepping loop, that loop
         # stores to too many arrays for the compiler to vectorise it (5× slower).
         for j in range(m):
+            w1, w2, w3 = leave(_entries(state, j), _coefficients(coefficients, j))[:3]
             (
                 reference[j], flips[j], crossed_at[j], before[j], after[j], lowest[j],
                 energy_dev[j], smallest[j], largest[j],
             ) = observe(
-                t, w1[j], w2[j], w3[j], i1[j], i2[j], i3[j], a1[j], a2[j], a3[j], reference[j],
+                t, w1, w2, w3, i1[j], i2[j], i3[j], a1[j], a2[j], a3[j], reference[j],
                 flips[j], crossed_at[j], before[j], after[j], lowest[j], energy0[j],
                 energy_dev[j], smallest[j], largest[j],
             )  # fmt: skip
-    store_block(w, q, start, state)
+    store_block(leave, w, q, start, state, coefficients)
     for j in range(m):
         k = start + j
         (

@@ -270,6 +270,13 @@ def _splitting(
 ) -> Integrator:
     """An entry for the splitting of order 2 (Strang) or 4 (Yoshida's composition),
     around the rotations of the free motion or (``exact_flow``) its exact flow."""
+    steps = {
+        (2, False): splitting.strang_step,
+        (4, False): splitting.yoshida_step,
+        (2, True): splitting.exact_strang_step,
+        (4, True): splitting.exact_yoshida_step,
+    }
+    step = steps[order, exact_flow]
     common: dict[str, Any] = {
         "name": name,
         "summary": summary,
@@ -279,9 +286,9 @@ def _splitting(
         "exact_symmetric_spin": True,
         "kicks": True,
         "auto": auto,
-        "single": partial(splitting.single_kernel, order=order, exact_flow=exact_flow),
-        "batch": partial(splitting.batch_kernel, order=order, exact_flow=exact_flow),
-        "metrics": partial(splitting.metrics_kernel, order=order, exact_flow=exact_flow),
+        "single": partial(stepping.single_kernel, step, variables=splitting.MOMENTUM),
+        "batch": partial(stepping.batch_kernel, step, variables=splitting.MOMENTUM),
+        "metrics": partial(stepping.metrics_kernel, step, variables=splitting.MOMENTUM),
     }
     if exact_flow:
         return Integrator(
@@ -290,13 +297,13 @@ def _splitting(
             exact_free_motion=True,
             **common,
         )
-    step = part_kernels.strang_step if order == 2 else part_kernels.yoshida_step
+    part_step = part_kernels.strang_step if order == 2 else part_kernels.yoshida_step
     return Integrator(
         preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
         "a symmetric body's free motion exactly; with rotors, L to round-off",
         parts=ROTORS,
-        parts_single=partial(part_kernels.single_kernel, step),
-        parts_batch=partial(part_kernels.batch_kernel, step),
+        parts_single=partial(part_kernels.single_kernel, part_step),
+        parts_batch=partial(part_kernels.batch_kernel, part_step),
         **common,
     )
 
