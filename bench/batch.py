@@ -13,8 +13,8 @@ quaternion, renormalised each step), all in one run, medians of repeats:
   tumble's ratio to it, and the largest difference of the states (≤ 1e-12);
 * the splittings, fourth order (``splitting``) and second (``strang``),
   vectorised across the bodies of a block like RK4 (their sines and cosines
-  are :func:`tumble.core.trig.cos_sin`), at the same step, and their ratios to
-  tumble's RK4;
+  are :func:`tumble.core.trig.cos_sin`; a free body's turns one loop over the
+  block each), at the same step, and their ratios to tumble's RK4;
 * the same RK4 written with numpy arrays over all bodies;
 * the closed form (``method="exact"``, one evaluation a body whatever the
   duration), as a cost a body and the number of RK4 steps it equals.

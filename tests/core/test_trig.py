@@ -10,7 +10,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from tumble.core._jit import njit, njit_vector, prange
-from tumble.core.trig import LARGEST_ANGLE, cos_sin
+from tumble.core.trig import LARGEST_ANGLE, QUARTER_TURN, cos_sin, cos_sin_small
 
 
 @njit
@@ -74,3 +74,19 @@ def test_an_angle_that_is_not_finite_gives_nan() -> None:
         with np.errstate(invalid="ignore"):  # run as Python (NUMBA_DISABLE_JIT), inf − inf
             c, s = _evaluate(kernel, np.array([math.nan, math.inf, -math.inf]))
         assert np.all(np.isnan(c)) and np.all(np.isnan(s))
+
+
+@njit
+def _small(x, c, s):  # type: ignore[no-untyped-def]
+    for i in range(x.shape[0]):
+        c[i], s[i] = cos_sin_small(x[i])
+
+
+def test_the_small_angle_form_gives_the_same_values_within_a_quarter_turn() -> None:
+    # Within ±π/4 the reduction is the identity (k = 0): the same polynomials,
+    # so the same bits, including at ±π/4 itself.
+    x = np.concatenate([np.random.default_rng(3).uniform(-1, 1, 20_000), [-1.0, 1.0]])
+    x *= QUARTER_TURN
+    general = _evaluate(_in_order, x)
+    small = _evaluate(_small, x)
+    assert np.array_equal(general[0], small[0]) and np.array_equal(general[1], small[1])

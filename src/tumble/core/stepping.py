@@ -47,6 +47,7 @@ __all__ = [
     "VELOCITY",
     "Variables",
     "batch_kernel",
+    "block_steps",
     "load_block",
     "metrics_kernel",
     "single_kernel",
@@ -79,11 +80,14 @@ def _unchanged(state, coefficients):  # type: ignore[no-untyped-def]
 VELOCITY = Variables(_unchanged, _unchanged)
 
 
-def _stamp(step: Any, variables: Variables) -> str:
+def _stamp(step: Any, variables: Variables, advance: Any = None) -> str:
     """The stepper's part of a kernel's identity."""
-    if variables is VELOCITY:
-        return file_stamp(step)
-    return f"{file_stamp(step)}|{file_stamp(variables.enter)}|{file_stamp(variables.leave)}"
+    stamp = file_stamp(step)
+    if variables is not VELOCITY:
+        stamp += f"|{file_stamp(variables.enter)}|{file_stamp(variables.leave)}"
+    if advance is not None:
+        stamp += f"|{file_stamp(advance)}"
+    return stamp
 
 
 def single_kernel(step, torque, identity, variables=VELOCITY):  # type: ignore[no-untyped-def]
@@ -180,8 +184,11 @@ def store_block(leave, w, q, start, state, coefficients):  # type: ignore[no-unt
 
 
 @njit(inline="always")
-def _block_steps(step, torque, t0, dt, n_steps, state, coefficients, params, context):  # type: ignore[no-untyped-def]
-    """``n_steps`` steps of every body of a block, in place."""
+def block_steps(step, torque, t0, dt, n_steps, state, coefficients, params, context):  # type: ignore[no-untyped-def]
+    """``n_steps`` steps of every body of a block, in place: the state arrays, the
+    arrays of the Euler coefficients and the block's ``params`` of
+    :func:`load_block`; one body after the other within a step, which the
+    compiler vectorises. The batch kernels' default ``advance``."""
     w1, w2, w3, q0, q1, q2, q3 = state
     for k in range(n_steps):
         t = t0 + k * dt
@@ -193,17 +200,23 @@ def _block_steps(step, torque, t0, dt, n_steps, state, coefficients, params, con
             w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j] = new
 
 
-def batch_kernel(step, torque, identity, variables=VELOCITY):  # type: ignore[no-untyped-def]
+def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # type: ignore[no-untyped-def]
     """``batch(w, q, inertia, params, context, t0, dt, n_steps, status)``: advance N
     bodies in place by ``n_steps`` steps of ``dt`` s from time ``t0``, in parallel
     over blocks of ``BLOCK`` bodies, vectorised within a block. A body whose
     state became NaN or infinite keeps that state (fast-math may not keep a
     finiteness test inside the loop): the caller checks; ``status`` is left as is.
-    ``variables``: those ``step`` steps.
+    ``variables``: those ``step`` steps; ``advance(step, torque)``: for a stepper
+    with a faster way for whole blocks, a compiled function of
+    :func:`block_steps`'s arguments that steps a block in place, or None
+    (:func:`block_steps` itself).
     """
     enter, leave = variables
+    advance = None if advance is None else advance(step, torque)
+    stamp = _stamp(step, variables, advance)
+    advance = block_steps if advance is None else advance
 
-    @specialise(njit_vector, f"stepping.batch|{_stamp(step, variables)}|{identity}")
+    @specialise(njit_vector, f"stepping.batch|{stamp}|{identity}")
     def batch(w, q, inertia, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
         n = w.shape[1]
         for block in prange((n + BLOCK - 1) // BLOCK):
@@ -212,27 +225,30 @@ def batch_kernel(step, torque, identity, variables=VELOCITY):  # type: ignore[no
             state, coefficients, block_params = load_block(
                 enter, w, q, inertia, params, start, stop
             )
-            _block_steps(step, torque, t0, dt, n_steps, state, coefficients, block_params, context)
+            advance(step, torque, t0, dt, n_steps, state, coefficients, block_params, context)
             store_block(leave, w, q, start, state, coefficients)
 
     return batch
 
 
-def metrics_kernel(step, torque, identity, variables=VELOCITY):  # type: ignore[no-untyped-def]
+def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # type: ignore[no-untyped-def]
     """``batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status)``:
     as :func:`batch_kernel`, measuring each body after every step into ``out``
     (``N_METRICS``, N) (see :mod:`tumble.core.metrics`; ``axis`` (3, N) the
     nominal axes)."""
+    advance = None if advance is None else advance(step, torque)
+    stamp = _stamp(step, variables, advance)
+    advance = block_steps if advance is None else advance
 
-    @specialise(njit_vector, f"stepping.metrics|{_stamp(step, variables)}|{identity}")
+    @specialise(njit_vector, f"stepping.metrics|{stamp}|{identity}")
     def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
         n = w.shape[1]
         for block in prange((n + BLOCK - 1) // BLOCK):
             start = block * BLOCK
             stop = min(start + BLOCK, n)
             _metrics_block(
-                step, variables, torque, w, q, inertia, params, context, axis, t0, dt, n_steps,
-                out, start, stop,
+                step, variables, advance, torque, w, q, inertia, params, context, axis, t0, dt,
+                n_steps, out, start, stop,
             )  # fmt: skip
 
     return batch
@@ -240,8 +256,8 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY):  # type: ignore[
 
 @njit(inline="always")
 def _metrics_block(  # type: ignore[no-untyped-def]
-    step, variables, torque, w, q, inertia, params, context, axis, t0, dt, n_steps, out, start,
-    stop,
+    step, variables, advance, torque, w, q, inertia, params, context, axis, t0, dt, n_steps, out,
+    start, stop,
 ):  # fmt: skip
     enter, leave = variables
     state, coefficients, block_params = load_block(enter, w, q, inertia, params, start, stop)
@@ -275,7 +291,7 @@ def _metrics_block(  # type: ignore[no-untyped-def]
         smallest[j] = squared
         largest[j] = squared
     for k in range(n_steps):
-        _block_steps(step, torque, t0 + k * dt, dt, 1, state, coefficients, block_params, context)
+        advance(step, torque, t0 + k * dt, dt, 1, state, coefficients, block_params, context)
         t = t0 + (k + 1) * dt
         # A loop of its own: with the measures in the stepping loop, that loop
         # stores to too many arrays for the compiler to vectorise it (5× slower).

@@ -287,8 +287,18 @@ def _splitting(
         "kicks": True,
         "auto": auto,
         "single": partial(stepping.single_kernel, step, variables=splitting.MOMENTUM),
-        "batch": partial(stepping.batch_kernel, step, variables=splitting.MOMENTUM),
-        "metrics": partial(stepping.metrics_kernel, step, variables=splitting.MOMENTUM),
+        "batch": partial(
+            stepping.batch_kernel,
+            step,
+            variables=splitting.MOMENTUM,
+            advance=splitting.block_advance,
+        ),
+        "metrics": partial(
+            stepping.metrics_kernel,
+            step,
+            variables=splitting.MOMENTUM,
+            advance=splitting.block_advance,
+        ),
     }
     if exact_flow:
         return Integrator(
