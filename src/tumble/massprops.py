@@ -102,7 +102,14 @@ class MassProperties:
         unit = 0.5 * unit + 0.5 * unit.T
         moments = np.linalg.eigvalsh(unit)
         # The floor `tiny` admits subnormal round-off when the tensor is (near) zero.
-        tolerance = PHYSICAL_TOLERANCE * max(float(np.trace(unit)), 0.0) + np.finfo(float).tiny
+        # A tensor of subnormal entries holds them only to steps of 4.9e-324 kg·m²
+        # (a point mass 1e-145 m from its centre): each entry off by a few steps
+        # from the operations that formed it, its eigenvalues by the Frobenius norm
+        # of those errors, a few steps more, which no relative tolerance covers.
+        grid = 4.0 * np.finfo(float).smallest_subnormal / scale if scale > 0 else 0.0
+        tolerance = (
+            PHYSICAL_TOLERANCE * max(float(np.trace(unit)), 0.0) + np.finfo(float).tiny + grid
+        )
         if moments[0] < -tolerance:
             raise InputError(
                 f"Expected the principal moments of `inertia` to be >= 0, got "
