@@ -332,3 +332,44 @@ def test_the_current_folder_and_mount_points_are_not_run_folders(
     with pytest.raises(tb.OutputError, match=r"got '.*work', a mount point: name a new folder"):
         write_run(gyroscope, inside, force=True)  # type: ignore[arg-type]
     assert sorted(os.listdir(tmp_path)) == ["work"]
+
+
+def test_figure_workers_draw_the_very_png_drawn_here(gyroscope: object, tmp_path: Path) -> None:
+    # The oracle is drawing in this process: workers must give the same bytes, in
+    # the same order, and a run folder written with them the same PNG files.
+    from tumble.report.charts import FigureWorkers, draw, png
+    from tumble.report.plots import trajectory_sheets
+
+    sheets = trajectory_sheets(gyroscope.trajectory, gyroscope.panels)  # type: ignore[attr-defined]
+    here = {name: png(draw(sheet)) for name, sheet in sheets.items()}
+    with FigureWorkers(2) as workers:
+        drawn = workers.submit(sheets).result()
+        folder = write_run(gyroscope, tmp_path / "with-workers", figure_workers=workers)  # type: ignore[arg-type]
+    assert list(drawn) == list(here)
+    assert drawn == here
+    for name, image in here.items():
+        assert (folder / f"{name}.png").read_bytes() == image
+
+
+def test_the_sheets_of_dead_figure_workers_are_drawn_here(gyroscope: object) -> None:
+    # A worker that dies (here: made to exit) breaks the pool; the sheets are then
+    # drawn in this process, the same bytes, and no error reaches the user.
+    from tumble.report.charts import FigureWorkers, draw, png
+    from tumble.report.plots import omega_sheet
+
+    sheet = omega_sheet(gyroscope.trajectory)  # type: ignore[attr-defined]
+    with FigureWorkers(1) as workers:
+        assert workers._pool is not None
+        workers._pool.submit(os._exit, 1)
+        drawings = workers.submit({"omega": sheet, "again": sheet})
+        assert drawings.result() == {"omega": png(draw(sheet)), "again": png(draw(sheet))}
+        assert workers.submit({"omega": sheet}).result() == {"omega": png(draw(sheet))}
+
+
+def test_a_drawing_error_in_a_figure_worker_reaches_the_caller(gyroscope: object) -> None:
+    # Not a dead worker but a sheet that cannot be drawn: the same error as here.
+    from tumble.report.charts import Chart, FigureWorkers, Sheet
+
+    bad = Sheet((Chart("t", "x", "y", legend="nowhere in particular"),))
+    with FigureWorkers(1) as workers, pytest.raises(ValueError, match="nowhere in particular"):
+        workers.submit({"bad": bad}).result()

@@ -164,3 +164,19 @@ def test_turns_per_second_are_two_pi_radians_per_second() -> None:
 def test_vector_to_si_refuses_what_it_would_misread(value: object, message: str) -> None:
     with pytest.raises(tb.InputError, match=message):
         vector_to_si(value, "length", "v")
+
+
+def test_pint_is_imported_without_dask_which_still_imports_afterwards() -> None:
+    # In a fresh interpreter: importing the units must not import dask (pint would,
+    # for dask arrays tumble never makes), and dask must import as usual after.
+    import subprocess
+    import sys
+
+    check = (
+        "import sys; import tumble.units as u; assert 'dask' not in sys.modules; "
+        "assert u.to_si('250 g', 'mass', 'm') == 0.25; "
+        "import dask.array; assert sys.modules['dask'] is not None; print('ok')"
+    )
+    done = subprocess.run([sys.executable, "-c", check], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "ok"

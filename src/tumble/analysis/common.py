@@ -8,7 +8,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.integrate import trapezoid
 
 from tumble.errors import InputError
 from tumble.trajectory import Trajectory
@@ -178,7 +177,7 @@ def time_mean(t: Array, y: Array, start: float, stop: float) -> float:
     inside = (t > start) & (t < stop)
     times = np.concatenate(([start], t[inside], [stop]))
     values = np.concatenate(([np.interp(start, t, y)], y[inside], [np.interp(stop, t, y)]))
-    return float(trapezoid(values, times) / (stop - start))
+    return float(np.trapezoid(values, times) / (stop - start))
 
 
 def spectral_frequency(t: Array, y: Array) -> float:

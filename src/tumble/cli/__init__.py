@@ -9,6 +9,7 @@ the traceback instead. Heavy imports live inside the commands so that
 
 from __future__ import annotations
 
+import gc
 import sys
 from typing import Any
 
@@ -31,6 +32,16 @@ def _click_exceptions() -> Any:
 
 def main() -> None:
     """Entry point of the ``tumble`` script: usage errors, too, are one line and exit code 2."""
+    try:
+        _main()
+    finally:
+        # What is left is freed as the process ends: moved out of the collector's
+        # sight, it is not searched for cycles first (0.3 s after a run, most of it
+        # numba's compiled code; 0.04 s frozen).
+        gc.freeze()
+
+
+def _main() -> None:
     click = _click_exceptions()
     try:
         # Without standalone mode click returns the code of a typer.Exit instead of exiting.

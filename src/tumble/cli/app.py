@@ -8,11 +8,14 @@ traceback instead. Heavy imports live inside the commands so that
 
 from __future__ import annotations
 
+import contextlib
+import gc
+from collections.abc import Iterator
 from typing import Annotated, Any
 
 import typer
 
-__all__ = ["USER_ERROR", "State", "app", "run_command"]
+__all__ = ["USER_ERROR", "State", "app", "loading", "run_command"]
 
 app = typer.Typer(
     name="tumble",
@@ -90,3 +93,20 @@ def one_line(exc: BaseException) -> str:
         where = repr(exc.filename) if exc.filename else "the output"
         return f"Expected to read or write {where}, got: {exc.strerror or exc}."
     return str(exc)
+
+
+@contextlib.contextmanager
+def loading() -> Iterator[None]:
+    """Around a command's imports and loading: the cyclic garbage collector off,
+    then what they made moved out of its sight (``gc.freeze``) and the collector
+    back on. Imports make about a million objects that live as long as the
+    process and are no garbage: the collector would search them again and again
+    (0.1 s of a 1 s run), and, frozen, they do not slow its later passes."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.freeze()
+        if enabled:
+            gc.enable()

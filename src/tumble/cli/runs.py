@@ -2,17 +2,26 @@
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
-from tumble.cli.app import app, run_command
+from tumble.cli.app import app, loading, run_command
 from tumble.cli.progress import LazyProgress
 
-__all__ = ["run_scenario", "scenario_argument", "sweep", "warm_up", "without_outputs"]
+__all__ = [
+    "figure_workers",
+    "run_scenario",
+    "scenario_argument",
+    "sweep",
+    "warm_up",
+    "without_outputs",
+]
 
 
 def scenario_argument(help_text: str) -> Any:
@@ -60,15 +69,20 @@ def run_scenario(
 
         if output is not None:
             check_folder(output, force)  # before anything else: say it at once
-        from tumble.report import write_run
-        from tumble.scenario import load, run
+        # Started first, so that importing matplotlib overlaps with the rest.
+        with figure_workers(not no_figures) as workers:
+            with loading():
+                from tumble.report import write_run
+                from tumble.scenario import load, run
 
-        loaded = without_outputs(load(scenario), figures=not no_figures, viewer=not no_viewer)
-        folder = output if output is not None else default_folder(loaded.name)
-        check_folder(folder, force)  # before simulating
-        with LazyProgress(enabled=not quiet) as progress:
-            result = run(loaded, progress=progress.steps)
-            write_run(result, folder, force=force, progress=progress.stage)
+                loaded = load(scenario)
+            loaded = without_outputs(loaded, figures=not no_figures, viewer=not no_viewer)
+            folder = output if output is not None else default_folder(loaded.name)
+            check_folder(folder, force)  # before simulating
+            with LazyProgress(enabled=not quiet) as progress:
+                result = run(loaded, progress=progress.steps)
+                write_run(result, folder, force=force, progress=progress.stage,
+                          figure_workers=workers)  # fmt: skip
         report = folder / "report.html"
         if as_json:
             summary = result.summary()
@@ -118,6 +132,21 @@ def warm_up(
                     typer.echo(f"{loaded.name}: ready ({time.perf_counter() - start:.1f} s)")
 
     run_command(work)
+
+
+@contextlib.contextmanager
+def figure_workers(wanted: bool) -> Iterator[Any]:
+    """Processes that draw the run's figures, started now so that importing
+    matplotlib overlaps with loading and simulating the scenario
+    (:class:`~tumble.report.charts.FigureWorkers`); None if no figures are
+    ``wanted``."""
+    if not wanted:
+        yield None
+        return
+    from tumble.report.charts import FigureWorkers
+
+    with FigureWorkers() as workers:
+        yield workers
 
 
 def without_outputs(loaded: Any, *, figures: bool, viewer: bool) -> Any:

@@ -1,7 +1,7 @@
 """Measures of each body's motion taken while a batch kernel steps it.
 
 A sweep over millions of bodies cannot keep their histories, so the measures
-it reports are accumulated step by step, in registers, by the same compiled
+it reports are accumulated step by step, in arrays that stay in cache, by the same compiled
 loops that advance the state (the batch kernels of :mod:`tumble.core.rk4` and
 :mod:`tumble.core.splitting` built with metrics). Each body has a *nominal
 axis* ``a``: a unit vector in principal-body coordinates (the axis it was spun
@@ -10,10 +10,11 @@ about).
 After every step, with ``L = I ω`` the angular momentum in body coordinates,
 the kernels update the rows of ``out`` (5, N):
 
-0. the number of sign changes of ``a · ω`` (equivalently of ``a · L``): each
-   one is a *flip*, the nominal axis crossing the plane perpendicular to L, so
-   a body spun near its intermediate axis flips twice per period of ω(t);
-1. the time of the first flip, s, from linear interpolation of ``a · ω``
+0. the number of sign changes of ``a · L``: each one is a *flip*, the nominal
+   axis crossing the plane perpendicular to L, so a body spun near its
+   intermediate axis flips twice per period of ω(t) (about a principal axis
+   ``a``, these are the sign changes of ``a · ω`` too);
+1. the time of the first flip, s, from linear interpolation of ``a · L``
    between the two steps around it (``inf`` if there is none; should the step
    before land exactly on zero, the last non-zero value stands in for it);
 2. the smallest ``a · L / |L|`` over the run, the initial state included: the
@@ -35,48 +36,44 @@ FLIPS, FIRST_FLIP, MIN_COS, ENERGY_DEVIATION, MOMENTUM_DEVIATION = range(N_METRI
 
 @njit(inline="always")
 def observe(  # type: ignore[no-untyped-def]
-    t, w1, w2, w3, i1, i2, i3, a1, a2, a3, reference, flips, crossed_at, before, after,
-    lowest, energy0, energy_dev, smallest, largest,
+    w1, w2, w3, i1, i2, i3, a1, a2, a3, reference, flips, lowest, energy0, energy_dev, smallest,
+    largest,
 ):  # fmt: skip
-    """Update one body's running measures after the step that ended at time ``t``.
+    """Update one body's running measures after a step, and say whether the step
+    was its first flip.
 
-    ``reference`` is the last non-zero ``a · ω`` (so a sample exactly on zero
-    neither hides nor doubles a flip). At the first flip, its time ``t`` and the
-    values of ``a · ω`` on both sides are kept, to interpolate once at the end.
-    The nutation is tracked as ``min (a·L)|a·L| / |L|²`` (the signed squared
-    cosine) and |L| by the extremes of |L|²: one division and no square root
-    per step. Written without branches so the loop over a block vectorises.
+    ``reference`` is the last non-zero ``a · L`` (so a sample exactly on zero
+    neither hides nor doubles a flip); the new one is returned. The nutation is
+    tracked as ``min (a·L)|a·L| / |L|²`` (the signed squared cosine) and |L| by
+    the extremes of |L|²: one division and no square root per step. Written
+    without branches so the loop over a block vectorises.
     """
-    along = a1 * w1 + a2 * w2 + a3 * w3
-    crossing = reference * along < 0.0
-    first = crossing and flips == 0.0
-    flips += 1.0 if crossing else 0.0
-    crossed_at = t if first else crossed_at
-    before = reference if first else before
-    after = along if first else after
-    reference = along if along != 0.0 else reference
     l1 = i1 * w1
     l2 = i2 * w2
     l3 = i3 * w3
     squared = l1 * l1 + l2 * l2 + l3 * l3
     c = a1 * l1 + a2 * l2 + a3 * l3
+    crossing = reference * c < 0.0
+    first = crossing and flips == 0.0
+    flips += 1.0 if crossing else 0.0
+    reference = c if c != 0.0 else reference
     lowest = min(lowest, c * abs(c) / squared if squared > 0.0 else 1.0)
     energy_dev = max(energy_dev, abs(l1 * w1 + l2 * w2 + l3 * w3 - energy0))
     smallest = min(smallest, squared)
     largest = max(largest, squared)
-    return reference, flips, crossed_at, before, after, lowest, energy_dev, smallest, largest
+    return first, reference, flips, lowest, energy_dev, smallest, largest
 
 
 @njit(inline="always")
 def initial(w1, w2, w3, i1, i2, i3, a1, a2, a3):  # type: ignore[no-untyped-def]
-    """(a · ω, 2 E, |L|², signed squared cosine) of the initial state."""
+    """(a · L, 2 E, |L|², signed squared cosine) of the initial state."""
     l1 = i1 * w1
     l2 = i2 * w2
     l3 = i3 * w3
     squared = l1 * l1 + l2 * l2 + l3 * l3
     c = a1 * l1 + a2 * l2 + a3 * l3
     ratio = c * abs(c) / squared if squared > 0.0 else 1.0
-    return a1 * w1 + a2 * w2 + a3 * w3, l1 * w1 + l2 * w2 + l3 * w3, squared, ratio
+    return c, l1 * w1 + l2 * w2 + l3 * w3, squared, ratio
 
 
 @njit(inline="always")

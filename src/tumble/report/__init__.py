@@ -26,6 +26,7 @@ from tumble.errors import InputError, OutputError
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from tumble.report.charts import FigureWorkers
     from tumble.report.geometry import Geometry
     from tumble.report.viewer import Viewer
     from tumble.scenario.execute import RunResult
@@ -127,6 +128,7 @@ def write_run(
     *,
     force: bool = False,
     progress: Callable[[str], object] | None = None,
+    figure_workers: FigureWorkers | None = None,
 ) -> Path:
     """Write a run folder for ``result``.
 
@@ -134,7 +136,9 @@ def write_run(
     per extra run), ``summary.json``, ``report.html``, one PNG per figure and
     ``viewer.html`` (unless the scenario's ``[output]`` turns figures or the
     viewer off). It is filled under a temporary name beside ``folder`` and then
-    renamed; with ``force`` an existing folder is replaced whole.
+    renamed; with ``force`` an existing folder is replaced whole. The figures
+    are drawn by ``figure_workers`` (:class:`~tumble.report.charts.FigureWorkers`)
+    while the other files are written, if given, else here.
 
     Raises
     ------
@@ -155,7 +159,7 @@ def write_run(
                 tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent)
             )
             try:
-                _fill(result, staging, progress or (lambda _: None))
+                _fill(result, staging, progress or (lambda _: None), figure_workers)
                 _replace(staging, target)
             except BaseException:
                 shutil.rmtree(staging, ignore_errors=True)
@@ -169,7 +173,12 @@ def write_run(
     return target
 
 
-def _fill(result: RunResult, staging: Path, step: Callable[[str], object]) -> None:
+def _fill(
+    result: RunResult,
+    staging: Path,
+    step: Callable[[str], object],
+    workers: FigureWorkers | None,
+) -> None:
     """Write the run folder's files into ``staging``."""
     from tumble.files import permissions, write_bytes, write_text
     from tumble.report.html import report_html
@@ -177,18 +186,17 @@ def _fill(result: RunResult, staging: Path, step: Callable[[str], object]) -> No
     os.chmod(staging, permissions(directory=True))
     spec = result.scenario.spec
     name = spec.scenario.name
+    sheets = {}
+    if spec.output.figures:
+        from tumble.report.plots import trajectory_sheets
+
+        sheets = trajectory_sheets(result.trajectory, result.panels)
+    # Workers draw the figures while the other files are written.
+    drawings = workers.submit(sheets) if workers is not None and sheets else None
     step("trajectory.parquet")
     for label, traj in result.runs.items():
         file = "trajectory.parquet" if label == "main" else f"trajectory-{label}.parquet"
         _write_parquet(traj, staging / file, name, label)
-    pngs: dict[str, bytes] = {}
-    if spec.output.figures:
-        step("figures")
-        from tumble.report.plots import png_bytes, trajectory_figures
-
-        for figure_name, figure in trajectory_figures(result.trajectory, result.panels).items():
-            pngs[figure_name] = png_bytes(figure)
-            write_bytes(staging / f"{figure_name}.png", pngs[figure_name])
     viewer = None
     if spec.output.viewer:
         step("viewer.html")
@@ -210,6 +218,17 @@ def _fill(result: RunResult, staging: Path, step: Callable[[str], object]) -> No
         )  # fmt: skip
         write_text(staging / "viewer.html", page)
         viewer = "viewer.html"
+    pngs: dict[str, bytes] = {}
+    if sheets:
+        step("figures")
+        from tumble.report.charts import draw, png
+
+        pngs = (
+            drawings.result() if drawings is not None
+            else {key: png(draw(sheet)) for key, sheet in sheets.items()}
+        )  # fmt: skip
+    for figure_name, image in pngs.items():
+        write_bytes(staging / f"{figure_name}.png", image)
     step("report.html")
     write_text(staging / "report.html", report_html(result, pngs, viewer))
     summary = result.summary()

@@ -1,8 +1,10 @@
-"""Static figures of a trajectory, drawn with matplotlib (Agg: no display needed).
+"""Static figures of a trajectory: each described as a :class:`~tumble.report.charts.Sheet`
+(data only, so it can be drawn in a worker process) and drawn with matplotlib.
 
-Each function returns a ``matplotlib.figure.Figure`` made without pyplot, so
-nothing is kept in a global figure registry and no window opens; notebooks
-show the returned figures as images.
+The ``*_sheet`` functions describe a figure; the ``*_figure`` functions return
+it drawn, a ``matplotlib.figure.Figure`` made without pyplot, so nothing is
+kept in a global figure registry and no window opens; notebooks show the
+returned figures as images.
 """
 
 from __future__ import annotations
@@ -12,8 +14,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from tumble.report.charts import COLOURS, Chart, Line, Points, Sheet, Wireframe, draw, png
+
 if TYPE_CHECKING:
-    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
     from tumble.analysis import Herpolhode
@@ -25,83 +28,67 @@ __all__ = [
     "drift_figure",
     "omega_figure",
     "panel_figure",
+    "png_bytes",
     "polhode_figure",
     "rotors_figure",
     "trajectory_figures",
+    "trajectory_sheets",
 ]
 
-_COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
+
+def _colour(k: int) -> str:
+    """The colour of a chart's k-th series."""
+    return COLOURS[k % len(COLOURS)]
 
 
-def _figure(figsize: tuple[float, float] = (8.0, 4.0)) -> Figure:
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=figsize)
-    # Fixed margins: a layout engine would double the time to draw each figure.
-    figure.subplots_adjust(left=0.1, right=0.97, top=0.91, bottom=0.13)
-    return figure
+def _components(t: np.ndarray, values: np.ndarray, symbol: str, frame: str) -> tuple[Line, ...]:
+    """The three components of a vector over time, and its magnitude dashed."""
+    lines = [
+        Line(t, values[:, k], label=f"{symbol}_{name} ({frame})", colour=colour)
+        for k, (name, colour) in enumerate(zip("xyz", COLOURS, strict=False))
+    ]
+    magnitude = np.linalg.norm(values, axis=1)
+    return (*lines, Line(t, magnitude, label=f"|{symbol}|", colour="k", width=1.2, dash="--"))
 
 
-def omega_figure(traj: Trajectory) -> Figure:
+def omega_sheet(traj: Trajectory) -> Sheet:
     """ω(t) in body axes, and |ω|."""
-    figure = _figure()
-    axes = figure.add_subplot()
-    for k, (name, colour) in enumerate(zip("xyz", _COLOURS, strict=False)):
-        axes.plot(traj.t, traj.omega[:, k], color=colour, lw=1.0, label=f"ω_{name} (body)")
-    axes.plot(traj.t, np.linalg.norm(traj.omega, axis=1), color="k", lw=1.2, ls="--", label="|ω|")
-    axes.set(xlabel="t (s)", ylabel="ω (rad/s)", title="Angular velocity in body axes")
-    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
-    axes.grid(alpha=0.3)
-    return figure
+    chart = Chart(
+        "Angular velocity in body axes", "t (s)", "ω (rad/s)",
+        lines=_components(traj.t, traj.omega, "ω", "body"),
+    )  # fmt: skip
+    return Sheet((chart,))
 
 
-def angular_momentum_figure(traj: Trajectory) -> Figure:
+def angular_momentum_sheet(traj: Trajectory) -> Sheet:
     """L(t) in space axes (about the centre of mass, or about the pivot), and |L|."""
-    figure = _figure()
-    axes = figure.add_subplot()
-    momentum = traj.angular_momentum
-    for k, (name, colour) in enumerate(zip("xyz", _COLOURS, strict=False)):
-        axes.plot(traj.t, momentum[:, k], color=colour, lw=1.0, label=f"L_{name} (space)")
-    axes.plot(traj.t, np.linalg.norm(momentum, axis=1), color="k", lw=1.2, ls="--", label="|L|")
     about = "the centre of mass" if traj.pivot is None else "the pivot"
-    axes.set(
-        xlabel="t (s)", ylabel="L (kg·m²/s)", title=f"Angular momentum about {about}, space axes"
-    )
-    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
-    axes.grid(alpha=0.3)
-    return figure
+    chart = Chart(
+        f"Angular momentum about {about}, space axes", "t (s)", "L (kg·m²/s)",
+        lines=_components(traj.t, traj.angular_momentum, "L", "space"),
+    )  # fmt: skip
+    return Sheet((chart,))
 
 
-def drift_figure(traj: Trajectory) -> Figure:
+def drift_sheet(traj: Trajectory) -> Sheet:
     """Relative change from their initial values of the quantities the motion
     conserves (:meth:`tumble.Trajectory.relative_change`): the numerical error."""
     from tumble.body import label
 
-    figure = _figure()
-    axes = figure.add_subplot()
     names = traj.conserved_quantities
-    for k, name in enumerate(names):
-        axes.plot(traj.t, traj.relative_change(name), lw=1.0, color=_COLOURS[k % len(_COLOURS)],
-                  label=label(name))  # fmt: skip
-    if not names:
-        axes.text(0.5, 0.5, "nothing is conserved in this motion", ha="center",
-                  transform=axes.transAxes)  # fmt: skip
-    axes.set(
-        xlabel="t (s)",
-        ylabel="relative change",
-        title=f"Drift of the conserved quantities (method {traj.method})",
+    lines = tuple(
+        Line(traj.t, traj.relative_change(name), label=label(name), colour=_colour(k))
+        for k, name in enumerate(names)
     )
-    axes.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
-    if names:
-        axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
-    axes.grid(alpha=0.3)
-    return figure
+    chart = Chart(
+        f"Drift of the conserved quantities (method {traj.method})", "t (s)", "relative change",
+        lines=lines, legend="upper right" if names else None, scientific_y=True,
+        note=None if names else "nothing is conserved in this motion",
+    )  # fmt: skip
+    return Sheet((chart,))
 
 
-def polhode_figure(traj: Trajectory) -> Figure:
+def polhode_sheet(traj: Trajectory) -> Sheet:
     """The polhode: L in principal body axes on the energy ellipsoid; for a
     torque-free rigid body, beside it the herpolhode (the Poinsot construction).
 
@@ -113,133 +100,151 @@ def polhode_figure(traj: Trajectory) -> Figure:
     """
     from tumble.analysis import herpolhode
     from tumble.errors import InputError
+    from tumble.massprops import principal_decomposition
 
     try:
         plane = herpolhode(traj)
     except InputError:  # no fixed plane: the polhode alone
         plane = None
-    figure = _figure(figsize=(6.0, 5.5) if plane is None else (11.0, 5.5))
-    if plane is None:
-        figure.subplots_adjust(left=0.0, right=0.95, top=0.93, bottom=0.03)
-    else:
-        figure.subplots_adjust(left=0.0, right=0.97, top=0.93, bottom=0.1, wspace=0.2)
-    axes = figure.add_subplot(1, 1 if plane is None else 2, 1, projection="3d")
-    if plane is not None:
-        _herpolhode_axes(figure.add_subplot(1, 2, 2), plane)
     mp = traj.mass_properties
     inertia = mp.inertia if traj.pivot is None else mp.inertia_about(traj.pivot)
-    from tumble.massprops import principal_decomposition
-
     moments, frame = principal_decomposition(inertia)
     momentum = traj.body_momentum @ frame  # L in principal axes (the parts' included)
     kinetic = 0.5 * float(np.sum(momentum[0] ** 2 / moments))
     semi = np.sqrt(2.0 * kinetic * moments)
+    wireframes: tuple[Wireframe, ...] = ()
     if not traj.internal:  # a gyrostat's energy surface is another ellipsoid, off centre
         u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 36), np.linspace(0, np.pi, 18))
-        axes.plot_wireframe(
-            semi[0] * np.cos(u) * np.sin(v),
-            semi[1] * np.sin(u) * np.sin(v),
-            semi[2] * np.cos(v),
-            color="0.75",
-            lw=0.4,
-        )
-    axes.plot(
-        momentum[:, 0],
-        momentum[:, 1],
-        momentum[:, 2],
-        color=_COLOURS[1],
-        lw=1.5,
-        label="L (polhode)",
-    )
-    axes.scatter(*momentum[0], color="k", s=12, label="t = 0")
-    axes.set(xlabel="L₁", ylabel="L₂", zlabel="L₃")
-    axes.set_box_aspect(semi / semi.max() if semi.max() > 0 else np.ones(3))
-    axes.set_title("Polhode: L in principal axes on the energy ellipsoid", fontsize="medium")
-    axes.legend(loc="upper left", fontsize="small")
-    return figure
+        wireframes = (
+            Wireframe(
+                semi[0] * np.cos(u) * np.sin(v), semi[1] * np.sin(u) * np.sin(v),
+                semi[2] * np.cos(v),
+            ),
+        )  # fmt: skip
+    aspect = semi / semi.max() if semi.max() > 0 else np.ones(3)
+    polhode = Chart(
+        "Polhode: L in principal axes on the energy ellipsoid", "L₁", "L₂", zlabel="L₃",
+        wireframes=wireframes,
+        lines=(
+            Line(momentum[:, 0], momentum[:, 1], momentum[:, 2], label="L (polhode)",
+                 colour=COLOURS[1], width=1.5),
+        ),
+        points=(Points(momentum[:1, 0], momentum[:1, 1], momentum[:1, 2], label="t = 0"),),
+        legend="upper left", box_aspect=(aspect[0], aspect[1], aspect[2]), title_size="medium",
+    )  # fmt: skip
+    if plane is None:
+        return Sheet(
+            (polhode,), size=(6.0, 5.5),
+            margins={"left": 0.0, "right": 0.95, "top": 0.93, "bottom": 0.03},
+        )  # fmt: skip
+    margins = {"left": 0.0, "right": 0.97, "top": 0.93, "bottom": 0.1, "wspace": 0.2}
+    return Sheet((polhode, _herpolhode_chart(plane)), size=(11.0, 5.5), margins=margins)
 
 
-def _herpolhode_axes(axes: Axes, plane: Herpolhode) -> None:
+def _herpolhode_chart(plane: Herpolhode) -> Chart:
     """The herpolhode on the invariable plane, with the foot of L at the centre."""
     points = plane.in_plane
-    axes.plot(points[:, 0], points[:, 1], color=_COLOURS[0], lw=1.0, label="ω (herpolhode)")
-    axes.scatter(points[0, 0], points[0, 1], color="k", s=12, label="t = 0", zorder=3)
-    axes.scatter(0.0, 0.0, marker="+", color="0.4", s=40, label="L through the fixed point")
-    axes.set_aspect("equal", adjustable="datalim")
-    axes.set(xlabel="ω along the plane's first axis (rad/s)",
-             ylabel="ω along its second axis (rad/s)")  # fmt: skip
-    axes.set_title(
+    return Chart(
         f"Herpolhode: ω on the invariable plane, {plane.height:.4g} rad/s along L",
-        fontsize="medium",
+        "ω along the plane's first axis (rad/s)", "ω along its second axis (rad/s)",
+        lines=(Line(points[:, 0], points[:, 1], label="ω (herpolhode)"),),
+        points=(
+            Points(points[:1, 0], points[:1, 1], label="t = 0", on_top=True),
+            Points(np.zeros(1), np.zeros(1), label="L through the fixed point", colour="0.4",
+                   size=40.0, marker="+"),
+        ),
+        equal_aspect=True, title_size="medium",
+    )  # fmt: skip
+
+
+def panel_sheet(panel: Panel) -> Sheet:
+    """A scenario's own plot (theory dashed, simulation solid)."""
+    simulated = sum(curve.style == "simulation" for curve in panel.curves)
+    colour = COLOURS[0]
+    count = 0
+    lines = []
+    for curve in panel.curves:
+        if curve.style == "simulation":
+            colour = _colour(count)
+            count += 1
+            lines.append(Line(curve.t, curve.values, label=curve.label, colour=colour))
+        elif curve.style == "fit":
+            lines.append(Line(curve.t, curve.values, label=curve.label, colour="0.4", width=1.4,
+                              dash=":"))  # fmt: skip
+        else:  # theory: dashed, black, or in the colour of the simulation it goes with
+            paired = "k" if simulated <= 1 else colour
+            lines.append(Line(curve.t, curve.values, label=curve.label, colour=paired,
+                              width=1.4, dash="--", alpha=0.8))  # fmt: skip
+    title = panel.title
+    if panel.until is not None:
+        title += f" (first {panel.until:.3g} s)"
+    chart = Chart(
+        title, "t (s)", panel.ylabel, lines=tuple(lines), log_y=panel.log,
+        x_range=None if panel.until is None else (0.0, panel.until),
+    )  # fmt: skip
+    return Sheet((chart,))
+
+
+def rotors_sheet(traj: Trajectory) -> Sheet:
+    """The rotors' spin rates relative to the body, rad/s."""
+    lines = tuple(
+        Line(traj.t, traj.rotor_speed[:, k], label=f"rotor {k + 1}", colour=_colour(k))
+        for k in range(traj.rotor_speed.shape[1])
     )
-    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
-    axes.grid(alpha=0.3)
+    return Sheet((Chart("Rotor speeds relative to the body", "t (s)", "Ω (rad/s)", lines=lines),))
+
+
+def trajectory_sheets(traj: Trajectory, panels: Sequence[Panel] = ()) -> dict[str, Sheet]:
+    """All figures of a trajectory by name, as sheets: omega, angular_momentum,
+    drift, polhode, rotors (if it has rotors), then one per panel."""
+    sheets = {
+        "omega": omega_sheet(traj),
+        "angular_momentum": angular_momentum_sheet(traj),
+        "drift": drift_sheet(traj),
+        "polhode": polhode_sheet(traj),
+    }
+    if traj.rotor_speed.shape[1]:
+        sheets["rotors"] = rotors_sheet(traj)
+    for panel in panels:
+        sheets[panel.name] = panel_sheet(panel)
+    return sheets
+
+
+def omega_figure(traj: Trajectory) -> Figure:
+    """ω(t) in body axes, and |ω| (:func:`omega_sheet`, drawn)."""
+    return draw(omega_sheet(traj))
+
+
+def angular_momentum_figure(traj: Trajectory) -> Figure:
+    """L(t) in space axes and |L| (:func:`angular_momentum_sheet`, drawn)."""
+    return draw(angular_momentum_sheet(traj))
+
+
+def drift_figure(traj: Trajectory) -> Figure:
+    """The drift of the conserved quantities (:func:`drift_sheet`, drawn)."""
+    return draw(drift_sheet(traj))
+
+
+def polhode_figure(traj: Trajectory) -> Figure:
+    """The polhode and herpolhode (:func:`polhode_sheet`, drawn)."""
+    return draw(polhode_sheet(traj))
 
 
 def panel_figure(panel: Panel) -> Figure:
-    """A scenario's own plot (theory dashed, simulation solid)."""
-    figure = _figure()
-    axes = figure.add_subplot()
-    simulated = sum(curve.style == "simulation" for curve in panel.curves)
-    colour = _COLOURS[0]
-    count = 0
-    for curve in panel.curves:
-        if curve.style == "simulation":
-            colour = _COLOURS[count % len(_COLOURS)]
-            count += 1
-            axes.plot(curve.t, curve.values, lw=1.0, color=colour, label=curve.label)
-        elif curve.style == "fit":
-            axes.plot(curve.t, curve.values, ls=":", lw=1.4, color="0.4", label=curve.label)
-        else:  # theory: dashed, black, or in the colour of the simulation it goes with
-            paired = "k" if simulated <= 1 else colour
-            axes.plot(
-                curve.t, curve.values, ls="--", lw=1.4, color=paired, alpha=0.8, label=curve.label
-            )
-    title = panel.title
-    if panel.until is not None:
-        axes.set_xlim(0.0, panel.until)
-        title += f" (first {panel.until:.3g} s)"
-    axes.set(xlabel="t (s)", ylabel=panel.ylabel, title=title)
-    if panel.log:
-        axes.set_yscale("log")
-    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
-    axes.grid(alpha=0.3)
-    return figure
+    """A scenario's own plot (:func:`panel_sheet`, drawn)."""
+    return draw(panel_sheet(panel))
 
 
 def rotors_figure(traj: Trajectory) -> Figure:
-    """The rotors' spin rates relative to the body, rad/s."""
-    figure = _figure()
-    axes = figure.add_subplot()
-    for k in range(traj.rotor_speed.shape[1]):
-        axes.plot(traj.t, traj.rotor_speed[:, k], lw=1.0, color=_COLOURS[k % len(_COLOURS)],
-                  label=f"rotor {k + 1}")  # fmt: skip
-    axes.set(xlabel="t (s)", ylabel="Ω (rad/s)", title="Rotor speeds relative to the body")
-    axes.legend(loc="upper right", fontsize="small", framealpha=0.8)
-    axes.grid(alpha=0.3)
-    return figure
+    """The rotors' spin rates (:func:`rotors_sheet`, drawn)."""
+    return draw(rotors_sheet(traj))
 
 
 def trajectory_figures(traj: Trajectory, panels: Sequence[Panel] = ()) -> dict[str, Figure]:
-    """All figures of a trajectory by name: omega, angular_momentum, drift, polhode,
-    then one per panel."""
-    figures = {
-        "omega": omega_figure(traj),
-        "angular_momentum": angular_momentum_figure(traj),
-        "drift": drift_figure(traj),
-        "polhode": polhode_figure(traj),
-    }
-    if traj.rotor_speed.shape[1]:
-        figures["rotors"] = rotors_figure(traj)
-    for panel in panels:
-        figures[panel.name] = panel_figure(panel)
-    return figures
+    """All figures of a trajectory by name (:func:`trajectory_sheets`, drawn)."""
+    return {name: draw(sheet) for name, sheet in trajectory_sheets(traj, panels).items()}
 
 
 def png_bytes(figure: Figure, dpi: int = 100) -> bytes:
     """The figure as PNG bytes."""
-    import io
-
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=dpi, pil_kwargs={"compress_level": 3})
-    return buffer.getvalue()
+    return png(figure, dpi)

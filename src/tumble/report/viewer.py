@@ -71,13 +71,15 @@ def _rotor_data(
 ) -> list[dict[str, Any]]:
     """Each rotor's mesh (body coordinates about the fixed point), axis and spin
     angle at each frame (rad, the integral of its speed, modulo 2π)."""
+    speeds = traj.rotor_speed
+    if len(drawings) != speeds.shape[1]:
+        raise ValueError(f"Expected {speeds.shape[1]} rotor drawings, got {len(drawings)}.")
+    if not drawings:
+        return []  # without importing scipy.integrate (0.1 s)
     from scipy.integrate import cumulative_trapezoid
 
     from tumble.report.geometry import rotor_mesh
 
-    speeds = traj.rotor_speed
-    if len(drawings) != speeds.shape[1]:
-        raise ValueError(f"Expected {speeds.shape[1]} rotor drawings, got {len(drawings)}.")
     rotors = []
     for k, drawing in enumerate(drawings):
         vertices, faces, marked = rotor_mesh(drawing)
