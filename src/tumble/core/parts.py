@@ -71,7 +71,7 @@ import numpy as np
 from tumble.core._jit import FINITE, file_stamp, njit, njit_parallel, prange, specialise
 from tumble.core.adaptive import adaptive_loop
 from tumble.core.dynamics import quaternion_rates
-from tumble.core.splitting import decay_integral, free_flow, sub_steps, turn
+from tumble.core.splitting import decay_integral, free_flow_one_body, sub_steps, turn
 
 __all__ = [
     "DAMPER",
@@ -430,7 +430,8 @@ def _strang(torque, drive, layout, t, h, hold, y, system):  # type: ignore[no-un
     inverse = system[1]
     _kick(torque, drive, layout, t, hold, 0.5 * h, y, system)
     _link(layout, 0.5 * h, y, system)
-    y[0], y[1], y[2], y[3], y[4], y[5], y[6] = free_flow(
+    # The C library's sines: the kernels turn one body at a time.
+    y[0], y[1], y[2], y[3], y[4], y[5], y[6] = free_flow_one_body(
         h, y[0], y[1], y[2], y[3], y[4], y[5], y[6], inverse[0], inverse[1], inverse[2]
     )
     _link(layout, 0.5 * h, y, system)
@@ -443,7 +444,7 @@ def splitting_step(torque, drive, layout, t, dt, y, work, system, order):  # typ
     Yoshida's triple jump of it (4). The free flow of the gyrostat,
     ``T = ½ (H − g)ᵀ I_p⁻¹ (H − g)`` with ``g = Σ h a`` constant between kicks,
     is the rigid body's ``½ Hᵀ I_p⁻¹ H`` (the exact rotations of
-    :func:`tumble.core.splitting.free_flow`) and the linear ``−(I_p⁻¹ g)·H``, an
+    :func:`tumble.core.splitting.free_flow_one_body`) and the linear ``−(I_p⁻¹ g)·H``, an
     exact rotation about a body-fixed axis: explicit and symplectic, H kept to
     round-off (``work`` is not used)."""
     fractions, n_sub = sub_steps(order)

@@ -57,7 +57,13 @@ from tumble.core._jit import njit
 from tumble.core.dynamics import free_torque, is_free, normalised
 from tumble.core.freebody import free_step
 from tumble.core.stepping import Variables
-from tumble.core.trig import LARGEST_ANGLE, QUARTER_TURN, cos_sin, cos_sin_small
+from tumble.core.trig import (
+    LARGEST_ANGLE,
+    QUARTER_TURN,
+    cos_sin,
+    cos_sin_small,
+    library_cos_sin,
+)
 
 __all__ = [
     "MOMENTUM",
@@ -69,12 +75,15 @@ __all__ = [
     "exact_strang_step",
     "exact_yoshida_step",
     "free_flow",
+    "free_flow_one_body",
     "momentum_state",
     "strang_step",
+    "strang_step_one_body",
     "sub_steps",
     "turn",
     "velocity_state",
     "yoshida_step",
+    "yoshida_step_one_body",
 ]
 
 YOSHIDA_OUTER = 1.0 / (2.0 - 2.0 ** (1.0 / 3.0))
@@ -165,16 +174,30 @@ def _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, sines):  # type: igno
 def free_flow(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3):  # type: ignore[no-untyped-def]
     """The second-order free flow R1(h/2) R3(h) R1(h/2) R_L(h) (``r`` = 1/I), exact
     for a symmetric body. Returns the new (L, q)."""
+    return _flow(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3, cos_sin)
+
+
+@njit(inline="always")
+def free_flow_one_body(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3):  # type: ignore[no-untyped-def]
+    """:func:`free_flow` with the C library's sines
+    (:func:`~tumble.core.trig.library_cos_sin`): the same map, faster where
+    bodies are turned one at a time rather than in vectorised loops."""
+    return _flow(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3, library_cos_sin)
+
+
+@njit(inline="always")
+def _flow(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3, sines):  # type: ignore[no-untyped-def]
+    """:func:`free_flow` with its sines and cosines from ``sines``."""
     a1 = r1 - r2
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * h, l1, l2, l3, q0, q1, q2, q3, a1, cos_sin)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(h, l1, l2, l3, q0, q1, q2, q3, r3 - r2, cos_sin)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * h, l1, l2, l3, q0, q1, q2, q3, a1, cos_sin)
-    q0, q1, q2, q3 = _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, cos_sin)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * h, l1, l2, l3, q0, q1, q2, q3, a1, sines)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(h, l1, l2, l3, q0, q1, q2, q3, r3 - r2, sines)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * h, l1, l2, l3, q0, q1, q2, q3, a1, sines)
+    q0, q1, q2, q3 = _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, sines)
     return l1, l2, l3, q0, q1, q2, q3
 
 
 @njit(inline="always")
-def _free_triple_jump(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3):  # type: ignore[no-untyped-def]
+def _free_triple_jump(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3, sines):  # type: ignore[no-untyped-def]
     """Yoshida's triple jump of :func:`free_flow` over h, its adjacent turns about
     axis 1 merged and its turns about L (which commute with the others) made one:
     R1(a/2) R3(a) R1((a+b)/2) R3(b) R1((a+b)/2) R3(a) R1(a/2) R_L(h) with
@@ -184,14 +207,14 @@ def _free_triple_jump(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3):  # type: ignor
     outer = YOSHIDA_OUTER * h
     inner = YOSHIDA_INNER * h
     middle = 0.5 * (outer + inner)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * outer, l1, l2, l3, q0, q1, q2, q3, a1, cos_sin)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(outer, l1, l2, l3, q0, q1, q2, q3, a3, cos_sin)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(middle, l1, l2, l3, q0, q1, q2, q3, a1, cos_sin)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(inner, l1, l2, l3, q0, q1, q2, q3, a3, cos_sin)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(middle, l1, l2, l3, q0, q1, q2, q3, a1, cos_sin)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(outer, l1, l2, l3, q0, q1, q2, q3, a3, cos_sin)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * outer, l1, l2, l3, q0, q1, q2, q3, a1, cos_sin)
-    q0, q1, q2, q3 = _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, cos_sin)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * outer, l1, l2, l3, q0, q1, q2, q3, a1, sines)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(outer, l1, l2, l3, q0, q1, q2, q3, a3, sines)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(middle, l1, l2, l3, q0, q1, q2, q3, a1, sines)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(inner, l1, l2, l3, q0, q1, q2, q3, a3, sines)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(middle, l1, l2, l3, q0, q1, q2, q3, a1, sines)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(outer, l1, l2, l3, q0, q1, q2, q3, a3, sines)
+    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * outer, l1, l2, l3, q0, q1, q2, q3, a1, sines)
+    q0, q1, q2, q3 = _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, sines)
     return l1, l2, l3, q0, q1, q2, q3
 
 
@@ -216,6 +239,14 @@ def _rotations(h, m, body):  # type: ignore[no-untyped-def]
     """:func:`free_flow` of the state ``m`` = (L, q) of a body of :func:`euler
     coefficients <tumble.core.dynamics.euler_coefficients>` ``body``."""
     return free_flow(h, m[0], m[1], m[2], m[3], m[4], m[5], m[6], body[3], body[4], body[5])
+
+
+@njit(inline="always")
+def _rotations_one_body(h, m, body):  # type: ignore[no-untyped-def]
+    """:func:`_rotations` with :func:`free_flow_one_body`."""
+    return free_flow_one_body(
+        h, m[0], m[1], m[2], m[3], m[4], m[5], m[6], body[3], body[4], body[5]
+    )
 
 
 @njit(inline="always")
@@ -280,7 +311,13 @@ def _triple_jump(torque, flow, t, dt, m, body, params, column, context):  # type
 
 def _free_rotations(torque, flow, t, dt, m, body, params, column, context):  # type: ignore[no-untyped-def]
     return _free_triple_jump(
-        dt, m[0], m[1], m[2], m[3], m[4], m[5], m[6], body[3], body[4], body[5]
+        dt, m[0], m[1], m[2], m[3], m[4], m[5], m[6], body[3], body[4], body[5], cos_sin
+    )
+
+
+def _free_rotations_one_body(torque, flow, t, dt, m, body, params, column, context):  # type: ignore[no-untyped-def]
+    return _free_triple_jump(
+        dt, m[0], m[1], m[2], m[3], m[4], m[5], m[6], body[3], body[4], body[5], library_cos_sin
     )
 
 
@@ -293,8 +330,11 @@ def triple_jump(torque, flow, t, dt, m, body, params, column, context):  # type:
 
 @overload(triple_jump, inline="always")
 def _triple_jump_overload(torque, flow, t, dt, m, body, params, column, context):  # type: ignore[no-untyped-def]
-    rotations = isinstance(flow, types.Dispatcher) and flow.dispatcher is _rotations
-    return _free_rotations if is_free(torque) and rotations else _triple_jump
+    if not (is_free(torque) and isinstance(flow, types.Dispatcher)):
+        return _triple_jump
+    if flow.dispatcher is _rotations:
+        return _free_rotations
+    return _free_rotations_one_body if flow.dispatcher is _rotations_one_body else _triple_jump
 
 
 @njit(inline="always")
@@ -330,6 +370,26 @@ def yoshida_step(torque, t, dt, state, coefficients, params, column, context):  
     """One step of Yoshida's triple jump of :func:`strang_step`, as it."""
     return normalised(
         triple_jump(torque, _rotations, t, dt, state, coefficients, params, column, context)
+    )
+
+
+@njit(inline="always")
+def strang_step_one_body(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    """:func:`strang_step` for the kernels of one body: the same map, with the C
+    library's sines (:func:`~tumble.core.trig.library_cos_sin`), faster one
+    angle at a time."""
+    return normalised(
+        _strang(torque, _rotations_one_body, t, dt, state, coefficients, params, column, context)
+    )
+
+
+@njit(inline="always")
+def yoshida_step_one_body(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    """:func:`yoshida_step` for the kernels of one body, as :func:`strang_step_one_body`."""
+    return normalised(
+        triple_jump(
+            torque, _rotations_one_body, t, dt, state, coefficients, params, column, context
+        )
     )
 
 
