@@ -513,27 +513,28 @@ def _small_angles(dt, state, coefficients):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _free_strang_block(step, torque, t0, dt, n_steps, state, coefficients, params, context):  # type: ignore[no-untyped-def]
-    """:func:`strang_step` of a free body, for a whole block (see above); the
-    sines without their reduction when every angle is small."""
+def _free_block(turns, dt, n_steps, state, coefficients):  # type: ignore[no-untyped-def]
+    """``turns`` (:func:`_strang_turns` or :func:`_yoshida_turns`) over a whole
+    block, the sines without their reduction when every angle is small."""
     a1 = coefficients[3] - coefficients[4]
     a3 = coefficients[5] - coefficients[4]
     if _small_angles(dt, state, coefficients):
-        _strang_turns(dt, n_steps, state, coefficients, a1, a3, cos_sin_small)
+        turns(dt, n_steps, state, coefficients, a1, a3, cos_sin_small)
     else:
-        _strang_turns(dt, n_steps, state, coefficients, a1, a3, cos_sin)
+        turns(dt, n_steps, state, coefficients, a1, a3, cos_sin)
+
+
+@njit(inline="always")
+def _free_strang_block(step, torque, t0, dt, n_steps, state, coefficients, params, context):  # type: ignore[no-untyped-def]
+    """:func:`strang_step` of a free body, for a whole block (see above)."""
+    _free_block(_strang_turns, dt, n_steps, state, coefficients)
 
 
 @njit(inline="always")
 def _free_yoshida_block(step, torque, t0, dt, n_steps, state, coefficients, params, context):  # type: ignore[no-untyped-def]
     """:func:`yoshida_step` of a free body (:func:`_free_triple_jump`), for a whole
-    block, as :func:`_free_strang_block`."""
-    a1 = coefficients[3] - coefficients[4]
-    a3 = coefficients[5] - coefficients[4]
-    if _small_angles(dt, state, coefficients):
-        _yoshida_turns(dt, n_steps, state, coefficients, a1, a3, cos_sin_small)
-    else:
-        _yoshida_turns(dt, n_steps, state, coefficients, a1, a3, cos_sin)
+    block."""
+    _free_block(_yoshida_turns, dt, n_steps, state, coefficients)
 
 
 def block_advance(step: Any, torque: Any) -> Any:

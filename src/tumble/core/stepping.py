@@ -205,6 +205,15 @@ def block_steps(step, torque, t0, dt, n_steps, state, coefficients, params, cont
             w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j] = new
 
 
+def _advance(step: Any, torque: Any, variables: Variables, chooser: Any) -> tuple[Any, str]:
+    """The block advance a batch kernel runs (``chooser(step, torque)``, or
+    :func:`block_steps` where it has none) and the stepper's part of the
+    kernel's identity."""
+    chosen = None if chooser is None else chooser(step, torque)
+    stamp = _stamp(step, variables, chosen)
+    return (block_steps if chosen is None else chosen), stamp
+
+
 def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # type: ignore[no-untyped-def]
     """``batch(w, q, inertia, params, context, t0, dt, n_steps, status)``: advance N
     bodies in place by ``n_steps`` steps of ``dt`` s from time ``t0``, in parallel
@@ -217,9 +226,7 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
     (:func:`block_steps` itself).
     """
     enter, leave = variables
-    advance = None if advance is None else advance(step, torque)
-    stamp = _stamp(step, variables, advance)
-    advance = block_steps if advance is None else advance
+    advance, stamp = _advance(step, torque, variables, advance)
 
     @specialise(njit_vector, f"stepping.batch|{stamp}|{identity}")
     def batch(w, q, inertia, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
@@ -241,9 +248,7 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None):  #
     as :func:`batch_kernel`, measuring each body after every step into ``out``
     (``N_METRICS``, N) (see :mod:`tumble.core.metrics`; ``axis`` (3, N) the
     nominal axes)."""
-    advance = None if advance is None else advance(step, torque)
-    stamp = _stamp(step, variables, advance)
-    advance = block_steps if advance is None else advance
+    advance, stamp = _advance(step, torque, variables, advance)
 
     @specialise(njit_vector, f"stepping.metrics|{stamp}|{identity}")
     def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
