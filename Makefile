@@ -7,7 +7,7 @@ STAMP  := $(VENV)/.installed
 # apt-get as root, else through sudo (never prompting: CI has no terminal).
 SUDO   := $(shell [ "$$(id -u)" = 0 ] || echo "sudo -n")
 
-.PHONY: setup browser demo test lint typecheck contracts pytest pytest-nojit bench clean
+.PHONY: setup browser demo docs doctest test lint typecheck contracts pytest pytest-nojit bench clean
 
 setup: $(STAMP) browser
 
@@ -23,7 +23,7 @@ browser:
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[dev]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,docs]'
 	@echo "Compiling the default run's kernels (tumble warm-up)"
 	$(BIN)/tumble warm-up --quiet
 	@touch $(STAMP)
@@ -32,8 +32,18 @@ $(STAMP): pyproject.toml
 demo: setup
 	$(BIN)/tumble run
 
+# The documentation site, from the sources in docs/: every tutorial, guide and
+# example executed, every warning an error (-W), every reference resolved (-n).
+docs: setup
+	MPLBACKEND=Agg $(BIN)/sphinx-build -b html -n -W --keep-going -q docs docs/_build/html
+	@echo "The site: docs/_build/html/index.html"
+
+# The Examples sections of the docstrings, run.
+doctest: setup
+	$(BIN)/pytest -q --doctest-modules src/tumble
+
 lint: setup
-	$(BIN)/ruff check src tests bench examples
+	$(BIN)/ruff check src tests bench examples docs
 
 typecheck: setup
 	$(BIN)/mypy
@@ -49,7 +59,8 @@ pytest-nojit: setup
 	NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q tests/core
 	NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q tests/test_sweep.py -k "quarter or symmetric or single_body or nutation"
 
-test: lint typecheck contracts pytest pytest-nojit
+# docs before pytest: the tests of the site (links, the browser, the reference) read it.
+test: lint typecheck contracts docs doctest pytest pytest-nojit
 
 bench: setup
 	$(BIN)/python -m pip install --quiet -e '.[dev,bench]'
@@ -68,4 +79,5 @@ bench: setup
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache .hypothesis
+	rm -rf docs/_build docs/auto_tutorials docs/auto_how-to docs/auto_examples docs/reference/generated
 	find . -name __pycache__ -type d -prune -exec rm -rf {} +

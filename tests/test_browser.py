@@ -1,49 +1,24 @@
-"""The report and the viewer in a real browser: headless Chromium (Debian's package,
-installed by `make setup`) driven by Playwright, with no browser download.
-
-Skipped only where Chromium is not installed and cannot be (a developer machine
-without root); under CI (``CI`` set) a missing browser is a failure.
-"""
+"""The report and the viewer in a real browser (:mod:`browsing`): headless
+Chromium, offline."""
 
 from __future__ import annotations
 
 import io
-import os
-import shutil
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from browsing import chromium, open_offline
 from tumble.report import write_run
 from tumble.scenario import run
-
-CHROMIUM = "/usr/bin/chromium"
-
-
-def _missing(reason: str) -> None:
-    if os.environ.get("CI"):
-        pytest.fail(f"{reason}: under CI the browser test must run (make setup installs it)")
-    pytest.skip(reason)
 
 
 @pytest.fixture(scope="module")
 def browser() -> Iterator[Any]:
-    if not (Path(CHROMIUM).is_file() or shutil.which("chromium")):
-        _missing("Debian's chromium is not installed (apt-get install chromium)")
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:
-        _missing("playwright is not installed (pip install -e '.[dev]')")
-    with sync_playwright() as playwright:
-        # Software WebGL (SwiftShader) for plotly's 3D scene on machines without a GPU.
-        chromium = playwright.chromium.launch(
-            executable_path=CHROMIUM if Path(CHROMIUM).is_file() else shutil.which("chromium"),
-            args=["--enable-unsafe-swiftshader", "--use-angle=swiftshader"],
-        )
-        yield chromium
-        chromium.close()
+    with chromium() as launched:
+        yield launched
 
 
 @pytest.fixture(scope="module")
@@ -52,15 +27,7 @@ def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _open(browser: Any, path: Path) -> tuple[Any, list[str]]:
-    page = browser.new_page(viewport={"width": 1000, "height": 760})
-    errors: list[str] = []
-    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    page.on("requestfailed", lambda r: errors.append(f"request failed: {r.url}"))
-    # Offline: any request that leaves the page's own file is refused, and so reported.
-    page.route("http*://**", lambda route: route.abort())
-    page.goto(path.as_uri())
-    return page, errors
+    return open_offline(browser, path.as_uri())
 
 
 def _not_blank(png: bytes) -> float:

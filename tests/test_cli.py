@@ -131,6 +131,14 @@ def test_version() -> None:
     assert out.startswith("tumble ")
 
 
+def test_python_dash_m_tumble_is_the_command() -> None:
+    result = subprocess.run(
+        [sys.executable, "-m", "tumble", "--version"], capture_output=True, text=True, check=False
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith("tumble ")
+
+
 def script(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
     """The real entry point in a fresh process, as a user's shell runs it."""
     return subprocess.run(

@@ -712,7 +712,7 @@ def test_one_flipped_triangle_is_inconsistent_winding():
         MeshError,
         match=r"Expected mesh to have consistent winding, got 3 edges traversed in "
         r"the same direction by both of their triangles \(some triangles are "
-        r"flipped; trimesh\.repair\.fix_normals can repair it\)\.",
+        r"flipped; trimesh\.repair\.fix_normals, with networkx installed, can repair it\)\.",
     ):
         tumble.from_mesh(raw(vertices, faces), density=1.0)
 

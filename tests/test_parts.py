@@ -608,3 +608,10 @@ def test_bad_parts_are_refused_with_a_clear_message(make, message) -> None:
 def test_bad_bodies_with_parts_are_refused(kwargs, message) -> None:
     with pytest.raises(tb.InputError, match=message):
         tb.simulate(BOX, [0.1, 0.2, 0.3], duration=1.0, dt=0.1, **kwargs)
+
+
+def test_a_rotor_prints_its_motor_torque_as_a_number() -> None:
+    rotor = tb.Rotor(axis=[0, 0, 1], inertia=0.01, speed=10, torque="1 mN*m")
+    assert repr(rotor) == (
+        "Rotor(axis=[0.0, 0.0, 1.0], inertia=0.01 kg·m², speed=10.0 rad/s, torque=0.001 N·m)"
+    )

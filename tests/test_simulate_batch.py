@@ -350,3 +350,20 @@ def test_the_exact_batch_refuses_a_torque() -> None:
     ):
         tb.simulate_batch([[1.0, 2.0, 3.0]], [[0.1, 0.2, 0.3]], duration=1.0, dt=0.1,
                           method="exact", torque=tb.torques.LinearDamping(0.1))  # fmt: skip
+
+
+@pytest.mark.parametrize("method", ["rk4", "splitting", "exact"])
+def test_the_callers_initial_arrays_are_left_as_they_were(method: str) -> None:
+    # One body already in principal axes, and Fortran-ordered (N, 3) arrays: the
+    # layouts whose transposes are C-contiguous views of the caller's memory.
+    one = np.array([[0.1, 2.0, 0.1]])
+    many = np.asfortranarray([[0.1, 2.0, 0.1], [0.2, 1.0, 0.3]])
+    attitudes = np.asfortranarray([[1.0, 0.0, 0.0, 0.0], [0.6, 0.8, 0.0, 0.0]])
+    for omega0, q0 in ((one, None), (many, attitudes)):
+        before_w, before_q = omega0.copy(), None if q0 is None else q0.copy()
+        n = len(omega0)
+        tb.simulate_batch([[1.0, 2.0, 3.0]] * n, omega0, attitude0=q0, duration=1.0, dt=1e-2,
+                          method=method)  # fmt: skip
+        assert np.array_equal(omega0, before_w)
+        if q0 is not None:
+            assert np.array_equal(q0, before_q)

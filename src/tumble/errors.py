@@ -17,7 +17,24 @@ __all__ = [
 
 
 class InputError(ValueError):
-    """A value given to tumble is invalid: wrong shape, units, range or physics."""
+    """A value given to tumble is invalid: wrong shape, units, range or physics.
+
+    Examples
+    --------
+    Moments that no distribution of mass has are refused:
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 1.0, 3.0]))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+        ...
+    tumble.errors.InputError: Expected ... inequality I1 + I2 >= I3, got I1 + I2 = 2 < I3 = 3 ...
+    >>> try:
+    ...     tb.shapes.solid_sphere("-1 kg", 0.1)
+    ... except tb.InputError as error:
+    ...     print(error)
+    Expected `mass` > 0 kg, got -1.0.
+    """
 
 
 class MeshError(InputError):

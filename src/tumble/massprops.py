@@ -72,6 +72,36 @@ class MassProperties:
         break the triangle inequality ``I1 + I2 >= I3`` (both to
         ``PHYSICAL_TOLERANCE`` of the trace). A zero moment is valid: thin rods,
         collinear point masses and single point masses have one or three.
+
+    Examples
+    --------
+    A body with a product of inertia ``I_xy = −1 kg·m²``: its principal axes
+    are the diagonals of the xy plane, and body z.
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> inertia = [[3.0, -1.0, 0.0], [-1.0, 3.0, 0.0], [0.0, 0.0, 5.0]]
+    >>> body = tb.MassProperties("2 kg", [0, 0, 0.1], inertia)
+    >>> moments, axes = body.principal()
+    >>> print(", ".join(f"{m:.6f}" for m in moments))
+    2.000000, 4.000000, 5.000000
+    >>> np.allclose(axes[:, 0], np.array([1, 1, 0]) / np.sqrt(2))
+    True
+    >>> np.allclose(axes @ np.diag(moments) @ axes.T, body.inertia)
+    True
+
+    About the body origin, 0.1 m from the centre of mass along z, the moments
+    about x and y grow by ``m d² = 0.02 kg·m²``:
+
+    >>> print(np.round(body.inertia_about([0, 0, 0]).diagonal(), 6))
+    [3.02 3.02 5.  ]
+
+    Parts in the same body coordinates add into an assembly:
+
+    >>> ball = tb.shapes.solid_sphere(1.0, 0.1)
+    >>> pair = sum(ball.transformed(translation=[x, 0, 0]) for x in (-0.3, 0.3))
+    >>> print(f"{pair.mass:.1f} kg, I_yy = {pair.inertia[1, 1]:.3f} kg·m²")  # 2 (2/5 m r² + m d²)
+    2.0 kg, I_yy = 0.188 kg·m²
     """
 
     mass: float
@@ -139,6 +169,15 @@ class MassProperties:
         Returns
         -------
         (3, 3) float64, kg·m².
+
+        Examples
+        --------
+        A uniform rod about its end: ``m L² / 12 + m (L/2)² = m L² / 3``.
+
+        >>> import tumble as tb
+        >>> rod = tb.shapes.thin_rod(3.0, 2.0)
+        >>> print(f"{rod.inertia_about([0, 0, 1.0])[0, 0]:.6f} kg·m²")
+        4.000000 kg·m²
         """
         p = vector_to_si(point, "length", "point", (3,))
         d = p - self.center_of_mass
@@ -171,6 +210,17 @@ class MassProperties:
         repeated moments the first axis is the projection of the body axis
         (x, then y, then z) that lies most in that plane; with three equal moments
         the axes are the body axes; the last axis completes a right-handed frame.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import tumble as tb
+        >>> brick = tb.shapes.box(1.0, [0.1, 0.2, 0.3])
+        >>> moments, axes = brick.principal()
+        >>> print(", ".join(f"{m:.6f}" for m in moments))  # ascending: about z, y, x
+        0.004167, 0.008333, 0.010833
+        >>> print(f"{np.linalg.det(axes):.1f}")
+        1.0
         """
         return self._principal_cached
 
@@ -361,6 +411,19 @@ def point_masses(masses: Any, positions: Any) -> MassProperties:
     -------
     MassProperties with ``I_ij = Σ m_k (r_k² δ_ij − r_k,i r_k,j)`` about the
     centre of mass (products of inertia ``I_xy = −Σ m x y``).
+
+    Examples
+    --------
+    A dumbbell of 1 kg and 3 kg, 1 m apart along x: the centre of mass is
+    0.75 m from the light mass, and the moment across the bar is the reduced
+    mass times the distance squared, ``(1 × 3 / 4) × 1² = 0.75 kg·m²``.
+
+    >>> import tumble as tb
+    >>> dumbbell = tb.point_masses([1.0, 3.0], [[0, 0, 0], [1.0, 0, 0]])
+    >>> print(f"{dumbbell.mass:.1f} kg at x = {dumbbell.center_of_mass[0]:.2f} m")
+    4.0 kg at x = 0.75 m
+    >>> print(", ".join(f"{m:.2f}" for m in dumbbell.inertia.diagonal()))
+    0.00, 0.75, 0.75
     """
     m = vector_to_si(masses, "mass", "masses", (-1,))
     r = vector_to_si(positions, "length", "positions", (-1, 3))

@@ -61,6 +61,14 @@ def box(mass: Any, size: Any) -> MassProperties:
     """Uniform rectangular box with full edges ``size = (a, b, c)`` along body x, y, z.
 
     ``I_xx = m (b² + c²) / 12`` and cyclic.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> brick = tb.shapes.box(1.2, "10, 20, 30 cm")
+    >>> np.allclose(np.diag(brick.inertia), 1.2 * np.array([0.13, 0.10, 0.05]) / 12)
+    True
     """
     m = _mass(mass)
     a, b, c = vector_to_si(size, "length", "size", (3,))
@@ -75,6 +83,15 @@ def solid_cylinder(mass: Any, radius: Any, height: Any) -> MassProperties:
     """Uniform solid cylinder, axis along body z.
 
     ``I_zz = m r² / 2``, ``I_xx = I_yy = m (3 r² + h²) / 12``.
+
+    Examples
+    --------
+    A flat puck has its largest moment about its axis:
+
+    >>> import tumble as tb
+    >>> puck = tb.shapes.solid_cylinder("250 g", "3 cm", "1 cm")
+    >>> print(f"I_zz = {puck.inertia[2, 2]:.4e}, I_xx = {puck.inertia[0, 0]:.4e} kg·m²")
+    I_zz = 1.1250e-04, I_xx = 5.8333e-05 kg·m²
     """
     m = _mass(mass)
     r = _positive_length(radius, "radius")
@@ -101,7 +118,15 @@ def hollow_cylinder(mass: Any, inner_radius: Any, outer_radius: Any, height: Any
 
 
 def solid_sphere(mass: Any, radius: Any) -> MassProperties:
-    """Uniform solid ball: ``I = 2 m r² / 5`` about every axis."""
+    """Uniform solid ball: ``I = 2 m r² / 5`` about every axis.
+
+    Examples
+    --------
+    >>> import tumble as tb
+    >>> ball = tb.shapes.solid_sphere("2 kg", "10 cm")
+    >>> print(f"{ball.inertia[0, 0]:.6f} kg·m²")  # 2/5 × 2 kg × (0.1 m)²
+    0.008000 kg·m²
+    """
     m = _mass(mass)
     r = _positive_length(radius, "radius")
     moment = 2 * m * r * r / 5
@@ -122,6 +147,18 @@ def hollow_sphere(mass: Any, inner_radius: Any, outer_radius: Any) -> MassProper
     ``I = (2 m / 5) (r2⁵ − r1⁵) / (r2³ − r1³)``, evaluated as the ratio of the
     quotient polynomials so that a thin shell (``r1 → r2``) does not cancel; it
     tends to ``2 m r² / 3``.
+
+    Examples
+    --------
+    From a solid ball (``r1 = 0``, ``2 m r² / 5``) to a thin shell (``r1 = r2``, ``2 m r² / 3``):
+
+    >>> import tumble as tb
+    >>> for inner in (0.0, 0.05, 0.1):
+    ...     shell = tb.shapes.hollow_sphere(1.0, inner, 0.1)
+    ...     print(f"{inner:.2f} m: {shell.inertia[0, 0]:.6f} kg·m²")
+    0.00 m: 0.004000 kg·m²
+    0.05 m: 0.004429 kg·m²
+    0.10 m: 0.006667 kg·m²
     """
     m = _mass(mass)
     r1 = to_si(inner_radius, "length", "inner_radius")
@@ -153,6 +190,15 @@ def thin_rod(mass: Any, length: Any) -> MassProperties:
 
     The zero moment is exact for the idealisation; such a body has mass
     properties but cannot be simulated on its own.
+
+    Examples
+    --------
+    About one end the moment is ``m L² / 3`` (parallel-axis theorem):
+
+    >>> import tumble as tb
+    >>> rod = tb.shapes.thin_rod(0.6, "1 m")
+    >>> print(f"{rod.inertia[0, 0]:.4f} {rod.inertia_about([0, 0, 0.5])[0, 0]:.4f} kg·m²")
+    0.0500 0.2000 kg·m²
     """
     m = _mass(mass)
     length_si = _positive_length(length, "length")
@@ -161,7 +207,18 @@ def thin_rod(mass: Any, length: Any) -> MassProperties:
 
 
 def thin_disk(mass: Any, radius: Any) -> MassProperties:
-    """Flat uniform disk in the body xy plane: ``I_zz = m r² / 2``, ``I_xx = I_yy = m r² / 4``."""
+    """Flat uniform disk in the body xy plane: ``I_zz = m r² / 2``, ``I_xx = I_yy = m r² / 4``.
+
+    Examples
+    --------
+    A flat body obeys the perpendicular-axis theorem ``I_zz = I_xx + I_yy``:
+
+    >>> import tumble as tb
+    >>> disk = tb.shapes.thin_disk(1.0, 0.2)
+    >>> ixx, iyy, izz = disk.inertia.diagonal()
+    >>> print(f"{izz:.4f} = {ixx:.4f} + {iyy:.4f}")
+    0.0200 = 0.0100 + 0.0100
+    """
     m = _mass(mass)
     r = _positive_length(radius, "radius")
     return _body(m, m * r * r / 4, m * r * r / 4, m * r * r / 2)

@@ -143,6 +143,20 @@ def to_si(value: Any, kind: str, name: str) -> float:
     InputError
         If the value is not a scalar, cannot be parsed, has the wrong dimensions,
         or is NaN or infinite.
+
+    Examples
+    --------
+    >>> from tumble.units import to_si, ureg
+    >>> print(f"{to_si('3000 rpm', 'angular_velocity', 'spin_rate'):.6f} rad/s")  # 100π
+    314.159265 rad/s
+    >>> to_si("250 g", "mass", "mass"), to_si(1.5, "length", "radius")
+    (0.25, 1.5)
+    >>> print(f"{to_si(ureg.Quantity(30, 'deg'), 'angle', 'tilt'):.6f} rad")
+    0.523599 rad
+    >>> to_si("3 kg", "length", "radius")
+    Traceback (most recent call last):
+        ...
+    tumble.errors.InputError: Expected `radius` to be a length in m, got 3 kg (dimensions [mass]).
     """
     value = _parse(value, name)
     if isinstance(value, pint.Quantity):
@@ -185,6 +199,16 @@ def vector_to_si(
     ------
     InputError
         On wrong shape, wrong dimensions, or NaN / inf entries.
+
+    Examples
+    --------
+    >>> from tumble.units import vector_to_si
+    >>> vector_to_si("10, 20, 30 cm", "length", "size").round(6).tolist()
+    [0.1, 0.2, 0.3]
+    >>> vector_to_si(["1 ft", 0.5, "2 in"], "length", "point").round(4).tolist()
+    [0.3048, 0.5, 0.0508]
+    >>> vector_to_si([[1, 0, 0], [0, 1, 0]], "length", "positions", (-1, 3)).shape
+    (2, 3)
     """
     value = _parse_vector_string(value, name) if isinstance(value, str) else value
     if isinstance(value, pint.Quantity):

@@ -112,6 +112,25 @@ def precession(trajectory: Trajectory, axis: Any = (0, 0, 1), vertical: Any = No
     InputError
         Fewer than 3 samples, a zero ``axis`` or ``vertical``, or an axis that
         comes within 1e-6 rad of the vertical (its azimuth is undefined there).
+
+    Examples
+    --------
+    A top (a disk spun at 3000 rpm, 5 cm above its pivot) released from rest
+    at 30°: its axis precesses about the vertical at the mean rate
+    :func:`tumble.theory.gyroscope` gives.
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> import tumble as tb
+    >>> disk = tb.shapes.solid_cylinder(0.5, 0.03, 0.01)
+    >>> spin, pivot = 2 * np.pi * 50, [0, 0, -0.05]  # 3000 rpm; 5 cm below the centre
+    >>> tilt = Rotation.from_euler("x", 30, degrees=True)
+    >>> traj = tb.simulate(disk, [0, 0, spin], attitude0=tilt, pivot=pivot,
+    ...                    gravity=[0, 0, -9.81], duration=1.0, dt=0.001)
+    >>> top = tb.theory.gyroscope(disk, pivot, spin_rate=spin, tilt="30 deg")
+    >>> turn = tb.analysis.precession(traj)
+    >>> print(f"{turn.rate:.4f} rad/s ({turn.method}), theory {top.mean_precession_rate:.4f}")
+    3.6858 rad/s (whole nutation periods), theory 3.6858
     """
     traj = as_trajectory(trajectory)
     up = vertical_of(traj, vertical)
@@ -144,8 +163,8 @@ def nutation(trajectory: Trajectory, axis: Any = (0, 0, 1), vertical: Any = None
     than 3 maxima it is the peak of the spectrum of θ (coarser: a fraction of
     2π/duration). The amplitude is half the swing: (mean refined maximum − mean
     refined minimum) / 2, comparable to
-    :attr:`tumble.theory.Gyroscope.nutation_amplitude` and to half the
-    difference of its ``nutation_limits``.
+    the ``nutation_amplitude`` of :class:`tumble.theory.Gyroscope` and to half
+    the difference of its ``nutation_limits``.
 
     Parameters
     ----------
@@ -164,6 +183,28 @@ def nutation(trajectory: Trajectory, axis: Any = (0, 0, 1), vertical: Any = None
         Fewer than 3 samples, a zero ``axis`` or ``vertical``, a tilt that does
         not nutate (a swing below ``STEADY_SWING`` rad), or fewer than two
         turning points (less than about one period of nutation).
+
+    Examples
+    --------
+    The default scenario's top (a thin disk of 1 kg and 10 cm radius, its pivot
+    10 cm along its axis, spun at 200 rad/s) released from rest at 60°: its tilt
+    nods with the period and between the limits of the exact solution
+    (:func:`tumble.theory.gyroscope`).
+
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation
+    >>> import tumble as tb
+    >>> disk, pivot = tb.shapes.thin_disk(1.0, 0.1), [0, 0, -0.1]
+    >>> traj = tb.simulate(disk, [0, 0, 200.0], pivot=pivot, gravity=[0, 0, -9.81],
+    ...                    attitude0=Rotation.from_euler("x", 60, degrees=True),
+    ...                    duration=2.0, dt=0.001)
+    >>> top = tb.theory.gyroscope(disk, pivot, spin_rate=200.0, tilt="60 deg")
+    >>> nod = tb.analysis.nutation(traj)
+    >>> print(f"{nod.frequency:.4f} rad/s, theory {2 * np.pi / top.nutation_period:.4f}")
+    79.0410 rad/s, theory 79.0410
+    >>> low, high = top.nutation_limits
+    >>> print(f"amplitude {nod.amplitude:.6f} rad, theory {(high - low) / 2:.6f}")
+    amplitude 0.010815 rad, theory 0.010815
     """
     traj = as_trajectory(trajectory)
     up = vertical_of(traj, vertical)
@@ -212,8 +253,8 @@ def nutation(trajectory: Trajectory, axis: Any = (0, 0, 1), vertical: Any = None
 
 def body_precession_rate(trajectory: Trajectory, axis: Any) -> float:
     """Least-squares rate (rad/s) at which ω, in body coordinates, turns about the
-    body ``axis`` (a free symmetric top's ω turns about its symmetry axis at
-    ``(I⊥ − Is)/I⊥ · ωs``)."""
+    body ``axis``, positive by the right-hand rule about it (a free symmetric
+    top's ω turns about its symmetry axis at ``(Is − I⊥)/I⊥ · ωs``)."""
     traj = as_trajectory(trajectory)
     unit = unit_vector(axis, "axis")
     angle = azimuth(traj.omega, unit, "ω", traj.t)

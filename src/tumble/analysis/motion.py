@@ -87,6 +87,19 @@ def flips(trajectory: Trajectory) -> Flips:
     InputError
         Fewer than 3 samples, or fewer than two sign changes (no period can be
         measured: a record too short, or a body that does not flip).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    >>> traj = tb.simulate(body, [0.1, 1.0, 0.1], duration=50.0)
+    >>> found = tb.analysis.flips(traj)
+    >>> found.count, found.axis.tolist()
+    (4, [0.0, 1.0, 0.0])
+    >>> expected = tb.theory.flip_period(body, [0.1, 1.0, 0.1])
+    >>> print(f"{found.period:.4f} s, theory {expected:.4f} s")
+    22.9963 s, theory 22.9963 s
     """
     traj = as_trajectory(trajectory)
     _, axes = _principal(traj)
@@ -119,6 +132,20 @@ def polhode(trajectory: Trajectory) -> Polhode:
     ------
     InputError
         Fewer than 3 samples.
+
+    Examples
+    --------
+    Without torque, L stays on both the momentum sphere and the energy ellipsoid:
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    >>> path = tb.analysis.polhode(tb.simulate(body, [0.1, 1.0, 0.1], duration=30.0))
+    >>> L = path.angular_momentum_body
+    >>> np.allclose(np.linalg.norm(L, axis=1), path.momentum_sphere)
+    True
+    >>> np.allclose(np.sum((L / path.energy_ellipsoid) ** 2, axis=1), 1.0)
+    True
     """
     traj = as_trajectory(trajectory)
     moments, axes = _principal(traj)
@@ -171,6 +198,21 @@ def herpolhode(trajectory: Trajectory) -> Herpolhode:
     InputError
         A motion that does not keep its energy and its angular momentum vector
         (a torque, gravity about a pivot, internal parts): no fixed plane.
+
+    Examples
+    --------
+    ω stays on the invariable plane, at the distance ``2 T / |L|`` from the
+    fixed point:
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    >>> traj = tb.simulate(body, [0.1, 1.0, 0.1], duration=30.0)
+    >>> plane = tb.analysis.herpolhode(traj)
+    >>> print(f"{plane.height:.6f} rad/s")  # 2.04 J / 2.024846 kg·m²/s
+    1.007484 rad/s
+    >>> np.allclose(plane.omega_space @ plane.normal, plane.height)
+    True
     """
     traj = as_trajectory(trajectory)
     kept = set(traj.conserved_quantities)

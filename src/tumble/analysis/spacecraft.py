@@ -88,6 +88,16 @@ def exponential_rate(t: Any, values: Any, band: tuple[float, float] | None = Non
     ------
     InputError
         Fewer than 3 samples in the band.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> t = np.linspace(0.0, 2.0, 21)
+    >>> print(f"{tb.analysis.exponential_rate(t, 0.01 * np.exp(0.7 * t)):.6f} 1/s")
+    0.700000 1/s
+    >>> print(f"{tb.analysis.exponential_rate(t, 2.0 * np.exp(-0.3 * t)):.6f} 1/s")
+    -0.300000 1/s
     """
     times = np.asarray(t, dtype=float)
     sizes = np.abs(np.asarray(values, dtype=float))
@@ -110,7 +120,16 @@ def exponential_rate(t: Any, values: Any, band: tuple[float, float] | None = Non
 def oscillation_frequency(t: Any, values: Any) -> float:
     """The angular frequency (rad/s) of an oscillating signal: 2π over the mean time
     between its maxima (refined by parabolas), or the spectral peak when it has
-    fewer than 3 maxima."""
+    fewer than 3 maxima.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> t = np.linspace(0.0, 10.0, 1001)
+    >>> print(f"{tb.analysis.oscillation_frequency(t, np.sin(3.0 * t + 0.4)):.4f} rad/s")
+    3.0000 rad/s
+    """
     times = np.asarray(t, dtype=float)
     signal = np.asarray(values, dtype=float)
     maxima = turning_points(times, signal)[0]

@@ -100,7 +100,8 @@ def gravity_gradient(t, w, q, params, row, column, context):  # type: ignore[no-
 
 # ------------------------------------------------------------------ user functions
 #: The C signature a user's torque function is compiled to (see
-#: :func:`compile_user_torque`): t, ω (3,), q (4,), params (n,), n, out (3,).
+#: :func:`tumble.core.torques.compile_user_torque`): t, ω (3,), q (4,), params (n,),
+#: n, out (3,).
 USER_TORQUE_SIGNATURE = numba.types.void(
     numba.types.float64,
     numba.types.CPointer(numba.types.float64),
@@ -159,8 +160,8 @@ def user_torque(t, w, q, params, row, column, context):  # type: ignore[no-untyp
     quaternion, out, callback)``: the principal axes as columns in body
     coordinates (3, 3), the same rotation as a quaternion (principal → body),
     the user's params, three scratch arrays and the callback from
-    :func:`compile_user_torque`. The state is turned from the principal frame
-    into the user's body axes, and the torque back.
+    :func:`tumble.core.torques.compile_user_torque`. The state is turned from the
+    principal frame into the user's body axes, and the torque back.
     """
     axes, axes_q, user_params, omega, quaternion, out, callback = context
     w1, w2, w3 = w

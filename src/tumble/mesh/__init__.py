@@ -129,6 +129,30 @@ def from_mesh(
         If vertices were welded (how many, and the largest distance moved),
         coincident triangles removed, or the mesh is closed pieces touching
         along edges (how many).
+
+    Examples
+    --------
+    A box of 10 × 20 × 30 cm as a triangle mesh has the inertia of the
+    closed-form solid box:
+
+    >>> import numpy as np
+    >>> import trimesh
+    >>> import tumble as tb
+    >>> mesh = trimesh.creation.box(extents=[0.1, 0.2, 0.3])
+    >>> brick = tb.from_mesh(mesh, mass="1 kg")
+    >>> np.allclose(brick.inertia, tb.shapes.box(1.0, [0.1, 0.2, 0.3]).inertia)
+    True
+
+    Given a density instead, the mass follows from the volume (6 litres):
+
+    >>> print(f"{tb.from_mesh(mesh, density='2700 kg/m^3').mass:.2f} kg")
+    16.20 kg
+
+    Coordinates in millimetres, as most CAD files have them:
+
+    >>> mesh_mm = trimesh.creation.box(extents=[100, 200, 300])
+    >>> np.allclose(tb.from_mesh(mesh_mm, mass=1.0, units="mm").inertia, brick.inertia)
+    True
     """
     if (density is None) == (mass is None):
         raise InputError(

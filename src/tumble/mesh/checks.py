@@ -384,7 +384,7 @@ def check_edges(
         raise MeshError(
             f"Expected {label} to have consistent winding, got {same_direction} edges traversed "
             "in the same direction by both of their triangles (some triangles are flipped; "
-            "trimesh.repair.fix_normals can repair it)."
+            "trimesh.repair.fix_normals, with networkx installed, can repair it)."
         )
 
 

@@ -38,6 +38,22 @@ class Rotor(InternalPart):
 
     The motor torque adds to the rotor's share of any torque model that acts
     through the rotors (``actuator="rotors"``, e.g. an attitude controller).
+
+    Examples
+    --------
+    A reaction wheel (J = 0.002 kg·m²) spun up by its motor (1 mN·m) inside a
+    body at rest (I = 0.008 kg·m² with the wheel locked): the body turns the
+    other way at ``u t / (I − J)``, and the total angular momentum stays zero.
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> body = tb.shapes.solid_sphere(2.0, 0.1)
+    >>> wheel = tb.Rotor(axis=[0, 0, 1], inertia=0.002, torque=0.001)
+    >>> traj = tb.simulate(body, [0, 0, 0], internal=[wheel], duration=1.0, dt=0.01)
+    >>> print(f"body {traj.omega[-1, 2]:.4f} rad/s, wheel {traj.rotor_speed[-1, 0]:.4f} rad/s")
+    body -0.1667 rad/s, wheel 0.6667 rad/s
+    >>> np.allclose(traj.angular_momentum, 0.0)
+    True
     """
 
     axis: Any
@@ -117,7 +133,7 @@ class Rotor(InternalPart):
     def __repr__(self) -> str:
         times, torques = self.schedule
         motor = (
-            f"{torques[0]!r} N·m"
+            f"{float(torques[0])!r} N·m"
             if len(times) == 1 and times[0] == 0.0
             else f"schedule of {len(times)} steps"
         )

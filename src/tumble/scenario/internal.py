@@ -72,7 +72,7 @@ PART_KEYS: dict[str, tuple[str, ...]] = {
 class InternalSpec(StrictModel):
     """One ``[[internal]]`` table (see the module's docstring). Values in SI once
     validated; the schedule of ``torque`` and the limits are checked by the
-    part itself (:meth:`part`)."""
+    part itself (``part()``)."""
 
     type: str
     inertia: Inertia | None = None

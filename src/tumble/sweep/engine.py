@@ -116,7 +116,14 @@ BUILTINS = Builtins(kind="sweep", package="tumble.sweep", folder_name="examples"
 
 
 def builtin_sweeps() -> dict[str, str]:
-    """The built-in sweeps: name → one-line description."""
+    """The built-in sweeps: name → one-line description.
+
+    Examples
+    --------
+    >>> import tumble as tb
+    >>> sorted(tb.sweep.builtin_sweeps())
+    ['dual-spin-map', 'flip-map']
+    """
     return {name: BUILTINS.description(name) for name in BUILTINS.names()}
 
 
@@ -131,6 +138,19 @@ def load_sweep(sweep: str | os.PathLike[str]) -> Plan:
     ------
     SweepError
         Unknown name, unreadable file, invalid TOML or an invalid sweep.
+
+    Examples
+    --------
+    The built-in flip map: a grid of 181 × 181 bodies over the ratio of the
+    intermediate to the smallest moment and the angle of the initial spin
+    from the intermediate axis, each stepped 40 s:
+
+    >>> import tumble as tb
+    >>> plan = tb.sweep.load_sweep("flip-map")
+    >>> plan.varied, plan.grid_shape, plan.n_bodies
+    (('ratio_2', 'perturbation'), (181, 181), 32761)
+    >>> plan.method, plan.duration, plan.n_steps
+    ('rk4', 40.0, 8000)
     """
     source = read_source(sweep, BUILTINS)
     # A sweep's messages name its file without the folder.

@@ -108,6 +108,20 @@ def gravity_gradient_libration(
     ------
     InputError
         Bad values, axes that are not principal or not perpendicular.
+
+    Examples
+    --------
+    Moments C > B > A (the Lagrange region): stable, the pitch libration at
+    ``n √(3 (B − A) / C)``.
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> satellite = tb.MassProperties(100.0, [0, 0, 0], np.diag([80.0, 100.0, 120.0]))
+    >>> swing = tb.theory.gravity_gradient_libration(satellite, orbit_rate=0.0011)
+    >>> swing.region, swing.pitch_stable, swing.roll_yaw_stable
+    ('Lagrange', True, True)
+    >>> print(f"{swing.pitch_frequency / 0.0011:.6f}")  # √(3 × 20 / 120)
+    0.707107
     """
     mp = as_mass_properties(mp)
     n = positive(orbit_rate, "angular_velocity", "orbit_rate")
@@ -202,6 +216,14 @@ def attitude_slew(
     ------
     InputError
         Bad gains, an axis that is not principal.
+
+    Examples
+    --------
+    >>> import tumble as tb
+    >>> ball = tb.shapes.solid_sphere(2.0, 0.1)  # I = 0.008 kg·m²
+    >>> slew = tb.theory.attitude_slew(ball, stiffness=0.016, damping=0.008)
+    >>> print(f"ω_n = {slew.natural_frequency:.6f} rad/s, ζ = {slew.damping_ratio:.6f}")
+    ω_n = 1.000000 rad/s, ζ = 0.500000
     """
     mp = as_mass_properties(mp)
     k = positive(stiffness, "torque", "stiffness")

@@ -80,6 +80,26 @@ def flip_period(moments: Any, omega0: Any) -> float:
     InputError
         If a moment is not positive, the moments break the triangle inequality,
         or a value has the wrong shape or units.
+
+    Examples
+    --------
+    A body of principal moments (1, 2, 3) kg·m² spun at 1 rad/s near its
+    intermediate axis flips over twice in each period of ω(t):
+
+    >>> import tumble as tb
+    >>> print(f"{tb.theory.flip_period([1.0, 2.0, 3.0], [0.1, 1.0, 0.1]):.6f} s")
+    22.996263 s
+
+    Exactly about the intermediate axis it never leaves (the separatrix):
+
+    >>> tb.theory.flip_period([1.0, 2.0, 3.0], [0.0, 1.0, 0.0])
+    inf
+
+    About the largest axis, the period of the small wobble,
+    ``2π / (ω √((I3 − I1)(I3 − I2) / (I1 I2)))`` = 2π s here:
+
+    >>> print(f"{tb.theory.flip_period([1.0, 2.0, 3.0], [0.0, 0.0, 1.0]):.6f} s")
+    6.283185 s
     """
     inertia, omega, _ = principal_state(moments, omega0, "moments")
     order = np.argsort(inertia, kind="stable")
@@ -185,6 +205,19 @@ def free_symmetric_top(moments: Any, omega0: Any) -> FreeSymmetricTop:
     InputError
         If no two moments are equal, a moment is not positive, or the moments
         break the triangle inequality.
+
+    Examples
+    --------
+    An oblate top (I_s = 2 I⊥) spinning at 1 rad/s with a small wobble: in
+    the body, ω turns about the axis at ``(I_s − I⊥) ω_s / I⊥ = 1 rad/s``;
+    in space, the axis turns about L at ``L / I⊥``.
+
+    >>> import tumble as tb
+    >>> top = tb.theory.free_symmetric_top([1.0, 1.0, 2.0], [0.1, 0.0, 1.0])
+    >>> print(f"{top.body_precession_rate:.6f} {top.space_precession_rate:.6f} rad/s")
+    1.000000 2.002498 rad/s
+    >>> print(f"nutation {top.nutation_angle:.6f}, body cone {top.body_cone_half_angle:.6f} rad")
+    nutation 0.049958, body cone 0.099669 rad
     """
     inertia, omega, axes = principal_state(moments, omega0, "moments")
     tol = REPEATED_MOMENT_TOLERANCE * float(inertia.sum())
@@ -230,7 +263,9 @@ def free_symmetric_top(moments: Any, omega0: Any) -> FreeSymmetricTop:
 class AxisStability:
     """Stability of steady rotation about each principal axis (see :func:`axis_stability`).
 
-    Attributes (arrays of 3, one per principal axis, in the order of ``moments``)
+    The attributes are arrays of 3, one per principal axis, in the order of ``moments``.
+
+    Attributes
     ----------
     moments : principal moments, kg·m².
     axes : (3, 3) principal axes as columns (body coordinates for a
@@ -279,6 +314,20 @@ def axis_stability(moments: Any, spin_rate: Any) -> AxisStability:
     ------
     InputError
         If a moment is not positive or the moments break the triangle inequality.
+
+    Examples
+    --------
+    The intermediate-axis theorem: spins about the smallest and largest axes
+    are stable, about the intermediate one a deviation grows as exp(γ t):
+
+    >>> import tumble as tb
+    >>> stability = tb.theory.axis_stability([1.0, 2.0, 3.0], spin_rate=1.0)
+    >>> stability.stable.tolist()
+    [True, False, True]
+    >>> print(f"γ = {stability.growth_rates[1]:.6f} 1/s")  # √((2 − 1)(3 − 2) / (1 × 3))
+    γ = 0.577350 1/s
+    >>> print(", ".join(f"{f:.6f}" for f in stability.oscillation_frequencies))
+    0.577350, 0.000000, 1.000000
     """
     inertia, _, axes = principal_state(moments, np.zeros(3), "moments")
     w = abs(to_si(spin_rate, "angular_velocity", "spin_rate"))
@@ -342,7 +391,24 @@ def free_motion(mp: MassProperties, omega0: Any, attitude0: Any = None) -> FreeM
     """The exact torque-free motion of ``mp`` from ω0 (body axes, rad/s) and
     ``attitude0`` (a quaternion ``[w, x, y, z]`` body → space or a scipy
     Rotation; default the identity). Valid for any inertia, on both sides of
-    the separatrix and next to it (Landau & Lifshitz, Mechanics §37)."""
+    the separatrix and next to it (Landau & Lifshitz, Mechanics §37).
+
+    Examples
+    --------
+    Half a flip period later the body has turned over (ω reversed along the
+    intermediate axis); a whole period later ω is back where it started:
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    >>> motion = tb.theory.free_motion(body, [0.1, 1.0, 0.1])
+    >>> period = tb.theory.flip_period(body, [0.1, 1.0, 0.1])
+    >>> omega, quaternion = motion.at([0.0, period / 2, period])
+    >>> np.allclose(omega, [[0.1, 1.0, 0.1], [-0.1, -1.0, 0.1], [0.1, 1.0, 0.1]])
+    True
+    >>> np.allclose(np.linalg.norm(quaternion, axis=1), 1.0)
+    True
+    """
     from tumble.kinematics import as_attitude
 
     mp = as_mass_properties(mp)

@@ -127,6 +127,23 @@ def gyrostat_stability(
     ------
     InputError
         A zero spin, an axis that is not principal.
+
+    Examples
+    --------
+    Alone, a spin about the intermediate axis of (1, 2, 3) kg·m² is
+    unstable; a rotor along it with ``h > (I3 − I2) Ω`` makes it stable
+    (the dual-spin satellite):
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    >>> bare = tb.theory.gyrostat_stability(body, 1.0, axis=[0, 1, 0])
+    >>> bare.stable, bare.unstable_between
+    (False, (-1.0, 1.0))
+    >>> print(f"{bare.growth_rate:.6f} 1/s")  # as tb.theory.axis_stability
+    0.577350 1/s
+    >>> tb.theory.gyrostat_stability(body, 1.0, rotor_momentum=2.0, axis=[0, 1, 0]).stable
+    True
     """
     mp = as_mass_properties(mp)
     spin = to_si(spin_rate, "angular_velocity", "spin_rate")
@@ -216,6 +233,21 @@ def kane_damper_decay(
     ------
     InputError
         Bad values; a damper inertia the body cannot hold (J >= a transverse moment).
+
+    Examples
+    --------
+    The major-axis rule: the same damper damps the nutation of a spin about
+    the largest moment and makes it grow about the smallest.
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> oblate = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 1.0, 2.0]))
+    >>> prolate = tb.MassProperties(1.0, [0, 0, 0], np.diag([2.0, 2.0, 1.0]))
+    >>> for body in (oblate, prolate):
+    ...     decay = tb.theory.kane_damper_decay(body, 0.05, 0.1, spin_rate=1.0)
+    ...     print(f"{decay.decay_rate:+.6f} 1/s")
+    +0.026644 1/s
+    -0.002938 1/s
     """
     mp = as_mass_properties(mp)
     j = positive(damper_inertia, "inertia", "damper_inertia")
@@ -319,6 +351,18 @@ def wheel_spin_up(
     ------
     InputError
         Bad values, an axis that is not principal, J >= I.
+
+    Examples
+    --------
+    A wheel of 0.002 kg·m² driven at 1 mN·m in a body of 0.008 kg·m² (wheel
+    locked): after 1 s the body turns back at ``u t / (I − J)``.
+
+    >>> import tumble as tb
+    >>> body = tb.shapes.solid_sphere(2.0, 0.1)
+    >>> spin_up = tb.theory.wheel_spin_up(body, rotor_inertia=0.002, motor_torque=0.001)
+    >>> body_rate, wheel_speed, angle, energy = spin_up.at(1.0)
+    >>> print(f"body {body_rate:.4f} rad/s, wheel {wheel_speed:.4f} rad/s")
+    body -0.1667 rad/s, wheel 0.6667 rad/s
     """
     mp = as_mass_properties(mp)
     j = positive(rotor_inertia, "inertia", "rotor_inertia")

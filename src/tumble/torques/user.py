@@ -22,13 +22,15 @@ class UserTorque(TorqueModel):
     """A torque computed by ``function``, compiled with ``numba.njit``.
 
     ``function(t, omega, quaternion, params, out)`` writes the torque on the
-    body in body axes (N·m) into ``out``; see this module's docstring for the
-    arguments. ``params`` (a sequence of floats) is passed through unchanged, so
-    one compiled function serves many parameter values. The function is called
+    body in body axes (N·m) into ``out`` (3,), given the time ``t`` (s), the
+    angular velocity ``omega`` (3,) in body axes (rad/s) and the attitude
+    ``quaternion`` (4,), scalar first, body → space. ``params`` (a sequence of
+    floats) is passed through unchanged, so one compiled function serves many
+    parameter values. The function is called
     once here on a test state, so a wrong signature fails now, not mid-run.
 
-    Example
-    -------
+    Examples
+    --------
     >>> import numba
     >>> @numba.njit
     ... def magnetic_damper(t, omega, quaternion, params, out):

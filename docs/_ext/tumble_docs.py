@@ -1,0 +1,377 @@
+"""Sphinx helpers of tumble's site: pages generated from the code, and docstrings
+made safe for reStructuredText.
+
+* ``reference/scenario-keys.rst`` is written from the scenario and sweep schemas
+  (pydantic models), the torque, integrator and theory registries and the part
+  types, so the list of keys cannot drift from what the parser accepts.
+* ``reference/cli.rst`` is written from the command-line application's own help.
+* In docstrings, ``|L|`` (a norm) would read as a substitution: bars outside
+  literals and math are escaped.
+* MathJax's files are copied from the ``sphinx-mathjax-offline`` wheel into the
+  built site, so its math renders with no network.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import inspect
+import re
+import shutil
+import textwrap
+import types
+import typing
+from pathlib import Path
+from typing import Any
+
+#: The part of MathJax 3 a page of CHTML math loads (4 of its 24 MB).
+MATHJAX_FILES = ("tex-chtml.js", "output/chtml/fonts/woff-v2", "input/tex/extensions", "ui", "a11y")
+
+GENERATED_NOTICE = ".. This page is generated from the code when the site is built.\n\n"
+
+
+# ------------------------------------------------------------------ docstrings
+_SPANS = re.compile(r"(``.+?``|:[a-z:]+:`.+?`|`[^`]+?`)", re.DOTALL)
+
+
+def escape_bars(app: Any, what: str, name: str, obj: Any, options: Any, lines: list[str]) -> None:
+    """Escape ``|`` outside literals, roles and literal or math blocks (``|L|`` is
+    a norm, not a substitution), in place."""
+    kept: list[bool] = []  # lines of a block, left as they are
+    in_block, block_indent = False, 0
+    for line in lines:
+        stripped = line.lstrip()
+        indent = len(line) - len(stripped)
+        if in_block and stripped and indent <= block_indent:
+            in_block = False
+        kept.append(in_block)
+        if (stripped.startswith(".. ") and "::" in stripped) or stripped.endswith("::"):
+            in_block, block_indent = True, indent
+    text = "\n".join("" if keep else line for line, keep in zip(lines, kept, strict=True))
+    pieces = _SPANS.split(text)
+    for k in range(0, len(pieces), 2):
+        pieces[k] = re.sub(r"(?<!\\)\|", r"\\|", pieces[k])
+    escaped = "".join(pieces).split("\n")
+    for number, keep in enumerate(kept):
+        if not keep:
+            lines[number] = escaped[number]
+
+
+# ------------------------------------------------------------------ scenario keys
+def _kind(metadata: list[Any]) -> tuple[str, tuple[int, ...]] | None:
+    """The physical kind and shape a tumble field validator converts to, read from
+    the validator's closure (``scalar_field`` / ``vector_field``)."""
+    for item in metadata:
+        func = getattr(item, "func", None)
+        if not inspect.isfunction(func):
+            continue
+        names = inspect.getclosurevars(func).nonlocals
+        if "kind" in names:
+            return names["kind"], tuple(names.get("shape", ()))
+    return None
+
+
+def _describe(annotation: Any, metadata: list[Any] | None = None) -> str:
+    """A reader's name for the values a field takes."""
+    from tumble.units import SI_UNITS
+
+    found = _kind(metadata or [])
+    origin = typing.get_origin(annotation)
+    if origin is typing.Annotated:
+        base, *extra = typing.get_args(annotation)
+        return _describe(base, [*extra, *(metadata or [])])
+    if found is not None:
+        kind, shape = found
+        unit = SI_UNITS.get(kind, "")
+        what = kind.replace("_", " ")
+        if kind == "dimensionless":
+            return "3 numbers" if shape == (3,) else "number"
+        if shape == (3,) or (not shape and typing.get_origin(annotation) is tuple):
+            return f"{what} vector ({unit}, or a string with units)"
+        if shape and shape[0] == -1:
+            return f"list of {what} values ({unit}, or strings with units)"
+        if shape:
+            return f"{shape[0]} {what} values ({unit}, or strings with units)"
+        return f"{what} ({unit}, or a string with units)" if unit else what
+    if origin in (typing.Union, types.UnionType):
+        parts = [_describe(arg, metadata) for arg in typing.get_args(annotation)]
+        return " or ".join(p for p in parts if p != "none") or "none"
+    if annotation is type(None):
+        return "none"
+    if origin is typing.Literal:
+        return " | ".join(f"``{v!r}``".replace("'", '"') for v in typing.get_args(annotation))
+    if origin is list:
+        (item,) = typing.get_args(annotation) or (Any,)
+        return f"list of {_describe(item)}"
+    if origin is dict:
+        return "table"
+    if inspect.isclass(annotation) and hasattr(annotation, "model_fields"):
+        return "table"
+    names = {str: "string", int: "integer", float: "number", bool: "true or false"}
+    if annotation in names:
+        return names[annotation]
+    if annotation is Any:
+        return "see the table's description"
+    text = getattr(annotation, "__name__", str(annotation))
+    return {"StrictStr": "string", "StrictInt": "integer", "StrictBool": "true or false"}.get(
+        text, text
+    )
+
+
+def _default(field: Any) -> str:
+    if field.is_required():
+        return "required"
+    value = field.get_default(call_default_factory=True)
+    if value is None:
+        return "none"
+    if hasattr(value, "model_fields"):
+        return "(table)"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'``"{value}"``'
+    return f"``{value!r}``".replace("'", '"')
+
+
+def _table(title: str, model: Any, skip: tuple[str, ...] = ()) -> list[str]:
+    rows = [
+        (f"``{name}``", _describe(field.annotation, list(field.metadata)), _default(field))
+        for name, field in model.model_fields.items()
+        if name not in skip
+    ]
+    doc = inspect.cleandoc(model.__doc__ or "")
+    out = [title, "-" * len(title), "", doc, ""] if title else [doc, ""]
+    if rows:
+        out += [".. list-table::", "   :header-rows: 1", "   :widths: 20 55 25", ""]
+        out += ["   * - key", "     - value", "     - default"]
+        for key, value, default in rows:
+            out += [f"   * - {key}", f"     - {value}", f"     - {default}"]
+        out.append("")
+    return out
+
+
+def scenario_keys() -> str:
+    """The page of every key of scenario and sweep files."""
+    from tumble.checks import THEORY_CHECKS
+    from tumble.integrators import INTEGRATORS
+    from tumble.scenario import bodies, internal, schema
+    from tumble.sweep import schema as sweep_schema
+    from tumble.torques import TORQUES
+
+    lines = [
+        GENERATED_NOTICE + ".. _scenario-keys:",
+        "",
+        "Scenario and sweep file keys",
+        "============================",
+        "",
+        "Every key a scenario file (``tumble run FILE.toml``) or a sweep file",
+        "(``tumble sweep FILE.toml``) accepts. Quantities are numbers in SI units or",
+        'strings with units (``"250 g"``, ``"3000 rpm"``, ``"0, 0, -10 cm"``); an unknown',
+        "key is an error that names the key and suggests the nearest known one.",
+        "``tumble show NAME`` prints a built-in scenario to start from.",
+        "",
+        "Scenario files",
+        "**************",
+        "",
+    ]
+    for key, model in (
+        ("[scenario]", schema.Info),
+        ("[initial]", schema.Initial),
+        ("[environment]", schema.Environment),
+        ("[simulation]", schema.Simulation),
+        ("[theory]", schema.Theory),
+        ("[output]", schema.Output),
+        ("[gyrocompass]", schema.Gyrocompass),
+    ):
+        lines += _table(f"``{key}``", model)
+    lines += ["The methods of ``[simulation] method``:", ""]
+    lines += [f"* ``{name}``: {entry.summary}" for name, entry in INTEGRATORS.items()]
+    lines += ["", "The closed forms of ``[theory] model`` (besides ``auto`` and ``none``):", ""]
+    lines += [f"* ``{name}``" for name in THEORY_CHECKS]
+    lines += ["", "``[body]``", "----------", "", inspect.cleandoc(bodies.__doc__ or ""), ""]
+    for title, model in (
+        ("A solid of tumble's shapes", bodies.ShapeBody),
+        ("A mesh or CAD file", bodies.MeshBody),
+        ("Point masses", bodies.PointsBody),
+        ("Given mass properties", bodies.InertiaBody),
+        ("An assembly of parts", bodies.PartsBody),
+        ("An attitude (``rotation``, ``[initial] attitude``)", bodies.Attitude),
+    ):
+        lines += [f"**{title}**", "", *_table("", model)]
+    lines += ["``[[internal]]``", "----------------", ""]
+    lines += _table("", internal.InternalSpec)
+    lines += ["``[[torques]]``", "---------------", ""]
+    lines += [inspect.cleandoc(schema.Torque.__doc__ or ""), ""]
+    for name, model in TORQUES.items():
+        if not model.in_files:
+            continue
+        lines += [f'``type = "{name}"``: {model.summary}', ""]
+        if model.parameters:
+            lines += [".. list-table::", "   :header-rows: 1", "   :widths: 20 20 60", ""]
+            lines += ["   * - key", "     - value", "     - meaning"]
+            for parameter in model.parameters:
+                unit = _unit_of(parameter.kind)
+                shape = "vector" if parameter.shape else "number"
+                lines += [
+                    f"   * - ``{parameter.name}``",
+                    f"     - {shape} ({unit})" if unit else f"     - {shape}",
+                    f"     - {parameter.description}",
+                ]
+            lines.append("")
+    lines += ["Sweep files", "***********", "", ".. currentmodule:: tumble.sweep", ""]
+    lines += [inspect.cleandoc(sweep_schema.__doc__ or ""), ""]
+    for key, model in (
+        ("[sweep]", sweep_schema.SweepTable),
+        ("[base]", sweep_schema.Base),
+        ("[vary.NAME]", sweep_schema.Vary),
+        ("[outputs]", sweep_schema.Outputs),
+        ("[report]", sweep_schema.Report),
+        ("[[report.maps]]", sweep_schema.MapTable),
+        ("[dask]", sweep_schema.DaskTable),
+    ):
+        lines += _table(f"``{key}``", model)
+    return "\n".join(lines) + "\n"
+
+
+def _unit_of(kind: str) -> str:
+    from tumble.units import SI_UNITS
+
+    return SI_UNITS.get(kind, "")
+
+
+# ------------------------------------------------------------------ command line
+def command_line() -> str:
+    """The page of every command and option, from the application's help."""
+    import typer
+
+    from tumble.cli.app import app
+
+    group = typer.main.get_command(app)
+    width = {"terminal_width": 88, "max_content_width": 88}
+    context = group.make_context("tumble", [], resilient_parsing=True, **width)
+    lines = [
+        GENERATED_NOTICE + ".. _cli:",
+        "",
+        "Command line",
+        "============",
+        "",
+        "``tumble`` and its commands, as ``tumble COMMAND --help`` prints them. Errors",
+        "print one line and exit with status 2 (``tumble --debug COMMAND`` shows the",
+        "traceback).",
+        "",
+        ".. code-block:: text",
+        "",
+        textwrap.indent(_help(group, context), "   "),
+        "",
+    ]
+    for name in group.list_commands(context):
+        command = group.get_command(context, name)
+        sub = command.make_context(name, [], parent=context, resilient_parsing=True, **width)
+        lines += [f"``tumble {name}``", "-" * (len(name) + 11), "", ".. code-block:: text", ""]
+        lines += [textwrap.indent(_help(command, sub), "   "), ""]
+    return "\n".join(lines) + "\n"
+
+
+def _help(command: Any, context: Any) -> str:
+    """A command's help as plain text (typer draws it with rich, to a console)."""
+    import contextlib
+    import io
+
+    captured = io.StringIO()
+    with contextlib.redirect_stdout(captured):
+        text = command.get_help(context)
+    return re.sub(r"\x1b\[[0-9;]*m", "", (text or "") + captured.getvalue()).rstrip()
+
+
+def _write_if_changed(path: Path, text: str) -> None:
+    """Write ``path`` only when its text changes, so Sphinx rereads only what changed."""
+    if not path.exists() or path.read_text(encoding="utf-8") != text:
+        path.write_text(text, encoding="utf-8")
+
+
+def generate_pages(app: Any) -> None:
+    reference = Path(app.srcdir) / "reference"
+    _write_if_changed(reference / "scenario-keys.rst", scenario_keys())
+    _write_if_changed(reference / "cli.rst", command_line())
+
+
+# ------------------------------------------------------------------ math offline
+def copy_mathjax(app: Any, error: Exception | None) -> None:
+    """Copy MathJax into the built site's ``_static/mathjax`` (``mathjax_path``)."""
+    if error is not None or app.builder.format != "html":
+        return
+    spec = importlib.util.find_spec("sphinx-mathjax-offline")
+    if spec is None or spec.origin is None:
+        raise RuntimeError("sphinx-mathjax-offline is not installed: pip install -e '.[docs]'")
+    source = Path(spec.origin).parent / "static" / "mathjax"
+    target = Path(app.outdir) / "_static" / "mathjax"
+    for name in MATHJAX_FILES:
+        origin, destination = source / name, target / name
+        destination.parent.mkdir(parents=True, exist_ok=True)
+        if origin.is_dir():
+            shutil.copytree(origin, destination, dirs_exist_ok=True)
+        else:
+            shutil.copy2(origin, destination)
+
+
+# ------------------------------------------------------------------ references
+#: The modules whose ``__all__`` the reference documents, besides ``tumble``'s own.
+PUBLIC_MODULES = ("theory", "analysis", "torques", "shapes", "models", "sweep", "units")
+
+#: Libraries whose names docstrings mention: with no network there is no
+#: inventory of their names, so a reference to one is shown as a literal.
+EXTERNAL = frozenset(
+    ("numpy", "np", "scipy", "pint", "pandas", "pyarrow", "polars", "xarray", "duckdb",
+     "zarr", "dask", "distributed", "matplotlib", "plotly", "trimesh", "cascadio", "numba",
+     "pydantic", "typer", "rich", "typing", "collections", "pathlib", "os", "concurrent",
+     "builtins")
+)  # fmt: skip
+
+
+def public_names() -> list[str]:
+    """Every name the reference documents: ``tumble.X`` for X in ``tumble.__all__``
+    and ``tumble.M.Y`` for Y in the ``__all__`` of each public module M."""
+    import importlib
+
+    import tumble
+
+    names = [f"tumble.{name}" for name in tumble.__all__]
+    for module in PUBLIC_MODULES:
+        names += [
+            f"tumble.{module}.{name}"
+            for name in importlib.import_module(f"tumble.{module}").__all__
+        ]
+    return names
+
+
+def quiet_internal_references(app: Any, env: Any, node: Any, contnode: Any) -> Any:
+    """Show a reference to tumble's internals or to an external library as its
+    text; a reference to a documented name that does not resolve still warns."""
+    if node.get("refdomain") != "py":
+        return None
+    target = node.get("reftarget", "")
+    root = target.split(".")[0]
+    if root in EXTERNAL:
+        return contnode
+    if root == "tumble":
+        documented = app.config.tumble_public_names
+        modules = {f"tumble.{module}" for module in PUBLIC_MODULES}
+        if not any(
+            target == name or (target.startswith(name + ".") and name not in modules)
+            for name in documented
+        ):
+            return contnode
+    return None
+
+
+def _list_public_names(app: Any, config: Any) -> None:
+    config.tumble_public_names = public_names()
+
+
+def setup(app: Any) -> dict[str, Any]:
+    app.add_config_value("tumble_public_names", [], "env")
+    app.connect("config-inited", _list_public_names)
+    app.connect("missing-reference", quiet_internal_references)
+    app.connect("builder-inited", generate_pages)
+    app.connect("autodoc-process-docstring", escape_bars)
+    app.connect("build-finished", copy_mathjax)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}
