@@ -49,7 +49,6 @@ html_theme_options = {
 # browser refuses for file:// addresses.
 html_show_search_summary = False
 html_context = {"default_mode": "auto"}  # light or dark as the reader's system prefers
-html_static_path = ["_static"]
 html_show_sourcelink = False
 
 # MathJax 3 from the sphinx-mathjax-offline wheel, copied into _static/mathjax
