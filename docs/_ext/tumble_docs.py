@@ -315,7 +315,9 @@ def copy_mathjax(app: Any, error: Exception | None) -> None:
 
 # ------------------------------------------------------------------ references
 #: The modules whose ``__all__`` the reference documents, besides ``tumble``'s own.
-PUBLIC_MODULES = ("theory", "analysis", "torques", "shapes", "models", "sweep", "units")
+PUBLIC_MODULES = (
+    "theory", "analysis", "identification", "torques", "shapes", "models", "sweep", "units"
+)  # fmt: skip
 
 #: Libraries whose names docstrings mention: with no network there is no
 #: inventory of their names, so a reference to one is shown as a literal.

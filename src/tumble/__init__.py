@@ -51,9 +51,11 @@ _WHERE = {
     "Rotor": "tumble.parts",
     "KaneDamper": "tumble.parts",
     "SpringMassDamper": "tumble.parts",
+    "identify": "tumble.identification.fit",
 }
 _SUBMODULES = {
     "analysis",
+    "identification",
     "models",
     "shapes",
     "sweep",
@@ -79,6 +81,8 @@ __all__ = [
     "analysis",
     "angular_momentum",
     "from_mesh",
+    "identification",
+    "identify",
     "kinetic_energy",
     "models",
     "point_masses",

@@ -4,7 +4,7 @@ User errors print one line on stderr and exit with code 2; ``--debug`` shows
 the traceback instead. Heavy imports live inside the commands so that
 ``tumble --help`` is instant. One module per group of commands:
 :mod:`~tumble.cli.inertia`, :mod:`~tumble.cli.runs` (run, sweep),
-:mod:`~tumble.cli.catalogue` (list, show).
+:mod:`~tumble.cli.catalogue` (list, show), :mod:`~tumble.cli.fit`.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import Any
 
 import typer
 
-from tumble.cli import catalogue, inertia, runs  # noqa: F401 - registers the commands
+from tumble.cli import catalogue, fit, inertia, runs  # noqa: F401 - registers the commands
 from tumble.cli.app import USER_ERROR, app
 
 __all__ = ["USER_ERROR", "app", "main"]

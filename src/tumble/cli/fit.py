@@ -1,0 +1,214 @@
+"""``tumble fit``: a body and its motion fitted to a gyroscope's recording."""
+
+from __future__ import annotations
+
+import enum
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from tumble.cli.app import app, loading, run_command
+
+if TYPE_CHECKING:
+    from tumble.identification import BodyFit
+    from tumble.identification.files import Recording
+
+__all__ = ["fit_recording", "parse_window"]
+
+
+class RateUnit(enum.StrEnum):
+    """The units ``--units`` accepts."""
+
+    RAD = "rad/s"
+    DEG = "deg/s"
+
+
+class Loss(enum.StrEnum):
+    """The losses ``--loss`` accepts (those of ``scipy.optimize.least_squares``)."""
+
+    LINEAR = "linear"
+    SOFT_L1 = "soft_l1"
+    HUBER = "huber"
+    CAUCHY = "cauchy"
+
+
+@app.command("fit")
+def fit_recording(
+    recording: Annotated[
+        str | None,
+        typer.Argument(
+            metavar="RECORDING",
+            help="A gyroscope recording: a CSV file (phyphox's export, or any with a time "
+            "and three rate columns), phyphox's zip file, or a Parquet file; default: the "
+            "example shipped with tumble.",
+            show_default=False,
+        ),
+    ] = None,
+    columns: Annotated[
+        str | None,
+        typer.Option(
+            "--columns",
+            metavar="T,WX,WY,WZ",
+            help="The columns of t, ωx, ωy, ωz: four names or zero-based positions; default: "
+            "a column named t or time… and the three after it.",
+            show_default=False,
+        ),
+    ] = None,
+    units: Annotated[
+        RateUnit | None,
+        typer.Option(
+            "--units",
+            help="Units of the rates when the header states none; default: rad/s, or deg/s "
+            "for rates beyond 20 turns/s in rad/s.",
+            show_default=False,
+        ),
+    ] = None,
+    window: Annotated[
+        str | None,
+        typer.Option(
+            "--window",
+            metavar="START,END",
+            help="The free flight to fit, in s of the recording; default: found.",
+            show_default=False,
+        ),
+    ] = None,
+    no_bias: Annotated[
+        bool, typer.Option("--no-bias", help="Fit no sensor bias (for a sensor without one).")
+    ] = False,
+    loss: Annotated[
+        Loss,
+        typer.Option("--loss", help="The fit's loss: a robust one for outliers."),
+    ] = Loss.LINEAR,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o",
+            "--output",
+            help="Folder to write; default runs/RECORDING-fit-YYYYmmdd-HHMMSS.",
+            show_default=False,
+        ),
+    ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Replace the output folder if it holds an earlier fit.")
+    ] = False,
+    no_figures: Annotated[bool, typer.Option("--no-figures", help="Write no PNG figures.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")] = False,
+) -> None:
+    """Fit a torque-free body to a gyroscope's recording (a phone thrown spinning): its
+    moment ratios, principal axes and motion, with a scenario that replays it."""
+
+    def work() -> None:
+        from tumble.report.fit import check_fit_folder
+
+        if output is not None:
+            check_fit_folder(output, force)  # before anything else: say it at once
+        span = parse_window(window) if window is not None else None
+        with loading():
+            from tumble.cli.runs import default_folder
+            from tumble.identification import noise_level
+            from tumble.identification.files import example_recording_path, read_recording
+            from tumble.identification.fit import identify
+            from tumble.report.fit import fit_name, write_fit
+
+        path = Path(recording) if recording is not None else example_recording_path()
+        source = str(path) if recording is not None else path.name
+        measured = read_recording(path, columns, units.value if units else None)
+        fit = identify(measured.t, measured.omega, window=span, bias=not no_bias, loss=loss.value)
+        noise = noise_level(measured.t, measured.omega)
+        folder = output if output is not None else default_folder(fit_name(source))
+        write_fit(
+            fit, measured, folder, source=source, noise=noise, found=span is None,
+            loss=loss.value, figures=not no_figures, force=force,
+        )  # fmt: skip
+        if quiet:
+            return
+        if recording is None:
+            typer.echo(
+                f"No recording given: fitted the example shipped with tumble, {path} (a phone "
+                "thrown spinning about its intermediate axis: synthetic_phone(0) of "
+                "tumble.identification)."
+            )
+        print_fit(fit, measured, source, folder, noise, found=span is None)
+
+    run_command(work)
+
+
+def parse_window(text: str) -> tuple[float, float]:
+    """``START,END`` in s, as ``--window`` gives it."""
+    from tumble.errors import InputError
+
+    try:
+        start, end = (float(part) for part in text.split(","))
+    except ValueError:
+        raise InputError(f"Expected --window START,END in s (two numbers), got {text!r}.") from None
+    return start, end
+
+
+def print_fit(
+    fit: BodyFit, measured: Recording, source: str, folder: Path, noise: float, *, found: bool
+) -> None:
+    """The fitted values with their standard errors, the residual against the
+    sensor's noise, the principal axes, and where the files are."""
+    import math
+
+    import numpy as np
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console()
+    t = measured.t
+    console.print(
+        f"[bold]Fit of {source}[/bold]  ({len(t)} samples over {t[-1] - t[0]:.4g} s)",
+        highlight=False,
+    )
+    if measured.note:
+        console.print(f"note: {measured.note}", highlight=False, soft_wrap=True)
+    how = "found: the free flight" if found else "as given"
+    console.print(
+        f"Window fitted: {fit.window[0]:.6g}–{fit.window[1]:.6g} s, {len(fit.t)} samples ({how})",
+        highlight=False,
+    )
+    errors = np.sqrt(np.abs(np.diag(fit.covariance)))
+    table = Table(title="Fitted body (moments ascending)", title_justify="left")
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    table.add_column("± std. error", justify="right")
+    table.add_column("unit")
+    for k, name in enumerate(("I1/I3", "I2/I3")):
+        table.add_row(name, f"{fit.moment_ratios[k]:.5f}", f"{fit.uncertainty[k]:.2g}", "")
+    period = fit.flip_period
+    table.add_row(
+        "flip period", f"{period:.4g}" if math.isfinite(period) else "inf (separatrix)", "", "s"
+    )
+    table.add_row("residual rms", f"{fit.residual_rms:.3g}", "", "rad/s")
+    table.add_row("sensor noise σ", f"{noise:.3g}", "", "rad/s")
+    for k, axis in enumerate("xyz"):
+        if errors.size > 8:
+            table.add_row(f"bias {axis}", *_with_error(fit.bias[k], errors[8 + k]), "rad/s")
+        else:
+            table.add_row(f"bias {axis}", "0", "not fitted", "rad/s")
+    for k in range(3):
+        table.add_row(f"ω{k + 1} at start", *_with_error(fit.omega0[k], errors[5 + k]), "rad/s")
+    console.print(table)
+    console.print("Principal axes (columns) in the sensor's axes", style="italic")
+    axes = Table()
+    axes.add_column("")
+    for k in range(3):
+        axes.add_column(f"axis {k + 1}", justify="right")
+    for name, row in zip("xyz", fit.axes, strict=True):
+        axes.add_row(name, *(f"{v:.5f}" for v in row))
+    console.print(axes)
+    console.print(f"Fit folder: {folder}", highlight=False, soft_wrap=True)
+    console.print(
+        f"Replay: tumble run {folder / 'fitted-scenario.toml'}", highlight=False, soft_wrap=True
+    )
+
+
+def _with_error(value: float, error: float) -> tuple[str, str]:
+    """A value to the decimals its standard error's two significant digits have,
+    and that error."""
+    import math
+
+    decimals = 6 if not error > 0 else min(max(1 - math.floor(math.log10(error)), 0), 12)
+    return f"{value:.{decimals}f}", f"{error:.2g}"

@@ -1,0 +1,483 @@
+"""The torque-free motion fitted to measured body rates: :func:`tumble.identify`.
+
+The model of a sample is ``ω_measured(t) = R ω(t − t0) + b + noise``: ω(t) the
+exact torque-free angular velocity in the principal frame
+(:func:`tumble.core.freebody.free_omega`, Jacobi elliptic functions, so the model
+has no integration error), of a body with moments ``(r1, r2, 1)`` (only their
+ratios show in ω(t)) and ω(t0) = ``omega0``; R the principal axes as columns in
+the sensor's axes; b the sensor's bias. The 11 parameters (8 without a bias) are
+fitted by nonlinear least squares (``scipy.optimize.least_squares``), from a
+start that needs no guess (:func:`_linear_start`), in the manner of the
+estimation of inertia ratios from coasting telemetry (Bergmann, Walker & Levy,
+J. Guid. Control Dyn. 10 (1987); Tanygin & Williams, J. Guid. Control Dyn. 20
+(1997)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import least_squares
+from scipy.signal import savgol_filter
+from scipy.spatial.transform import Rotation
+
+from tumble.core.freebody import free_omega
+from tumble.errors import InputError
+from tumble.identification.checks import MIN_SAMPLES, check_motion, samples, window_bounds
+from tumble.identification.flight import free_flight, noise_level
+from tumble.theory import flip_period
+
+__all__ = ["BodyFit", "identify", "principal_rates"]
+
+Array = NDArray[np.float64]
+
+#: The most a ratio's standard error may be for the ratios to count as
+#: identified: beyond it the recording does not determine them.
+MAX_RATIO_ERROR = 0.05
+
+#: The smallest I1/I3 a fit returns: below it the fit has run to the limit of a
+#: line of mass, where ω along it is not determined (no real body comes close).
+MIN_RATIO = 1e-4
+
+#: The most the residuals of a fit may be, in noise levels: beyond it no
+#: torque-free body matched the samples (a hand or an impact in the window, or a
+#: start from which the fit did not find the motion).
+MAX_MISS = 10.0
+
+#: Starts of the ratios tried when the fit from the linear start leaves residuals
+#: well above the noise: points of the triangle r1 ≤ r2 ≤ 1 ≤ r1 + r2.
+RATIO_STARTS = ((0.3, 0.8), (0.5, 0.6), (0.45, 0.9), (0.7, 0.85), (0.15, 0.95), (0.6, 0.95))
+
+#: Samples a start of the fit is tried on (:func:`_fit`).
+START_SAMPLES = 1000
+
+#: The losses of ``scipy.optimize.least_squares`` a fit takes.
+LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
+
+#: Lags of the residuals' autocorrelation that tell a miss from noise (:func:`_fits`).
+LAGS = 10
+
+PARAMETERS = ("r1", "r2", "rx", "ry", "rz", "w1", "w2", "w3", "bx", "by", "bz")
+
+
+@dataclass(frozen=True, eq=False)
+class BodyFit:
+    """A body and its motion, fitted to measured rates by :func:`tumble.identify`.
+
+    Attributes
+    ----------
+    moment_ratios : (2,) ``(I1/I3, I2/I3)``, principal moments ascending.
+    uncertainty : (2,) standard errors of ``moment_ratios``.
+    axes : (3, 3) principal axes as columns, in the sensor's axes (a proper
+        rotation: the sensor's axes → principal axes is its transpose).
+    omega0 : (3,) angular velocity at ``window[0]`` in the principal axes, rad/s.
+    bias : (3,) sensor bias in the sensor's axes, rad/s (zeros if not fitted).
+    covariance : (k, k) covariance of the parameters :data:`PARAMETERS` (the
+        first 8 without a bias): the ratios, a small rotation of the axes (rad,
+        about the fitted principal axes), ``omega0`` (rad/s) and the bias (rad/s).
+    residual_rms : root-mean-square of the residuals, rad/s (the sensor's noise
+        when the model fits).
+    flip_period : period of ω(t) of the fitted body, s
+        (:func:`tumble.theory.flip_period`): near the intermediate axis the body
+        flips twice in it; ``inf`` on the separatrix.
+    window : (start, end) of the samples fitted, s.
+    t, measured : the samples fitted, s and rad/s (sensor's axes).
+    """
+
+    moment_ratios: Array
+    uncertainty: Array
+    axes: Array
+    omega0: Array
+    bias: Array
+    covariance: Array
+    residual_rms: float
+    flip_period: float
+    window: tuple[float, float]
+    t: Array
+    measured: Array
+
+    def principal_rates(self, t: Any) -> Array:
+        """(n, 3) the fitted body's ω at times ``t`` (s), principal axes, rad/s."""
+        times = np.asarray(t, dtype=float) - self.window[0]
+        return principal_rates(np.array([*self.moment_ratios, 1.0]), self.omega0, times)
+
+    def predicted(self, t: Any) -> Array:
+        """(n, 3) the fitted measurement at times ``t`` (s): ω in the sensor's axes
+        plus the bias, rad/s."""
+        return np.asarray(self.principal_rates(t) @ self.axes.T + self.bias)
+
+    @property
+    def residuals(self) -> Array:
+        """(n, 3) measured − fitted, rad/s, at the times ``t``."""
+        return np.asarray(self.measured - self.predicted(self.t))
+
+    def __repr__(self) -> str:
+        r, e = self.moment_ratios, self.uncertainty
+        return (
+            f"BodyFit(I1/I3={r[0]:.5f} ± {e[0]:.1e}, I2/I3={r[1]:.5f} ± {e[1]:.1e}, "
+            f"flip_period={self.flip_period:.4g} s, residual_rms={self.residual_rms:.3g} rad/s, "
+            f"{len(self.t)} samples in {self.window[0]:.4g}–{self.window[1]:.4g} s)"
+        )
+
+
+def principal_rates(moments: Array, omega0: Array, times: Array) -> Array:
+    """(n, 3) exact torque-free ω(t) in the principal frame for moments in any
+    order (all > 0), ω(0) = ``omega0``.
+
+    The exact solution takes ascending moments; a permutation P of the axes (a
+    reflection when odd) maps the motion to ``det(P) P ω``, which obeys the same
+    Euler equations for the permuted moments, so the motion is solved sorted and
+    mapped back.
+    """
+    order = np.argsort(moments, kind="stable")
+    sign = float(np.linalg.det(np.eye(3)[order]))
+    solved = free_omega(np.ascontiguousarray(moments[order]), sign * omega0[order], times)
+    out = np.empty_like(solved)
+    out[:, order] = sign * solved
+    return out
+
+
+# ------------------------------------------------------------------ the model
+def _unpack(x: Array, frame: Array, with_bias: bool) -> tuple[Array, Array, Array, Array]:
+    # Clipped: a step of the solver far off must not overflow (e^±60 is no body).
+    moments = np.array([*np.exp(np.clip(x[:2], -60.0, 60.0)), 1.0])
+    axes = frame @ Rotation.from_rotvec(x[2:5]).as_matrix()
+    bias = x[8:11] if with_bias else np.zeros(3)
+    return moments, axes, x[5:8], bias
+
+
+def _residuals(x: Array, frame: Array, times: Array, measured: Array, with_bias: bool) -> Array:
+    moments, axes, omega0, bias = _unpack(x, frame, with_bias)
+    predicted = principal_rates(moments, omega0, times) @ axes.T + bias
+    return np.asarray((predicted - measured).ravel())
+
+
+def _solve(
+    x0: Array,
+    frame: Array,
+    times: Array,
+    measured: Array,
+    with_bias: bool,
+    loss: str,
+    tight: bool,
+    noise: float,
+) -> Any:
+    """Least squares from ``x0``: Levenberg–Marquardt (MINPACK) for the plain loss,
+    the trust-region method for a robust one, whose residuals count in full up to
+    3 σ of the noise (``f_scale``) and less beyond. The ratios are fitted as their
+    logarithms, so they stay positive without bounds."""
+    # The robust losses' trust region does not reach 1e-13: 1e-10 is far below
+    # the errors of any fit with noise.
+    tolerance = (1e-13 if loss == "linear" else 1e-10) if tight else 1e-9
+    # Evaluations a parameter: a start is only a start, and the robust losses'
+    # steps crawl near the end, long after the answer has stopped changing.
+    budget = 200 if tight and loss == "linear" else 40
+    return least_squares(
+        _residuals,
+        x0,
+        args=(frame, times, measured, with_bias),
+        method="lm" if loss == "linear" else "trf",
+        # For trf: LSMR, not a dense SVD of the (3n, 11) Jacobian at every step.
+        **({} if loss == "linear" else {"tr_solver": "lsmr"}),
+        loss=loss,
+        f_scale=max(3.0 * noise, 1e-12 * float(np.abs(measured).max())),
+        x_scale="jac",
+        ftol=tolerance,
+        xtol=tolerance,
+        gtol=tolerance,
+        max_nfev=budget * x0.size,
+    )
+
+
+def _canonical(moments: Array, axes: Array, omega0: Array) -> tuple[Array, Array, Array]:
+    """The same body with moments ascending and scaled to the largest, axes a
+    proper rotation with a fixed choice of signs, and ω0 in those axes."""
+    order = np.argsort(moments, kind="stable")
+    axes = axes[:, order]
+    omega0 = omega0[order]
+    # Signs: each of the first two axes has its largest component positive; the
+    # third completes a right-handed frame (ω0 follows each flip).
+    for k in range(2):
+        if axes[np.argmax(np.abs(axes[:, k])), k] < 0:
+            axes[:, k] *= -1.0
+            omega0[k] *= -1.0
+    if np.linalg.det(axes) < 0:
+        axes[:, 2] *= -1.0
+        omega0[2] *= -1.0
+    return moments[order] / moments[order][2], axes, omega0
+
+
+def _linear_start(times: Array, measured: Array) -> tuple[Array, Array, Array]:
+    """Moments and axes without a guess, from two sets of equations linear in the
+    inertia tensor I (6 entries, up to scale):
+
+    * Euler's, ``I ω̇ + ω × (I ω) = 0`` at every sample, with ω̇ from a
+      Savitzky–Golay derivative of the samples put on an even grid over about a
+      quarter of a turn (noise in a plain difference would swamp ω̇);
+    * the conservation of energy, ``ωᵀ I ω`` equal at every sample to its mean
+      over the samples, which needs no derivative (alone it also admits I², as
+      |L|² is conserved too; with Euler's equations only I remains).
+
+    The tensor is the right singular vector of the least singular value, its
+    eigenvectors the axes; the smoothed rate at the first sample starts ω0. The
+    bias is ignored here; the fit takes it up."""
+    grid = np.linspace(times[0], times[-1], times.size)
+    even = np.stack([np.interp(grid, times, measured[:, k]) for k in range(3)], axis=1)
+    step = grid[1] - grid[0]
+    turn = 0.5 / max(float(np.linalg.norm(even, axis=1).max()), 1e-300)  # s, ~ a quarter turn
+    length = int(np.clip(2 * (turn / step // 2) + 1, 5, 2 * (times.size // 8) + 1))
+    smooth = savgol_filter(even, length, 3, axis=0)
+    rates = savgol_filter(even, length, 3, deriv=1, delta=step, axis=0)
+    euler, energy = [], []
+    for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)):
+        unit = np.zeros((3, 3))
+        unit[i, j] = unit[j, i] = 1.0
+        euler.append((rates @ unit + np.cross(smooth, smooth @ unit)).ravel())
+        form = np.einsum("ni,ij,nj->n", smooth, unit, smooth)
+        energy.append(form - form.mean())
+    a, b = np.stack(euler, axis=1), np.stack(energy, axis=1)
+    # Each block scaled to unit size, so neither outweighs the other by its units.
+    system = np.vstack([a / max(np.linalg.norm(a), 1e-300), b / max(np.linalg.norm(b), 1e-300)])
+    _, _, vt = np.linalg.svd(system, full_matrices=False)
+    p = vt[-1]
+    tensor = np.array([[p[0], p[3], p[4]], [p[3], p[1], p[5]], [p[4], p[5], p[2]]])
+    if np.trace(tensor) < 0:
+        tensor = -tensor
+    moments, axes = np.linalg.eigh(tensor)
+    moments = np.clip(moments, 1e-3 * moments[2], None)
+    if np.linalg.det(axes) < 0:
+        axes[:, 0] *= -1.0
+    return moments / moments[2], axes, smooth[0]
+
+
+# ------------------------------------------------------------------ the fit
+def identify(
+    t: Any,
+    omega: Any,
+    *,
+    window: Any = None,
+    bias: bool = True,
+    loss: str = "linear",
+) -> BodyFit:
+    """Fit a torque-free rigid body to measured angular velocity.
+
+    Parameters
+    ----------
+    t : (n,) sample times, s, increasing (the spacing may vary).
+    omega : (n, 3) measured angular velocity in the sensor's axes, rad/s (a
+        gyroscope fixed to the body; its axes need not be principal).
+    window : (start, end) in s, the free flight to fit; None to find it
+        (:func:`tumble.identification.free_flight`).
+    bias : fit a constant sensor bias (3 more parameters).
+    loss : ``"linear"`` (least squares) or a robust loss of
+        ``scipy.optimize.least_squares`` (``"soft_l1"``, ``"huber"``, ``"cauchy"``)
+        for recordings with outliers; the covariance then holds only roughly.
+
+    Returns
+    -------
+    BodyFit: the moment ratios with their standard errors, the principal axes
+    in the sensor's axes, ω0, the bias, the covariance of the parameters (from
+    the Jacobian at the solution and the residuals' variance), the residual and
+    the flip period.
+
+    Raises
+    ------
+    InputError
+        For too few samples, values that are not finite, times that do not
+        increase, a recording with no free flight, or one that does not
+        determine the ratios (a spin about one principal axis stays constant and
+        shows none).
+
+    Notes
+    -----
+    With ``window=None`` the window of :func:`tumble.identification.free_flight`
+    is fitted, then narrowed to the samples the fitted motion matches within 5
+    times the noise, and fitted again. The fit starts from Euler's equations
+    solved for the tensor (no guess), and tries further starts when the residuals
+    do not look like the noise. A recording must show the motion the ratios shape:
+    within a hair of the separatrix (ω along the middle axis to 1e-3) a window
+    holding a single flip can be matched about equally well by other bodies, and
+    the fit may settle on one of them.
+    """
+    if loss not in LOSSES:
+        raise InputError(f"Expected `loss` to be one of {', '.join(LOSSES)}, got {loss!r}.")
+    times, rates = samples(t, omega)
+    automatic = window is None
+    start, end = free_flight(times, rates) if automatic else window_bounds(window, times)
+    inside = (times >= start) & (times <= end)
+    if inside.sum() < MIN_SAMPLES:
+        raise InputError(
+            f"Expected at least {MIN_SAMPLES} samples in the window {start:.6g}–{end:.6g} s, "
+            f"got {int(inside.sum())}."
+        )
+    noise = noise_level(times, rates)
+    fit = _fit(times[inside], rates[inside], noise, bias, loss)
+    if automatic:
+        # The rule of free_flight can keep the last samples of a throw (a fast
+        # spin-up ends with |ω|² above |ω̇|); the samples the fitted free motion
+        # misses by far more than the noise are cut from the ends, and the rest
+        # fitted again.
+        misses = np.linalg.norm(fit.residuals, axis=1) > 5.0 * np.sqrt(3.0) * noise
+        kept = np.flatnonzero(~misses)
+        first, last = (kept[0], kept[-1]) if kept.size else (0, misses.size - 1)
+        if (first > 0 or last < misses.size - 1) and last - first + 1 >= MIN_SAMPLES:
+            fit = _fit(fit.t[first : last + 1], fit.measured[first : last + 1], noise, bias, loss)
+    return fit
+
+
+def _fit(times: Array, rates: Array, noise: float, bias: bool, loss: str) -> BodyFit:
+    """The fit of the samples of one window (see :func:`tumble.identify`)."""
+    start = float(times[0])
+    relative = times - start
+    check_motion(rates, noise)
+
+    moments, frame, first = _linear_start(relative, rates)
+    # A second guess of the axes: those of the second moments of the samples
+    # (a motion near the separatrix dwells along the middle axis).
+    _, spread = np.linalg.eigh(rates.T @ rates)
+    spread[:, 0] *= np.linalg.det(spread)
+    starts = [(moments[:2], frame)] + [
+        (np.array(r), axes) for axes in (frame, spread) for r in RATIO_STARTS
+    ]
+    # The starts are tried on at most START_SAMPLES of the samples, evenly spread
+    # (the answer is polished on all of them below), and on growing spans of
+    # them: over many flips a small error of ω0 shifts the late flips by whole
+    # turns, and a fit from there can settle far away; a short span fixes ω0 first.
+    every = max(1, len(times) // START_SAMPLES)
+    some_times, some_rates = relative[::every], rates[::every]
+    spans = [n for n in (len(some_times) // 8, len(some_times) // 4, len(some_times) // 2)
+             if n >= 3 * MIN_SAMPLES] + [len(some_times)]  # fmt: skip
+    best = None
+    for ratios, axes in starts:
+        x = np.concatenate(
+            [np.log(ratios), np.zeros(3), axes.T @ first, np.zeros(3 if bias else 0)]
+        )
+        for n in spans:
+            result = _solve(x, axes, some_times[:n], some_rates[:n], bias, loss, False, noise)
+            x = result.x
+        if best is None or result.cost < best.cost:
+            best, frame = result, axes
+        if _fits(best.fun.reshape(-1, 3), noise, float(np.abs(rates).max())):
+            break  # residuals like the noise: the other starts are for a miss
+    assert best is not None
+
+    # Polish in the canonical frame, from which the covariance is read.
+    body, axes, omega0, offset = _unpack(best.x, frame, bias)
+    moments, axes, omega0 = _canonical(body, axes, omega0)
+    x = np.concatenate([np.log(moments[:2]), np.zeros(3), omega0, offset if bias else []])
+    final = _solve(x, axes, relative, rates, bias, loss, tight=True, noise=noise)
+    body, axes, omega0, offset = _unpack(final.x, axes, bias)
+    moments, axes, omega0 = _canonical(body, axes, omega0)
+
+    residual = float(np.sqrt(np.mean(final.fun**2)))
+    # The typical residual (median-based: a few outliers do not count).
+    typical = 1.4826 * float(np.median(np.abs(final.fun)))
+    if typical > MAX_MISS * noise and typical > 1e-9 * float(np.abs(rates).max()):
+        raise InputError(
+            f"Expected the samples of {start:.6g}–{times[-1]:.6g} s to follow a torque-free "
+            f"motion, got residuals of {typical:.3g} rad/s against noise of {noise:.3g} rad/s "
+            "for the best body found: is the window all free flight?"
+        )
+    _check_determined(final.jac, bias)
+    if moments[0] < MIN_RATIO:
+        raise InputError(
+            "Expected a recording that determines the moment ratios, got a fit that ran to a "
+            f"degenerate body (I1/I3 = {moments[0]:.3g}, below {MIN_RATIO:g}): the motion "
+            "shows too little of the body (a longer free flight, or a throw further from a "
+            "principal axis, would)."
+        )
+    dof = max(rates.size - final.x.size, 1)
+    variance = 2 * final.cost / dof
+    covariance = variance * np.linalg.pinv(final.jac.T @ final.jac, rcond=1e-12, hermitian=True)
+    # From the logarithms of the ratios to the ratios: d r = r d(ln r).
+    scale = np.ones(final.x.size)
+    scale[:2] = moments[:2]
+    covariance = covariance * np.outer(scale, scale)
+    errors = np.sqrt(np.abs(np.diag(covariance)[:2]))
+    if not np.all(errors < MAX_RATIO_ERROR):
+        raise InputError(
+            f"Expected a recording that determines the moment ratios, got standard errors "
+            f"{errors[0]:.3g} and {errors[1]:.3g} (above {MAX_RATIO_ERROR}): the motion shows "
+            "too little of the body (a longer free flight, or a throw further from a "
+            "principal axis, would)."
+        )
+    if bias and _symmetric(moments[:2], covariance):
+        raise InputError(
+            "Expected a recording that determines the moment ratios, got a body symmetric "
+            f"within its errors (I1/I3 = {moments[0]:.5g}, I2/I3 = {moments[1]:.5g}): with a "
+            "bias, a symmetric body's ratios trade off against it (fit with bias=False if "
+            "the sensor has none, or take the bias from a recording at rest)."
+        )
+    ratios = moments[:2]
+    return BodyFit(
+        moment_ratios=ratios,
+        uncertainty=errors,
+        axes=axes,
+        omega0=omega0,
+        bias=offset,
+        covariance=covariance,
+        residual_rms=residual,
+        # Of the nearest physical body where noise puts the ratios just outside
+        # the triangle inequality (a flat plate has I1 + I2 = I3).
+        flip_period=flip_period([max(ratios[0], 1.0 - ratios[1]), ratios[1], 1.0], omega0),
+        window=(start, float(times[-1])),
+        t=times,
+        measured=rates,
+    )
+
+
+def _symmetric(ratios: Array, covariance: Array) -> bool:
+    """Whether two of the moments (r1, r2, 1) are equal within 3 standard errors
+    of their difference (from the covariance of the ratios)."""
+    v11, v22, v12 = covariance[0, 0], covariance[1, 1], covariance[0, 1]
+    upper = 1.0 - ratios[1] < 3.0 * np.sqrt(max(v22, 0.0))
+    lower = ratios[1] - ratios[0] < 3.0 * np.sqrt(max(v11 + v22 - 2 * v12, 0.0))
+    return bool(upper or lower)
+
+
+def _check_determined(jacobian: Array, bias: bool) -> None:
+    """Refuse a fit whose ratios some change of the other parameters can make up
+    for exactly: a direction of the parameters (columns scaled to unit norm) the
+    Jacobian does not see, with a share of the ratios. (A symmetric body's axes
+    about its symmetry axis are such a direction too, but leave the ratios as
+    they are: that is not refused.)"""
+    norms = np.linalg.norm(jacobian, axis=0)
+    norms[norms == 0] = 1.0
+    _, values, directions = np.linalg.svd(jacobian / norms, full_matrices=False)
+    unseen = directions[values < 1e-8 * values[0]]
+    if any(np.linalg.norm(v[:2]) > 0.1 for v in unseen):
+        advice = (
+            "with a bias, a symmetric body's ratios trade off against it: fit with "
+            "bias=False if the sensor has none, or record a less symmetric body"
+            if bias
+            else "record a longer or less regular motion"
+        )
+        raise InputError(
+            "Expected a recording that determines the moment ratios, got one that other "
+            f"ratios reproduce exactly ({advice})."
+        )
+
+
+def _fits(residuals: Array, noise: float, scale: float) -> bool:
+    """Whether residuals (n, 3) look like the sensor's noise: about its size, and
+    uncorrelated along the samples. A wrong body leaves a smooth pattern,
+    correlated over many samples however small it is; the sum of the
+    autocorrelations at lags 1 to m of white noise is 0 within √(m/n) (n the
+    number of residuals), and a smooth pattern adds about m times its share.
+    Outliers (beyond 5 σ√3, impacts and glitches) are left out of the judgement."""
+    rms = float(np.sqrt(np.mean(residuals**2)))
+    if rms <= 1e-12 * scale:
+        return True
+    inliers = residuals[np.linalg.norm(residuals, axis=1) <= 5.0 * np.sqrt(3.0) * noise]
+    if len(inliers) < 0.9 * len(residuals):
+        return False
+    residuals = inliers
+    rms = float(np.sqrt(np.mean(residuals**2)))
+    centred = residuals - residuals.mean(axis=0)
+    power = float(np.sum(centred**2))
+    lags = min(LAGS, len(centred) // 4)
+    correlation = sum(float(np.sum(centred[k:] * centred[:-k])) / power for k in range(1, lags + 1))
+    return rms < 1.5 * noise and correlation < 4.0 * np.sqrt(lags / residuals.size)

@@ -1,0 +1,89 @@
+"""The free flight inside a recording of body rates: :func:`free_flight`.
+
+A thrown phone is torque-free from the hand to the catch; before and after,
+the hand holds it. The rule that tells them apart comes from Euler's
+equations: in free flight ``ω̇_i = (I_j − I_k) ω_j ω_k / I_i``, and since every
+physical body has ``|I_j − I_k| ≤ I_i`` (the triangle inequality of its
+moments), ``|ω̇| ≤ |ω|²``. A hand turning the phone, a throw that spins it up and
+a catch all break that bound (the hand's torque), and so do impacts. The
+samples kept are those where
+
+* ``|ω̇| ≤ 1.5 |ω|² + 6 σ̇``, with σ̇ the noise of ``ω̇`` from differences of
+  the samples (so noise alone does not break the bound), and
+* ``|ω| ≥`` a quarter of the recording's 99th percentile of ``|ω|`` (a thrown
+  phone spins faster than a hand turns it; this also drops the still parts,
+  where the bound holds trivially);
+
+the free flight is the longest run of such samples, less 3 samples at each end
+(the edges of a throw and of a catch). ``identify(window=(start, end))``
+overrides it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.errors import InputError
+
+__all__ = ["free_flight", "noise_level"]
+
+Array = NDArray[np.float64]
+
+#: Fewest samples a free flight has (see :data:`tumble.identification.checks.MIN_SAMPLES`).
+MIN_FLIGHT = 30
+
+#: Samples dropped at each end of the run found: the edges of the throw and catch.
+EDGE = 3
+
+
+def noise_level(t: Array, omega: Array) -> float:
+    """The sensor's noise σ (rad/s, per component), from the second differences of
+    the samples: for smooth motion sampled finely they are the noise's, with
+    variance 6 σ² (robust: the median absolute deviation, so impacts do not
+    count)."""
+    second = np.diff(omega, n=2, axis=0)
+    if second.size == 0:
+        return 0.0
+    return float(1.4826 * np.median(np.abs(second)) / np.sqrt(6.0))
+
+
+def free_flight(t: Array, omega: Array) -> tuple[float, float]:
+    """(start, end), s: the free flight of a recording ``t`` (n,) s, ``omega``
+    (n, 3) rad/s, by the rule of this module's docstring.
+
+    Raises
+    ------
+    InputError
+        When no run of at least ``MIN_FLIGHT`` samples follows the rule.
+    """
+    speed = np.linalg.norm(omega, axis=1)
+    acceleration = np.linalg.norm(np.gradient(omega, t, axis=0), axis=1)
+    step = float(np.median(np.diff(t)))
+    sigma = noise_level(t, omega)
+    # np.gradient's central difference: (ω[k+1] − ω[k−1]) / 2h, noise σ/(√2 h) per
+    # component, √3 times that in the norm of three.
+    rate_noise = np.sqrt(1.5) * sigma / step
+    fast = speed >= 0.25 * np.percentile(speed, 99)
+    free = fast & (acceleration <= 1.5 * speed**2 + 6.0 * rate_noise)
+    start, length = _longest_run(free)
+    if length - 2 * EDGE < MIN_FLIGHT:
+        raise InputError(
+            f"Expected a free flight of at least {MIN_FLIGHT} samples (|dω/dt| ≤ |ω|², as "
+            f"Euler's equations allow a torque-free body, and |ω| near its largest), got "
+            f"{max(length, 0)} at most: choose the window by hand (window=(start, end), or "
+            "--window START,END)."
+        )
+    first, last = start + EDGE, start + length - 1 - EDGE
+    return float(t[first]), float(t[last])
+
+
+def _longest_run(mask: NDArray[np.bool_]) -> tuple[int, int]:
+    """(start, length) of the longest run of True in ``mask`` ((0, 0) if none)."""
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    starts = np.flatnonzero(edges == 1)
+    stops = np.flatnonzero(edges == -1)
+    if starts.size == 0:
+        return 0, 0
+    k = int(np.argmax(stops - starts))
+    return int(starts[k]), int(stops[k] - starts[k])
