@@ -511,6 +511,15 @@ def test_auto_chooses_the_splitting_for_rotors_and_the_adaptive_method_for_dampe
     assert steady.method == "exact" and "steady precession" in steady.reason
     damped = tb.simulate(BOX, [0.1, 0.2, 0.3], duration=1.0, internal=[KaneDamper(0.1, 0.1)])
     assert damped.method == "adaptive"
+    assert damped.reason == (
+        "auto: parts the closed form and the splitting do not take (dampers, or rotors "
+        "driven by motors), so the adaptive Dormand–Prince 5(4) (rtol 1e-10, atol 1e-12)"
+    )
+    pushed = tb.simulate(BOX, [0.1, 0.2, 0.3], duration=1.0, internal=[KaneDamper(0.1, 0.1)],
+                         torque=tb.torques.LinearDamping(0.01))  # fmt: skip
+    assert pushed.reason.startswith(
+        "auto: non-conservative torques, so the adaptive Dormand–Prince 5(4)"
+    )
 
 
 # ------------------------------------------------------------------ errors

@@ -206,13 +206,17 @@ class Trajectory:
 
     def relative_change(self, name: str) -> Array:
         """(n,) the change of a conserved quantity from its initial value, relative:
-        energies to their largest magnitude, components of L to |L(0)|, and the
-        vector L as the length of its change over |L(0)| (with parts, over the
-        largest momentum the body or a part carries, when that is larger)."""
+        energies to their largest magnitude, components of L and the vector L (the
+        length of its change) to the largest |L| of the run (with parts, to the
+        largest momentum the body or a part carries, when that is larger). A body
+        released from rest under gravity starts with |L| at round-off: its
+        conserved vertical component is measured against the momentum it swings
+        with, not against that."""
         values = self.invariant(name)
         tiny = np.finfo(float).tiny
         if name.startswith("angular_momentum"):
-            size = max(float(np.linalg.norm(self.angular_momentum[0])), self._momentum_scale, tiny)
+            largest = float(np.max(np.linalg.norm(self.angular_momentum, axis=1)))
+            size = max(largest, self._momentum_scale, tiny)
             if values.ndim == 2:
                 return np.asarray(np.linalg.norm(values - values[0], axis=1) / size)
             return np.asarray((values - values[0]) / size)

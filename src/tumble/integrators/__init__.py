@@ -244,7 +244,15 @@ def _splitting_when(torque: BoundTorque) -> str | None:
 
 
 def _adaptive_when(torque: BoundTorque) -> str | None:
-    return "non-conservative torques, so the adaptive Dormand–Prince 5(4)"
+    # Chosen last: for torques the others do not take, or, with conservative
+    # torques or none, for parts they refuse (dampers, rotors driven by motors).
+    why = (
+        "non-conservative torques"
+        if not torque.conservative
+        else "parts the closed form and the splitting do not take (dampers, or rotors "
+        "driven by motors)"
+    )
+    return f"{why}, so the adaptive Dormand–Prince 5(4)"
 
 
 register_integrator(
