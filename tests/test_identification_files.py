@@ -253,6 +253,13 @@ def test_files_that_are_no_recording(tmp_path: Path) -> None:
         match=r"^Expected a CSV or Parquet file, got '.*image\.png', which is neither \(binary data\)\.$",
     ):
         read_recording(binary)
+    damaged = tmp_path / "damaged.zip"
+    damaged.write_bytes(b"PK\x03\x04 not really a zip")
+    with pytest.raises(
+        InputError,
+        match=r"^Expected a CSV or Parquet file, got '.*damaged\.zip', a damaged zip file\.$",
+    ):
+        read_recording(damaged)
     broken = tmp_path / "broken.parquet"
     broken.write_bytes(b"PAR1 not really")
     with pytest.raises(
@@ -286,3 +293,19 @@ def test_files_that_are_no_recording(tmp_path: Path) -> None:
         match=r"^Expected numbers in the column 'x' of '.*strings\.parquet', got values of type string\.$",
     ):
         read_recording(strings)
+
+
+def test_an_unreadable_file_is_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # The file system refuses the read (as for a file without read permission,
+    # which the superuser running CI could still read).
+    locked = write(tmp_path, "locked.csv", GOOD)
+
+    def refuse(self: Path) -> bytes:
+        raise PermissionError(13, "Permission denied", str(self))
+
+    monkeypatch.setattr(Path, "read_bytes", refuse)
+    with pytest.raises(
+        InputError,
+        match=r"^Expected a readable recording file, got '.*locked\.csv': Permission denied\.$",
+    ):
+        read_recording(locked)

@@ -264,3 +264,12 @@ def test_a_recording_without_a_free_flight_is_refused() -> None:
     w = 0.3 * np.stack([np.sin(5 * t), np.cos(7 * t), np.sin(3 * t)], axis=1)
     with pytest.raises(InputError, match=r"^Expected a free flight of at least 30 samples"):
         tb.identify(t, w)
+
+
+def test_the_synthetic_phone_is_a_box_of_a_phones_size() -> None:
+    # Oracle: tumble.shapes.box of the same edges, its moments in closed form.
+    phone = synthetic_phone(0)
+    moments = np.sort(np.linalg.eigvalsh(tb.shapes.box(1.0, [0.075, 0.160, 0.008]).inertia))
+    assert np.allclose(phone.moment_ratios, moments[:2] / moments[2], rtol=1e-14)
+    assert np.allclose(phone.axes.T @ phone.axes, np.eye(3), atol=1e-14)
+    assert np.linalg.det(phone.axes) == pytest.approx(1.0, abs=1e-14)

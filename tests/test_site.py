@@ -305,3 +305,14 @@ def test_the_search_page_finds_gyrocompass_offline(browser: Any, site: Path) -> 
     hits = page.locator("#search-results ul.search li a").all_inner_texts()
     assert any("yrocompass" in hit for hit in hits), hits
     assert errors == []
+
+
+def test_a_build_without_the_mathjax_wheel_says_what_to_install(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    from types import SimpleNamespace
+
+    monkeypatch.setattr(tumble_docs.importlib.util, "find_spec", lambda name: None)
+    app = SimpleNamespace(builder=SimpleNamespace(format="html"), outdir=str(tmp_path))
+    with pytest.raises(RuntimeError, match=r"^sphinx-mathjax-offline is not installed: pip "):
+        tumble_docs.copy_mathjax(app, None)

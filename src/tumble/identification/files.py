@@ -468,7 +468,8 @@ def _numbers(cells: list[str], name: str, lines: list[int] | None, shown: str) -
             raise InputError(
                 f"Expected numbers in {shown!r}, got {cell!r} at {where}, column {name!r}."
             )
-    raise InputError(f"Expected numbers in the column {name!r} of {shown!r}.")
+    # Every cell reads as a number to Python where numpy's parser balked.
+    return np.array([float(cell.replace(",", ".")) for cell in cells])
 
 
 def _arrow_numbers(column: Any, name: str, shown: str) -> Array:

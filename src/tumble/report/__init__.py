@@ -89,17 +89,25 @@ def _write_parquet(traj: Trajectory, path: Path, scenario: str, label: str) -> N
     write_bytes(path, sink.getvalue().to_pybytes())
 
 
-def check_folder(folder: Path, force: bool) -> None:
-    """Refuse, before any work, a run folder that cannot be written (see
-    :func:`tumble.files.check_output`) or replaced whole (the current folder or
-    one above it, a mount point), or that holds files unless ``force``; with
-    ``force``, a folder that holds files but is not a run folder (no
-    ``summary.json``) is refused too, so that no other work is deleted."""
+def check_folder(
+    folder: Path | str | os.PathLike[str],
+    force: bool,
+    *,
+    kind: str = "run",
+    marker: str = "summary.json",
+    whole: bool = True,
+) -> None:
+    """Refuse, before any work, a ``kind`` folder (a run's, a fit's) that cannot
+    be written (see :func:`tumble.files.check_output`) or, if it is to be
+    replaced ``whole``, replaced whole (the current folder or one above it, a
+    mount point), or that holds files unless ``force``; with ``force``, a folder
+    that holds files but is not such a folder (no ``marker`` file) is refused
+    too, so that no other work is deleted."""
     from tumble.files import check_output
 
-    check_output(folder, "the run folder", folder=True)
+    check_output(folder, f"the {kind} folder", folder=True)
     target = Path(os.path.abspath(folder))
-    if target.is_dir():
+    if target.is_dir() and whole:
         here = Path.cwd()
         if target == here or target in here.parents or os.path.ismount(target):
             kind = "a mount point" if os.path.ismount(target) else "the current folder or above it"
@@ -108,18 +116,18 @@ def check_folder(folder: Path, force: bool) -> None:
                 f"{kind}: name a new folder inside it.",
                 str(folder),
             )
-        if any(target.iterdir()):
-            if not force:
-                raise RunFolderExistsError(
-                    f"Expected an empty or new output folder, got {str(folder)!r}, which "
-                    "holds files (use --force to replace them)."
-                )
-            if not (target / "summary.json").is_file():
-                raise RunFolderExistsError(
-                    f"Expected a run folder to replace with --force (one holding "
-                    f"summary.json), got {str(folder)!r}, which holds other files: name "
-                    "another folder."
-                )
+    if target.is_dir() and any(target.iterdir()):
+        if not force:
+            raise RunFolderExistsError(
+                f"Expected an empty or new output folder, got {str(folder)!r}, which "
+                "holds files (use --force to replace them)."
+            )
+        if not (target / marker).is_file():
+            raise RunFolderExistsError(
+                f"Expected a {kind} folder to replace with --force (one holding "
+                f"{marker}), got {str(folder)!r}, which holds other files: name "
+                "another folder."
+            )
 
 
 def write_run(

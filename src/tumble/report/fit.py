@@ -302,25 +302,12 @@ def draw_fit_sheet(name: str, sheet: Sheet, window: tuple[float, float]) -> byte
 
 # ------------------------------------------------------------------ the folder
 def check_fit_folder(folder: str | os.PathLike[str], force: bool) -> None:
-    """Refuse, before any work, a fit folder that cannot be written
-    (:func:`tumble.files.check_output`), or that holds files unless ``force``; with
-    ``force``, one that holds files but no ``fit.json`` (other work) too."""
-    from tumble.files import check_output
-    from tumble.report import RunFolderExistsError
+    """Refuse, before any work, a fit folder that cannot be written, or that holds
+    files unless ``force``; with ``force``, one that holds files but no
+    ``fit.json`` (other work) too (:func:`tumble.report.check_folder`)."""
+    from tumble.report import check_folder
 
-    check_output(folder, "the fit folder", folder=True)
-    target = Path(os.path.abspath(folder))
-    if target.is_dir() and any(target.iterdir()):
-        if not force:
-            raise RunFolderExistsError(
-                f"Expected an empty or new output folder, got {str(folder)!r}, which holds "
-                "files (use --force to replace them)."
-            )
-        if not (target / "fit.json").is_file():
-            raise RunFolderExistsError(
-                f"Expected a fit folder to replace with --force (one holding fit.json), got "
-                f"{str(folder)!r}, which holds other files: name another folder."
-            )
+    check_folder(folder, force, kind="fit", marker="fit.json", whole=False)
 
 
 def write_fit(
