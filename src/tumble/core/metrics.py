@@ -36,53 +36,71 @@ FLIPS, FIRST_FLIP, MIN_COS, ENERGY_DEVIATION, MOMENTUM_DEVIATION = range(N_METRI
 
 @njit(inline="always")
 def observe(  # type: ignore[no-untyped-def]
-    w1, w2, w3, i1, i2, i3, a1, a2, a3, reference, flips, lowest, energy0, energy_dev, smallest,
-    largest,
+    w1, w2, w3, i1, i2, i3, b1, b2, b3, reference, flips, numerator, denominator, energy0,
+    energy_dev, smallest, largest,
 ):  # fmt: skip
     """Update one body's running measures after a step, and say whether the step
     was its first flip.
 
-    ``reference`` is the last non-zero ``a · L`` (so a sample exactly on zero
-    neither hides nor doubles a flip); the new one is returned. The nutation is
-    tracked as ``min (a·L)|a·L| / |L|²`` (the signed squared cosine) and |L| by
-    the extremes of |L|²: one division and no square root per step. Written
-    without branches so the loop over a block vectorises.
+    ``b`` is the nominal axis divided by |L₀| (:func:`initial`), so that ``b · L``
+    is near 1 in size whatever the units. ``reference`` is the last non-zero
+    ``b · L`` (so a sample exactly on zero neither hides nor doubles a flip); the
+    new one is returned. The nutation is tracked as the least signed squared
+    cosine ``(b·L)|b·L| / |L|²``, held as a fraction ``numerator / denominator``
+    and compared by cross-multiplication, and |L| by the extremes of |L|²: no
+    division and no square root per step. Written without branches so the loop
+    over a block vectorises.
     """
     l1 = i1 * w1
     l2 = i2 * w2
     l3 = i3 * w3
     squared = l1 * l1 + l2 * l2 + l3 * l3
-    c = a1 * l1 + a2 * l2 + a3 * l3
+    c = b1 * l1 + b2 * l2 + b3 * l3
     crossing = reference * c < 0.0
     first = crossing and flips == 0.0
     flips += 1.0 if crossing else 0.0
     reference = c if c != 0.0 else reference
-    lowest = min(lowest, c * abs(c) / squared if squared > 0.0 else 1.0)
+    signed = c * abs(c)
+    # (denominator and |L|² are never negative; at |L| = 0, 0 < 0 keeps the least.)
+    lower = signed * denominator < numerator * squared
+    numerator = signed if lower else numerator
+    denominator = squared if lower else denominator
     energy_dev = max(energy_dev, abs(l1 * w1 + l2 * w2 + l3 * w3 - energy0))
     smallest = min(smallest, squared)
     largest = max(largest, squared)
-    return first, reference, flips, lowest, energy_dev, smallest, largest
+    return first, reference, flips, numerator, denominator, energy_dev, smallest, largest
 
 
 @njit(inline="always")
 def initial(w1, w2, w3, i1, i2, i3, a1, a2, a3):  # type: ignore[no-untyped-def]
-    """(a · L, 2 E, |L|², signed squared cosine) of the initial state."""
+    """The start of the running measures of :func:`observe` from the initial state
+    and the nominal axis ``a``: ``(b1, b2, b3, b · L, 2 E, |L|², numerator,
+    denominator)`` with ``b = a / |L|`` (``a`` itself when L = 0), and the
+    nutation's fraction (1/1 when L = 0)."""
     l1 = i1 * w1
     l2 = i2 * w2
     l3 = i3 * w3
     squared = l1 * l1 + l2 * l2 + l3 * l3
-    c = a1 * l1 + a2 * l2 + a3 * l3
-    ratio = c * abs(c) / squared if squared > 0.0 else 1.0
-    return c, l1 * w1 + l2 * w2 + l3 * w3, squared, ratio
+    scale = 1.0 / math.sqrt(squared) if squared > 0.0 else 1.0
+    b1, b2, b3 = a1 * scale, a2 * scale, a3 * scale
+    c = b1 * l1 + b2 * l2 + b3 * l3
+    numerator = c * abs(c) if squared > 0.0 else 1.0
+    denominator = squared if squared > 0.0 else 1.0
+    return b1, b2, b3, c, l1 * w1 + l2 * w2 + l3 * w3, squared, numerator, denominator
 
 
 @njit(inline="always")
-def finish(dt, flips, crossed_at, before, after, lowest, energy_dev, squared0, smallest, largest):  # type: ignore[no-untyped-def]
+def finish(  # type: ignore[no-untyped-def]
+    dt, flips, crossed_at, before, after, numerator, denominator, energy_dev, squared0, smallest,
+    largest,
+):  # fmt: skip
     """The measures of ``out`` from the running ones."""
     first = math.inf
     if flips > 0.0:
         gap = before - after
         first = crossed_at - dt + (dt * before / gap if gap != 0.0 else 0.0)
+    # b · L = a · L / |L₀|: the fraction times |L₀|² is (a·L)|a·L| / |L|².
+    lowest = numerator / denominator * (squared0 if squared0 > 0.0 else 1.0)
     cosine = math.copysign(math.sqrt(abs(lowest)), lowest)
     size = math.sqrt(squared0)
     momentum_dev = max(abs(math.sqrt(largest) - size), abs(math.sqrt(smallest) - size))
