@@ -416,7 +416,7 @@ def _measured_step(  # type: ignore[no-untyped-def]
     """One step of ``dt`` s from time ``t`` of a measuring block, and its measures
     (:func:`tumble.core.metrics.observe`): body by body in one loop when
     ``advance`` is None, else ``advance`` then a loop of measures. ``last`` and
-    ``current``: the rows of the reference a · L this step reads and writes."""
+    ``current``: the rows of the reference b · L this step reads and writes."""
     if advance is not None:
         state = _state_views(rows)
         coefficients = _coefficient_views(rows)

@@ -110,10 +110,10 @@ def check_folder(
     if target.is_dir() and whole:
         here = Path.cwd()
         if target == here or target in here.parents or os.path.ismount(target):
-            kind = "a mount point" if os.path.ismount(target) else "the current folder or above it"
+            where = "a mount point" if os.path.ismount(target) else "the current folder or above it"
             raise OutputError(
-                f"Expected a run folder that can be replaced whole, got {str(folder)!r}, "
-                f"{kind}: name a new folder inside it.",
+                f"Expected a {kind} folder that can be replaced whole, got {str(folder)!r}, "
+                f"{where}: name a new folder inside it.",
                 str(folder),
             )
     if target.is_dir() and any(target.iterdir()):
