@@ -51,6 +51,7 @@ __all__ = [
     "block_steps",
     "load_block",
     "metrics_kernel",
+    "no_observer",
     "single_kernel",
     "store_block",
 ]
@@ -209,11 +210,20 @@ def store_block(leave, w, q, start, state, coefficients):  # type: ignore[no-unt
 
 
 @njit(inline="always")
-def block_steps(step, torque, t0, dt, n_steps, state, coefficients, params, context):  # type: ignore[no-untyped-def]
+def no_observer(k, arguments):  # type: ignore[no-untyped-def]
+    """The observer of a block advance that observes nothing."""
+
+
+@njit(inline="always")
+def block_steps(  # type: ignore[no-untyped-def]
+    step, torque, t0, dt, n_steps, state, coefficients, params, context, observer, arguments
+):  # fmt: skip
     """``n_steps`` steps of every body of a block, in place: the state arrays, the
     arrays of the Euler coefficients and the block's ``params`` of
     :func:`load_block`; one body after the other within a step, which the
-    compiler vectorises. The batch kernels' default ``advance``."""
+    compiler vectorises. After step k (from 0), ``observer(k, arguments)`` sees
+    the block's state arrays (:func:`no_observer` for none). The batch kernels'
+    default ``advance``."""
     w1, w2, w3, q0, q1, q2, q3 = state
     for k in range(n_steps):
         t = t0 + k * dt
@@ -223,6 +233,7 @@ def block_steps(step, torque, t0, dt, n_steps, state, coefficients, params, cont
                 _coefficients(coefficients, j), params, j, context,
             )  # fmt: skip
             w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j] = new
+        observer(k, arguments)
 
 
 def _advance(step: Any, torque: Any, variables: Variables, chooser: Any) -> tuple[Any, str]:
@@ -242,8 +253,8 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
     finiteness test inside the loop): the caller checks; ``status`` is left as is.
     ``variables``: those ``step`` steps; ``advance(step, torque)``: for a stepper
     with a faster way for whole blocks, a compiled function of
-    :func:`block_steps`'s arguments that steps a block in place, or None
-    (:func:`block_steps` itself).
+    :func:`block_steps`'s arguments that steps a block in place and calls the
+    observer after each step, or None (:func:`block_steps` itself).
     """
     enter, leave = variables
     advance, stamp = _advance(step, torque, variables, advance)
@@ -257,7 +268,10 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
             state, coefficients, block_params = load_block(
                 enter, w, q, inertia, params, start, stop
             )
-            advance(step, torque, t0, dt, n_steps, state, coefficients, block_params, context)
+            advance(
+                step, torque, t0, dt, n_steps, state, coefficients, block_params, context,
+                no_observer, (),
+            )  # fmt: skip
             store_block(leave, w, q, start, state, coefficients)
 
     return batch
@@ -270,12 +284,26 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None):  #
     nominal axes).
 
     With the default ``advance``, a body is measured in the loop that steps it,
-    while its new state is still in registers; a stepper's own ``advance`` steps
-    the block first, and a second loop measures it.
+    while its new state is still in registers. A stepper's own ``advance`` steps
+    the whole block through all its steps, and its observer measures the block
+    after each one, in a second loop over it.
     """
     enter, leave = variables
     chosen = None if advance is None else advance(step, torque)
     stamp = _stamp(step, variables, chosen)
+
+    @njit(inline="always", cache=False)
+    def measure(k, arguments):  # type: ignore[no-untyped-def]
+        """The observer of ``chosen``: the measures of a block after its step k;
+        ``arguments`` its measuring array, t0 and dt."""
+        rows, start, dt = arguments
+        # Two calls, so that the rows each reads and writes are constants: held in
+        # variables, the compiler could not tell that they do not overlap, and the
+        # loop would not vectorise.
+        if k % 2 == 0:
+            _measured(leave, start + k * dt, dt, rows, _REFERENCE_EVEN, _REFERENCE_ODD)
+        else:
+            _measured(leave, start + k * dt, dt, rows, _REFERENCE_ODD, _REFERENCE_EVEN)
 
     @specialise(njit_vector, f"stepping.metrics|{stamp}|{identity}")
     def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
@@ -284,23 +312,39 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None):  #
             start = block * METRICS_BLOCK
             stop = min(start + METRICS_BLOCK, n)
             rows, block_params = _measuring_rows(enter, w, q, inertia, params, axis, start, stop)
-            for k in range(n_steps):
-                # Two calls, so that the rows each reads and writes are constants:
-                # held in variables, the compiler could not tell that they do not
-                # overlap, and the loop would not vectorise.
-                if k % 2 == 0:
-                    _measured_step(
-                        step, leave, chosen, torque, t0 + k * dt, dt, rows, block_params, context,
-                        _REFERENCE_EVEN, _REFERENCE_ODD,
-                    )  # fmt: skip
-                else:
-                    _measured_step(
-                        step, leave, chosen, torque, t0 + k * dt, dt, rows, block_params, context,
-                        _REFERENCE_ODD, _REFERENCE_EVEN,
-                    )  # fmt: skip
+            _measured_steps(
+                step, leave, chosen, measure, torque, t0, dt, n_steps, rows, block_params, context
+            )
             _finish_rows(leave, rows, w, q, dt, out, start, stop)
 
     return batch
+
+
+@njit(inline="always")
+def _measured_steps(  # type: ignore[no-untyped-def]
+    step, leave, advance, measure, torque, t0, dt, n_steps, rows, params, context
+):  # fmt: skip
+    """``n_steps`` steps of ``dt`` s from time ``t0`` of a measuring block, each
+    measured (:func:`tumble.core.metrics.observe`): body by body in one loop when
+    ``advance`` is None, else by ``advance`` with ``measure`` its observer."""
+    if advance is None:
+        for k in range(n_steps):
+            # As in ``measure``: the rows of the reference b · L as constants.
+            if k % 2 == 0:
+                _stepped_and_measured(
+                    step, leave, torque, t0 + k * dt, dt, rows, params, context,
+                    _REFERENCE_EVEN, _REFERENCE_ODD,
+                )  # fmt: skip
+            else:
+                _stepped_and_measured(
+                    step, leave, torque, t0 + k * dt, dt, rows, params, context,
+                    _REFERENCE_ODD, _REFERENCE_EVEN,
+                )  # fmt: skip
+    else:
+        advance(
+            step, torque, t0, dt, n_steps, _state_views(rows), _coefficient_views(rows), params,
+            context, measure, (rows, t0, dt),
+        )  # fmt: skip
 
 
 @njit(inline="always")
@@ -410,47 +454,67 @@ def _measuring_rows(enter, w, q, inertia, params, axis, start, stop):  # type: i
 
 
 @njit(inline="always")
-def _measured_step(  # type: ignore[no-untyped-def]
-    step, leave, advance, torque, t, dt, rows, params, context, last, current
+def _observed(leave, rows, j, state, coefficients, last, current):  # type: ignore[no-untyped-def]
+    """Update body j's running measures in a measuring block's array from its new
+    ``state`` (:func:`tumble.core.metrics.observe`), and say whether this step
+    was its first flip. ``last`` and ``current``: the rows of the reference
+    b · L this step reads and writes."""
+    w1, w2, w3 = leave(state, coefficients)[:3]
+    (
+        first, rows[current * _ROW + j], rows[_FLIPS * _ROW + j], rows[_NUMERATOR * _ROW + j],
+        rows[_DENOMINATOR * _ROW + j], rows[_ENERGY_DEVIATION * _ROW + j],
+        rows[_SMALLEST * _ROW + j], rows[_LARGEST * _ROW + j],
+    ) = observe(
+        w1, w2, w3, coefficients[6], coefficients[7], coefficients[8],
+        _at(rows, _AXIS, j), _at(rows, _AXIS + 1, j), _at(rows, _AXIS + 2, j),
+        _at(rows, last, j), _at(rows, _FLIPS, j), _at(rows, _NUMERATOR, j),
+        _at(rows, _DENOMINATOR, j), _at(rows, _ENERGY0, j), _at(rows, _ENERGY_DEVIATION, j),
+        _at(rows, _SMALLEST, j), _at(rows, _LARGEST, j),
+    )  # fmt: skip
+    return first
+
+
+@njit(inline="always")
+def _first_flips(rows, t, dt, last, current):  # type: ignore[no-untyped-def]
+    """Record the first flips of the step of ``dt`` s from time ``t``: its end and
+    the b · L before and after it. Called only for the rare steps that have one:
+    stored at every step, or under a mask in the measuring loop, they cost more
+    than the test."""
+    for j in range(METRICS_BLOCK):
+        if _at(rows, _FLIPS, j) > 0.0 and _at(rows, _RECORDED, j) == 0.0:
+            rows[_RECORDED * _ROW + j] = 1.0
+            rows[_CROSSED_AT * _ROW + j] = t + dt
+            rows[_BEFORE * _ROW + j] = _at(rows, last, j)
+            rows[_AFTER * _ROW + j] = _at(rows, current, j)
+
+
+@njit(inline="always")
+def _stepped_and_measured(  # type: ignore[no-untyped-def]
+    step, leave, torque, t, dt, rows, params, context, last, current
 ):  # fmt: skip
-    """One step of ``dt`` s from time ``t`` of a measuring block, and its measures
-    (:func:`tumble.core.metrics.observe`): body by body in one loop when
-    ``advance`` is None, else ``advance`` then a loop of measures. ``last`` and
-    ``current``: the rows of the reference b · L this step reads and writes."""
-    if advance is not None:
-        state = _state_views(rows)
-        coefficients = _coefficient_views(rows)
-        advance(step, torque, t, dt, 1, state, coefficients, params, context)
+    """One step of ``dt`` s from time ``t`` of a measuring block, each body
+    measured in the loop that steps it (:func:`_observed`)."""
     firsts = False
     for j in range(METRICS_BLOCK):
         coefficients = _coefficients_at(rows, j)
-        new = _state_at(rows, j)
-        if advance is None:
-            new = step(torque, t, dt, new, coefficients, params, j, context)
-            _put_state(rows, j, new)
-        w1, w2, w3 = leave(new, coefficients)[:3]
-        (
-            first, rows[current * _ROW + j], rows[_FLIPS * _ROW + j],
-            rows[_NUMERATOR * _ROW + j], rows[_DENOMINATOR * _ROW + j],
-            rows[_ENERGY_DEVIATION * _ROW + j], rows[_SMALLEST * _ROW + j],
-            rows[_LARGEST * _ROW + j],
-        ) = observe(
-            w1, w2, w3, coefficients[6], coefficients[7], coefficients[8],
-            _at(rows, _AXIS, j), _at(rows, _AXIS + 1, j), _at(rows, _AXIS + 2, j),
-            _at(rows, last, j), _at(rows, _FLIPS, j), _at(rows, _NUMERATOR, j),
-            _at(rows, _DENOMINATOR, j), _at(rows, _ENERGY0, j),
-            _at(rows, _ENERGY_DEVIATION, j), _at(rows, _SMALLEST, j), _at(rows, _LARGEST, j),
-        )  # fmt: skip
-        firsts |= first
-    # The first flips are recorded apart, in the rare steps that have one: stored
-    # at every step, or under a mask in the loop, they cost more than this test.
+        new = step(torque, t, dt, _state_at(rows, j), coefficients, params, j, context)
+        _put_state(rows, j, new)
+        firsts |= _observed(leave, rows, j, new, coefficients, last, current)
     if firsts:  # at most once a body in a run
-        for j in range(METRICS_BLOCK):
-            if _at(rows, _FLIPS, j) > 0.0 and _at(rows, _RECORDED, j) == 0.0:
-                rows[_RECORDED * _ROW + j] = 1.0
-                rows[_CROSSED_AT * _ROW + j] = t + dt
-                rows[_BEFORE * _ROW + j] = _at(rows, last, j)
-                rows[_AFTER * _ROW + j] = _at(rows, current, j)
+        _first_flips(rows, t, dt, last, current)
+
+
+@njit(inline="always")
+def _measured(leave, t, dt, rows, last, current):  # type: ignore[no-untyped-def]
+    """The measures of a measuring block after its step of ``dt`` s from time
+    ``t`` (:func:`_observed`)."""
+    firsts = False
+    for j in range(METRICS_BLOCK):
+        firsts |= _observed(
+            leave, rows, j, _state_at(rows, j), _coefficients_at(rows, j), last, current
+        )
+    if firsts:
+        _first_flips(rows, t, dt, last, current)
 
 
 @njit(inline="always")
