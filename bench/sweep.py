@@ -170,8 +170,10 @@ def kernels(steps: int, methods: list[str], processes: int) -> None:
     for _ in range(processes):
         done = subprocess.run(
             [sys.executable, __file__, "--kernel-rounds", str(steps), *methods],
-            capture_output=True, text=True, check=True,
+            capture_output=True, text=True, check=False,
         )  # fmt: skip
+        if done.returncode:
+            raise SystemExit(f"the kernels' process failed:\n{done.stderr}")
         runs.append(json.loads(done.stdout.strip().splitlines()[-1]))
     for method in methods:
         costs = []

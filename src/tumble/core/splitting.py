@@ -547,7 +547,8 @@ def _free_yoshida_block(  # type: ignore[no-untyped-def]
 
 
 def block_advance(step: Any, torque: Any) -> Any:
-    """The ``advance`` of the batch kernels (:func:`tumble.core.stepping.batch_kernel`)
+    """The ``advance`` of the batch and measuring kernels
+    (:func:`tumble.core.stepping.batch_kernel`, :func:`~tumble.core.stepping.metrics_kernel`)
     for ``step`` and ``torque``: for a free body and the rotations, one loop over
     the block per turn (the same operations as :func:`strang_step` and
     :func:`yoshida_step` body by body); else None, the body-by-body default."""

@@ -221,9 +221,10 @@ def block_steps(  # type: ignore[no-untyped-def]
     """``n_steps`` steps of every body of a block, in place: the state arrays, the
     arrays of the Euler coefficients and the block's ``params`` of
     :func:`load_block`; one body after the other within a step, which the
-    compiler vectorises. After step k (from 0), ``observer(k, arguments)`` sees
-    the block's state arrays (:func:`no_observer` for none). The batch kernels'
-    default ``advance``."""
+    compiler vectorises. Step k (from 0) runs from ``t0 + k dt`` to
+    ``t0 + (k + 1) dt``; after it, ``observer(k, arguments)`` is called, with
+    ``arguments`` what it needs to find the block's state (:func:`no_observer`
+    for none). The batch kernels' default ``advance``."""
     w1, w2, w3, q0, q1, q2, q3 = state
     for k in range(n_steps):
         t = t0 + k * dt
@@ -295,15 +296,15 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None):  #
     @njit(inline="always", cache=False)
     def measure(k, arguments):  # type: ignore[no-untyped-def]
         """The observer of ``chosen``: the measures of a block after its step k;
-        ``arguments`` its measuring array, t0 and dt."""
-        rows, start, dt = arguments
+        ``arguments`` its measuring array, the time of its first step and dt."""
+        rows, t0, dt = arguments
         # Two calls, so that the rows each reads and writes are constants: held in
         # variables, the compiler could not tell that they do not overlap, and the
         # loop would not vectorise.
         if k % 2 == 0:
-            _measured(leave, start + k * dt, dt, rows, _REFERENCE_EVEN, _REFERENCE_ODD)
+            _measured(leave, t0 + k * dt, dt, rows, _REFERENCE_EVEN, _REFERENCE_ODD)
         else:
-            _measured(leave, start + k * dt, dt, rows, _REFERENCE_ODD, _REFERENCE_EVEN)
+            _measured(leave, t0 + k * dt, dt, rows, _REFERENCE_ODD, _REFERENCE_EVEN)
 
     @specialise(njit_vector, f"stepping.metrics|{stamp}|{identity}")
     def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
