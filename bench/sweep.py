@@ -3,7 +3,10 @@
 1. Kernels: body-steps/s of each method's measuring batch kernel (its steps +
    per-step flips, nutation and drift) against its plain batch kernel on the
    same bodies, ``--methods`` (rk4, strang, splitting): the cost of measuring,
-   the median over ``--processes`` fresh processes of alternated rounds.
+   the median over ``--processes`` fresh processes of alternated rounds. The
+   nominal axes lie on principal axis 2, as a sweep's spin axes do, and are
+   measured by the kernel for such axes; ``--any-axes`` times the kernel for
+   axes in any direction.
 2. Backends: one sweep (``--bodies`` bodies, ``--steps`` steps) run to the end
    in-process, then on a Dask LocalCluster with 1 and 2 workers; wall time of
    ``run_sweep`` (cluster start, scheduling, transfers and writing included)
@@ -113,7 +116,9 @@ PROCESSES = 3
 KERNEL_BODIES = 1 << 18
 
 
-def kernel_rounds(steps: int, methods: list[str]) -> dict[str, tuple[list[float], list[float]]]:
+def kernel_rounds(
+    steps: int, methods: list[str], any_axes: bool
+) -> dict[str, tuple[list[float], list[float]]]:
     """Per method, the body-steps/s of its plain and its measuring batch kernel in
     ``ROUNDS`` alternated rounds."""
     from tumble.body import BodyBatch
@@ -135,7 +140,11 @@ def kernel_rounds(steps: int, methods: list[str]) -> dict[str, tuple[list[float]
     rates = {}
     for method in methods:
         plain_kernel = INTEGRATORS[method].kernel("batch", free)
-        measuring_kernel = INTEGRATORS[method].kernel("metrics", free)
+        # The kernel a sweep's measure_batch picks for spin axes on axis 2; with
+        # --any-axes, the one for nominal axes in any direction.
+        measuring_kernel = INTEGRATORS[method].kernel(
+            "metrics", free, principal_axis=None if any_axes else 1
+        )
 
         def step(w, q, steps, kernel=plain_kernel):  # type: ignore[no-untyped-def]
             kernel(w, q, inertia, params, context, 0.0, 5e-3, steps, status)
@@ -159,17 +168,19 @@ def kernel_rounds(steps: int, methods: list[str]) -> dict[str, tuple[list[float]
     return rates
 
 
-def kernels(steps: int, methods: list[str], processes: int) -> None:
+def kernels(steps: int, methods: list[str], processes: int, any_axes: bool) -> None:
     """Time the kernels in ``processes`` fresh processes and print, per method, the
     best rates and the cost of measuring in each process and over all."""
     print(
         f"kernels, {KERNEL_BODIES} bodies × {steps} steps ({ROUNDS} rounds alternated, "
-        f"in each of {processes} fresh processes):"
+        f"in each of {processes} fresh processes), nominal axes "
+        + ("in any direction:" if any_axes else "on principal axis 2 (a sweep's):")
     )
     runs = []
     for _ in range(processes):
         done = subprocess.run(
-            [sys.executable, __file__, "--kernel-rounds", str(steps), *methods],
+            [sys.executable, __file__, *(["--any-axes"] if any_axes else []), "--kernel-rounds",
+             str(steps), *methods],
             capture_output=True, text=True, check=False,
         )  # fmt: skip
         if done.returncode:
@@ -281,17 +292,21 @@ def main() -> None:
         help="the methods whose measuring kernels are timed against their batch kernels",
     )  # fmt: skip
     parser.add_argument("--processes", type=int, default=PROCESSES)
+    parser.add_argument(
+        "--any-axes", action="store_true",
+        help="time the measuring kernels for nominal axes in any direction",
+    )  # fmt: skip
     parser.add_argument("--kernel-rounds", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.kernel_rounds:  # one process of the kernels' comparison: its rates as JSON
         steps, *methods = args.kernel_rounds
-        print(json.dumps(kernel_rounds(int(steps), methods)))
+        print(json.dumps(kernel_rounds(int(steps), methods, args.any_axes)))
         return
     print(describe({}))
     folder = Path(tempfile.mkdtemp(prefix="tumble-bench-sweep-"))
     try:
         if "kernels" not in args.skip:
-            kernels(args.steps, args.methods, args.processes)
+            kernels(args.steps, args.methods, args.processes, args.any_axes)
         if "backends" not in args.skip:
             backends(folder, args.bodies, args.steps)
         if "big" not in args.skip:

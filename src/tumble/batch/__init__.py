@@ -170,7 +170,6 @@ def measure_batch(
     """
     status = np.full(len(batch), FINITE, dtype=np.int64)
     metrics = np.empty((N_METRICS, len(batch)))
-    kernel = integrator.kernel("metrics", batch.torque)
     torque = batch.torque
     if integrator.torque_free_only and not torque.torque_free:
         raise InputError(
@@ -178,6 +177,7 @@ def measure_batch(
             "got a torque: use 'rk4' or a splitting."
         )
     if integrator.kind == "sampling":
+        kernel = integrator.kernel("metrics", torque)
         # The closed form needs the moments ascending: where they are not, the
         # principal frames of the diagonal tensors order them (a proper
         # relabelling of the axes).
@@ -197,10 +197,19 @@ def measure_batch(
             batch.w[:] = bodies.from_principal(w.T).T
             batch.q[:] = bodies.attitude_from_principal(q.T).T
     else:
+        kernel = integrator.kernel("metrics", torque, principal_axis=_principal_axis_of(axis))
         kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, axis, 0.0, dt,
                n_steps, metrics, status)  # fmt: skip
     batch.check_finite(status, dt, first_body, where)
     return metrics
+
+
+def _principal_axis_of(axis: Array) -> int | None:
+    """The principal axis (0, 1 or 2) on which every nominal axis of ``axis`` (3, N)
+    lies, its two other rows all zero (a sweep's spin axes); None if there is
+    none. Such axes are measured by a kernel that takes a · L as one product."""
+    zero = [not np.any(row) for row in axis]
+    return zero.index(False) if sum(zero) == 2 else None
 
 
 def simulate_batch(

@@ -36,14 +36,14 @@ FLIPS, FIRST_FLIP, MIN_COS, ENERGY_DEVIATION, MOMENTUM_DEVIATION = range(N_METRI
 
 @njit(inline="always")
 def observe(  # type: ignore[no-untyped-def]
-    w1, w2, w3, i1, i2, i3, b1, b2, b3, reference, flips, numerator, denominator, energy0,
-    energy_dev, smallest, largest,
+    l1, l2, l3, w1, w2, w3, c, reference, flips, numerator, denominator, energy0, energy_dev,
+    smallest, largest,
 ):  # fmt: skip
-    """Update one body's running measures after a step, and say whether the step
-    was its first flip.
+    """Update one body's running measures after a step from its L (kg·m²/s) and ω
+    (rad/s) in the principal frame, and say whether the step was its first flip.
 
-    ``b`` is the nominal axis divided by |L₀| (:func:`initial`), so that ``b · L``
-    is near 1 in size whatever the units. ``reference`` is the last non-zero
+    ``c`` is ``b · L``, with ``b`` the nominal axis divided by |L₀| (:func:`initial`),
+    so that it is near 1 in size whatever the units. ``reference`` is the last non-zero
     ``b · L`` (so a sample exactly on zero neither hides nor doubles a flip); the
     new one is returned. The nutation is tracked as the least signed squared
     cosine ``(b·L)|b·L| / |L|²``, held as a fraction ``numerator / denominator``
@@ -51,11 +51,7 @@ def observe(  # type: ignore[no-untyped-def]
     division and no square root per step. Written without branches so the loop
     over a block vectorises.
     """
-    l1 = i1 * w1
-    l2 = i2 * w2
-    l3 = i3 * w3
     squared = l1 * l1 + l2 * l2 + l3 * l3
-    c = b1 * l1 + b2 * l2 + b3 * l3
     crossing = reference * c < 0.0
     first = crossing and flips == 0.0
     flips += 1.0 if crossing else 0.0

@@ -77,6 +77,7 @@ __all__ = [
     "free_flow",
     "free_flow_one_body",
     "momentum_state",
+    "momentum_vectors",
     "strang_step",
     "strang_step_one_body",
     "sub_steps",
@@ -351,8 +352,16 @@ def velocity_state(state, coefficients):  # type: ignore[no-untyped-def]
     return state[0] / i1, state[1] / i2, state[2] / i3, state[3], state[4], state[5], state[6]
 
 
-#: The splittings step (L, q): :func:`momentum_state` and :func:`velocity_state`.
-MOMENTUM = Variables(momentum_state, velocity_state)
+@njit(inline="always")
+def momentum_vectors(state, coefficients):  # type: ignore[no-untyped-def]
+    """``(L, ω)`` of the state (L, q): ω = L (1/I), a product (no division)."""
+    l1, l2, l3 = state[0], state[1], state[2]
+    return l1, l2, l3, l1 * coefficients[3], l2 * coefficients[4], l3 * coefficients[5]
+
+
+#: The splittings step (L, q): :func:`momentum_state`, :func:`velocity_state` and
+#: :func:`momentum_vectors`.
+MOMENTUM = Variables(momentum_state, velocity_state, momentum_vectors)
 
 
 @njit(inline="always")

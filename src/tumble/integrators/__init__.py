@@ -106,7 +106,7 @@ class Integrator:
     applies: Callable[[Any, BoundTorque], str | None] | None = None
     parts_single: PartsKernelFactory | None = None
     parts_batch: PartsKernelFactory | None = None
-    _kernels: dict[tuple[str, str, Any], Any] = field(default_factory=dict, repr=False)
+    _kernels: dict[tuple[str, str, Any, int | None], Any] = field(default_factory=dict, repr=False)
     _lock: Any = field(default_factory=threading.Lock, repr=False)
 
     @property
@@ -130,19 +130,30 @@ class Integrator:
         role: Literal["single", "batch", "metrics", "parts_single", "parts_batch"],
         torque: BoundTorque,
         layout: Any = None,
+        *,
+        principal_axis: int | None = None,
     ) -> Any:
         """The compiled kernel ``role`` specialised for ``torque`` (and, for bodies
-        carrying parts, their ``layout``: :func:`tumble.parts.layout_of`), built
-        once per process; compiled on first call, or loaded from the on-disk cache."""
+        carrying parts, their ``layout``: :func:`tumble.parts.layout_of`; for a
+        stepping integrator's metrics kernel, the ``principal_axis`` 0, 1 or 2
+        that every nominal axis lies on, or None for any axes, a hint the other
+        kernels ignore), built once per process; compiled on first call, or
+        loaded from the on-disk cache."""
         factory = getattr(self, role)
         if factory is None:
             raise InputError(f"Expected an integrator with a {role} kernel, got {self.name!r}.")
-        key = (role, torque.identity, layout)
+        if role != "metrics" or self.kind != "stepping":
+            principal_axis = None
+        key = (role, torque.identity, layout, principal_axis)
         with self._lock:
             kernel = self._kernels.get(key)
             if kernel is None:
                 if role.startswith("parts"):
                     kernel = factory(torque.function, torque.drive, layout, torque.identity)
+                elif principal_axis is not None:
+                    kernel = factory(
+                        torque.function, torque.identity, principal_axis=principal_axis
+                    )
                 else:
                     kernel = factory(torque.function, torque.identity)
                 self._kernels[key] = kernel
