@@ -22,6 +22,7 @@
 Not timed tests: numbers, printed for bench/RESULTS.md. Run from the root::
 
     .venv/bin/python bench/sweep.py [--bodies 1048576] [--steps 200] [--big 10000000]
+        [--methods rk4 strang splitting] [--any-axes] [--kernel-bodies 262144] [--rounds 9]
 """
 
 from __future__ import annotations
@@ -117,16 +118,16 @@ KERNEL_BODIES = 1 << 18
 
 
 def kernel_rounds(
-    steps: int, methods: list[str], any_axes: bool
+    steps: int, methods: list[str], any_axes: bool, bodies: int, rounds: int
 ) -> dict[str, tuple[list[float], list[float]]]:
-    """Per method, the body-steps/s of its plain and its measuring batch kernel in
-    ``ROUNDS`` alternated rounds."""
+    """Per method, the body-steps/s of its plain and its measuring batch kernel on
+    ``bodies`` bodies in ``rounds`` alternated rounds."""
     from tumble.body import BodyBatch
     from tumble.core.metrics import N_METRICS
     from tumble.integrators import INTEGRATORS
     from tumble.torques import bind
 
-    n = KERNEL_BODIES
+    n = bodies
     rng = np.random.default_rng(0)
     inertia = np.vstack([np.ones(n), rng.uniform(1.05, 1.95, n), np.full(n, 2.0)])
     w = np.vstack([rng.normal(0, 0.05, n), np.full(n, 6.28), rng.normal(0, 0.05, n)])
@@ -155,7 +156,7 @@ def kernel_rounds(
         step(w.copy(), q.copy(), 2)  # compile, or load from the cache
         measure(w.copy(), q.copy(), 2)
         plain, measured = [], []
-        for _ in range(ROUNDS):
+        for _ in range(rounds):
             a, b = w.copy(), q.copy()
             start = time.perf_counter()
             step(a, b, steps)
@@ -168,18 +169,21 @@ def kernel_rounds(
     return rates
 
 
-def kernels(steps: int, methods: list[str], processes: int, any_axes: bool) -> None:
+def kernels(
+    steps: int, methods: list[str], processes: int, any_axes: bool, bodies: int, rounds: int
+) -> None:
     """Time the kernels in ``processes`` fresh processes and print, per method, the
     best rates and the cost of measuring in each process and over all."""
     print(
-        f"kernels, {KERNEL_BODIES} bodies × {steps} steps ({ROUNDS} rounds alternated, "
+        f"kernels, {bodies} bodies × {steps} steps ({rounds} rounds alternated, "
         f"in each of {processes} fresh processes), nominal axes "
         + ("in any direction:" if any_axes else "on principal axis 2 (a sweep's):")
     )
     runs = []
     for _ in range(processes):
         done = subprocess.run(
-            [sys.executable, __file__, *(["--any-axes"] if any_axes else []), "--kernel-rounds",
+            [sys.executable, __file__, *(["--any-axes"] if any_axes else []),
+             "--kernel-bodies", str(bodies), "--rounds", str(rounds), "--kernel-rounds",
              str(steps), *methods],
             capture_output=True, text=True, check=False,
         )  # fmt: skip
@@ -296,17 +300,26 @@ def main() -> None:
         "--any-axes", action="store_true",
         help="time the measuring kernels for nominal axes in any direction",
     )  # fmt: skip
+    parser.add_argument("--kernel-bodies", type=int, default=KERNEL_BODIES)
+    parser.add_argument("--rounds", type=int, default=ROUNDS)
     parser.add_argument("--kernel-rounds", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.kernel_rounds:  # one process of the kernels' comparison: its rates as JSON
         steps, *methods = args.kernel_rounds
-        print(json.dumps(kernel_rounds(int(steps), methods, args.any_axes)))
+        print(
+            json.dumps(
+                kernel_rounds(int(steps), methods, args.any_axes, args.kernel_bodies, args.rounds)
+            )
+        )
         return
     print(describe({}))
     folder = Path(tempfile.mkdtemp(prefix="tumble-bench-sweep-"))
     try:
         if "kernels" not in args.skip:
-            kernels(args.steps, args.methods, args.processes, args.any_axes)
+            kernels(
+                args.steps, args.methods, args.processes, args.any_axes, args.kernel_bodies,
+                args.rounds,
+            )  # fmt: skip
         if "backends" not in args.skip:
             backends(folder, args.bodies, args.steps)
         if "big" not in args.skip:
