@@ -297,8 +297,8 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None, pri
     nominal axes). ``principal_axis`` (0, 1 or 2): a kernel only for nominal axes
     on that principal axis (the other two rows of ``axis`` zero), which takes
     b · L as the one product that is not zero: the same measures, with two
-    fewer multiplications a body and step (3 points of the cost of measuring
-    RK4, measured).
+    fewer multiplications a body and step (2 points of the cost of measuring
+    RK4 on one thread, measured: bench/sweep.py).
 
     With the default ``advance``, a body is measured in the loop that steps it,
     while its new state is still in registers. A stepper's own ``advance`` steps
@@ -347,7 +347,7 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None, pri
 
 @njit(inline="always")
 def _measured_steps(  # type: ignore[no-untyped-def]
-    step, vectors, advance, measure, torque, t0, dt, n_steps, rows, params, context
+    step, measured_vectors, advance, measure, torque, t0, dt, n_steps, rows, params, context
 ):  # fmt: skip
     """``n_steps`` steps of ``dt`` s from time ``t0`` of a measuring block, each
     measured (:func:`tumble.core.metrics.observe`): body by body in one loop when
@@ -357,12 +357,12 @@ def _measured_steps(  # type: ignore[no-untyped-def]
             # As in ``measure``: the rows of the reference b · L as constants.
             if k % 2 == 0:
                 _stepped_and_measured(
-                    step, vectors, torque, t0 + k * dt, dt, rows, params, context,
+                    step, measured_vectors, torque, t0 + k * dt, dt, rows, params, context,
                     _REFERENCE_EVEN, _REFERENCE_ODD,
                 )  # fmt: skip
             else:
                 _stepped_and_measured(
-                    step, vectors, torque, t0 + k * dt, dt, rows, params, context,
+                    step, measured_vectors, torque, t0 + k * dt, dt, rows, params, context,
                     _REFERENCE_ODD, _REFERENCE_EVEN,
                 )  # fmt: skip
     else:
@@ -507,13 +507,13 @@ _ALONG = {None: _along_any, 0: _along_axis_1, 1: _along_axis_2, 2: _along_axis_3
 
 
 @njit(inline="always")
-def _observed(vectors, rows, j, state, coefficients, last, current):  # type: ignore[no-untyped-def]
+def _observed(measured_vectors, rows, j, state, coefficients, last, current):  # type: ignore[no-untyped-def]
     """Update body j's running measures in a measuring block's array from its new
     ``state`` (:func:`tumble.core.metrics.observe` of its L, ω and b · L, from
-    ``vectors(rows, j, state, coefficients)``), and say whether this step was its
-    first flip. ``last`` and ``current``: the rows of the reference b · L this
-    step reads and writes."""
-    l1, l2, l3, w1, w2, w3, along = vectors(rows, j, state, coefficients)
+    ``measured_vectors(rows, j, state, coefficients)``), and say whether this
+    step was its first flip. ``last`` and ``current``: the rows of the reference
+    b · L this step reads and writes."""
+    l1, l2, l3, w1, w2, w3, along = measured_vectors(rows, j, state, coefficients)
     (
         first, rows[current * _ROW + j], rows[_FLIPS * _ROW + j], rows[_NUMERATOR * _ROW + j],
         rows[_DENOMINATOR * _ROW + j], rows[_ENERGY_DEVIATION * _ROW + j],
@@ -542,7 +542,7 @@ def _first_flips(rows, t, dt, last, current):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def _stepped_and_measured(  # type: ignore[no-untyped-def]
-    step, vectors, torque, t, dt, rows, params, context, last, current
+    step, measured_vectors, torque, t, dt, rows, params, context, last, current
 ):  # fmt: skip
     """One step of ``dt`` s from time ``t`` of a measuring block, each body
     measured in the loop that steps it (:func:`_observed`)."""
@@ -551,20 +551,21 @@ def _stepped_and_measured(  # type: ignore[no-untyped-def]
         coefficients = _coefficients_at(rows, j)
         new = step(torque, t, dt, _state_at(rows, j), coefficients, params, j, context)
         _put_state(rows, j, new)
-        firsts |= _observed(vectors, rows, j, new, coefficients, last, current)
+        firsts |= _observed(measured_vectors, rows, j, new, coefficients, last, current)
     if firsts:  # at most once a body in a run
         _first_flips(rows, t, dt, last, current)
 
 
 @njit(inline="always")
-def _measured(vectors, t, dt, rows, last, current):  # type: ignore[no-untyped-def]
+def _measured(measured_vectors, t, dt, rows, last, current):  # type: ignore[no-untyped-def]
     """The measures of a measuring block after its step of ``dt`` s from time
     ``t`` (:func:`_observed`)."""
     firsts = False
     for j in range(METRICS_BLOCK):
         firsts |= _observed(
-            vectors, rows, j, _state_at(rows, j), _coefficients_at(rows, j), last, current
-        )
+            measured_vectors, rows, j, _state_at(rows, j), _coefficients_at(rows, j), last,
+            current,
+        )  # fmt: skip
     if firsts:
         _first_flips(rows, t, dt, last, current)
 
