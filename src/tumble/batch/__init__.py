@@ -206,10 +206,14 @@ def measure_batch(
 
 def _principal_axis_of(axis: Array) -> int | None:
     """The principal axis (0, 1 or 2) on which every nominal axis of ``axis`` (3, N)
-    lies, its two other rows all zero (a sweep's spin axes); None if there is
-    none. Such axes are measured by a kernel that takes a · L as one product."""
+    lies, its two other rows all zero and none of its own (a sweep's spin axes);
+    None if there is none. Such axes are measured by a kernel of fewer operations
+    (:func:`tumble.core.stepping.metrics_kernel`)."""
     zero = [not np.any(row) for row in axis]
-    return zero.index(False) if sum(zero) == 2 else None
+    if sum(zero) != 2:
+        return None
+    k = zero.index(False)
+    return k if bool(np.all(axis[k] != 0.0)) else None
 
 
 def simulate_batch(

@@ -36,27 +36,28 @@ FLIPS, FIRST_FLIP, MIN_COS, ENERGY_DEVIATION, MOMENTUM_DEVIATION = range(N_METRI
 
 @njit(inline="always")
 def observe(  # type: ignore[no-untyped-def]
-    l1, l2, l3, w1, w2, w3, c, reference, flips, numerator, denominator, energy0, energy_dev,
-    smallest, largest,
+    l1, l2, l3, w1, w2, w3, c, signed, squared, reference, flips, numerator, denominator,
+    energy0, energy_dev, smallest, largest,
 ):  # fmt: skip
     """Update one body's running measures after a step from its L (kg·m²/s) and ω
     (rad/s) in the principal frame, and say whether the step was its first flip.
 
-    ``c`` is ``b · L``, with ``b`` the nominal axis divided by |L₀| (:func:`initial`),
-    so that it is near 1 in size whatever the units. ``reference`` is the last non-zero
-    ``b · L`` (so a sample exactly on zero neither hides nor doubles a flip); the
-    new one is returned. The nutation is tracked as the least signed squared
-    cosine ``(b·L)|b·L| / |L|²``, held as a fraction ``numerator / denominator``
-    and compared by cross-multiplication, and |L| by the extremes of |L|²: no
-    division and no square root per step. Written without branches so the loop
-    over a block vectorises.
+    The caller gives three numbers of L about the nominal axis (a measuring kernel's
+    own way, see :func:`tumble.core.stepping.metrics_kernel`): ``c``, of the sign of
+    ``a · L`` (its sign changes are the flips); ``signed``, the nutation's signed
+    square ``(b·L)|b·L|`` with ``b = a / |L₀|`` (:func:`initial`), so that it is
+    at most 1 in size whatever the units; and ``squared``, ``|L|²``. ``reference``
+    is the last non-zero ``c`` (so a sample exactly on zero neither hides nor
+    doubles a flip); the new one is returned. The nutation is tracked as the least
+    ``signed / |L|²``, held as a fraction ``numerator / denominator`` and compared
+    by cross-multiplication, and |L| by the extremes of |L|²: no division and no
+    square root per step. Written without branches so the loop over a block
+    vectorises.
     """
-    squared = l1 * l1 + l2 * l2 + l3 * l3
     crossing = reference * c < 0.0
     first = crossing and flips == 0.0
     flips += 1.0 if crossing else 0.0
     reference = c if c != 0.0 else reference
-    signed = c * abs(c)
     # (denominator and |L|² are never negative; at |L| = 0, 0 < 0 keeps the least.)
     lower = signed * denominator < numerator * squared
     numerator = signed if lower else numerator
@@ -68,21 +69,20 @@ def observe(  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def initial(w1, w2, w3, i1, i2, i3, a1, a2, a3):  # type: ignore[no-untyped-def]
-    """The start of the running measures of :func:`observe` from the initial state
-    and the nominal axis ``a``: ``(b1, b2, b3, b · L, 2 E, |L|², numerator,
-    denominator)`` with ``b = a / |L|`` (``a`` itself when L = 0), and the
-    nutation's fraction (1/1 when L = 0)."""
-    l1 = i1 * w1
-    l2 = i2 * w2
-    l3 = i3 * w3
+def initial(l1, l2, l3, w1, w2, w3, a1, a2, a3):  # type: ignore[no-untyped-def]
+    """The scaled nominal axis and the energy the measures of :func:`observe` start
+    from, for a body of L₀ (kg·m²/s) and ω₀ (rad/s) about the nominal axis ``a``:
+    ``(b1, b2, b3, 2 E₀)`` with ``b = a / |L₀|`` (``a`` itself when L₀ = 0)."""
     squared = l1 * l1 + l2 * l2 + l3 * l3
     scale = 1.0 / math.sqrt(squared) if squared > 0.0 else 1.0
-    b1, b2, b3 = a1 * scale, a2 * scale, a3 * scale
-    c = b1 * l1 + b2 * l2 + b3 * l3
-    numerator = c * abs(c) if squared > 0.0 else 1.0
-    denominator = squared if squared > 0.0 else 1.0
-    return b1, b2, b3, c, l1 * w1 + l2 * w2 + l3 * w3, squared, numerator, denominator
+    return a1 * scale, a2 * scale, a3 * scale, l1 * w1 + l2 * w2 + l3 * w3
+
+
+@njit(inline="always")
+def nutation_start(signed, squared):  # type: ignore[no-untyped-def]
+    """The nutation's running fraction ``(numerator, denominator)`` of :func:`observe`
+    at the initial state: ``signed / |L₀|²``, or 1/1 when L₀ = 0 (no angle)."""
+    return (signed, squared) if squared > 0.0 else (1.0, 1.0)
 
 
 @njit(inline="always")

@@ -25,6 +25,7 @@ principal moments, ``params`` (rows, M) the packed torque parameters, shared
 
 from __future__ import annotations
 
+import math
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -39,6 +40,7 @@ from tumble.core.metrics import (
     MOMENTUM_DEVIATION,
     finish,
     initial,
+    nutation_start,
     observe,
 )
 
@@ -75,9 +77,10 @@ METRICS_BLOCK = 128
 _ROW = METRICS_BLOCK + 8
 
 # The rows of a measuring block's array: the stepper's 7 variables, the 9 Euler
-# coefficients (the moments last), the nominal axis, and the running measures.
+# coefficients (the moments last), the nominal axis as the kernel's ``Nominal``
+# keeps it, and the running measures.
 _STATE, _COEFFICIENTS, _AXIS = 0, 7, 16
-# The last non-zero b · L (:func:`tumble.core.metrics.observe`), in one of two
+# The last non-zero ``c`` (:func:`tumble.core.metrics.observe`), in one of two
 # rows: a step reads one and writes the other, so at a first flip both are at
 # hand; odd steps swap their roles.
 _REFERENCE_EVEN, _REFERENCE_ODD = 19, 20
@@ -295,10 +298,10 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None, pri
     as :func:`batch_kernel`, measuring each body after every step into ``out``
     (``N_METRICS``, N) (see :mod:`tumble.core.metrics`; ``axis`` (3, N) the
     nominal axes). ``principal_axis`` (0, 1 or 2): a kernel only for nominal axes
-    on that principal axis (the other two rows of ``axis`` zero), which takes
-    b · L as the one product that is not zero: the same measures, with two
-    fewer multiplications a body and step (2 points of the cost of measuring
-    RK4 on one thread, measured: bench/sweep.py).
+    on that principal axis (the other two rows of ``axis`` zero, none of the
+    third), which measures about them as :func:`_on_axis` says: the same measures
+    to round-off, with three fewer multiplications a body and step than the
+    kernel for any axis (see bench/sweep.py for what that saves).
 
     With the default ``advance``, a body is measured in the loop that steps it,
     while its new state is still in registers. A stepper's own ``advance`` steps
@@ -308,13 +311,15 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None, pri
     enter, leave, vectors = variables
     chosen = None if advance is None else advance(step, torque)
     stamp = _stamp(step, variables, chosen)
-    along = _ALONG[principal_axis]
+    start_nominal, about = _ANY_AXIS if principal_axis is None else _on_axis(principal_axis)
 
     @njit(inline="always", cache=False)
     def measured_vectors(rows, j, state, coefficients):  # type: ignore[no-untyped-def]
-        """Body j's L and ω (``vectors``) and b · L."""
+        """Body j's L and ω (``vectors``) and its numbers about its nominal axis
+        (``about``)."""
         l1, l2, l3, w1, w2, w3 = vectors(state, coefficients)
-        return l1, l2, l3, w1, w2, w3, along(rows, j, l1, l2, l3)
+        c, signed, squared = about(rows, j, l1, l2, l3)
+        return l1, l2, l3, w1, w2, w3, c, signed, squared
 
     @njit(inline="always", cache=False)
     def measure(k, arguments):  # type: ignore[no-untyped-def]
@@ -335,7 +340,9 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None, pri
         for block in prange((n + METRICS_BLOCK - 1) // METRICS_BLOCK):
             start = block * METRICS_BLOCK
             stop = min(start + METRICS_BLOCK, n)
-            rows, block_params = _measuring_rows(enter, w, q, inertia, params, axis, start, stop)
+            rows, block_params = _measuring_rows(
+                enter, vectors, start_nominal, about, w, q, inertia, params, axis, start, stop
+            )
             _measured_steps(
                 step, measured_vectors, chosen, measure, torque, t0, dt, n_steps, rows,
                 block_params, context,
@@ -354,7 +361,7 @@ def _measured_steps(  # type: ignore[no-untyped-def]
     ``advance`` is None, else by ``advance`` with ``measure`` its observer."""
     if advance is None:
         for k in range(n_steps):
-            # As in ``measure``: the rows of the reference b · L as constants.
+            # As in ``measure``: the rows of the reference ``c`` as constants.
             if k % 2 == 0:
                 _stepped_and_measured(
                     step, measured_vectors, torque, t0 + k * dt, dt, rows, params, context,
@@ -439,12 +446,16 @@ def _put_state(rows, j, state):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _measuring_rows(enter, w, q, inertia, params, axis, start, stop):  # type: ignore[no-untyped-def]
+def _measuring_rows(  # type: ignore[no-untyped-def]
+    enter, vectors, start_nominal, about, w, q, inertia, params, axis, start, stop
+):  # fmt: skip
     """The measuring array of bodies ``start:stop`` (``_ROWS`` rows of ``_ROW``) and
     their columns of ``params`` as (rows, ``METRICS_BLOCK``). A last block of fewer
     than ``METRICS_BLOCK`` bodies is filled up with copies of its last body: the
     loops then always run ``METRICS_BLOCK`` times, which lets the compiler see
-    that the rows they read and write do not overlap."""
+    that the rows they read and write do not overlap. The measures start from the
+    state as the steps will see it: L₀ and ω₀ from ``vectors`` of the entered
+    state, the numbers about the nominal axis from ``about``."""
     m = stop - start
     block_params = np.empty((params.shape[0], METRICS_BLOCK))
     shared = params.shape[1] == 1
@@ -459,15 +470,13 @@ def _measuring_rows(enter, w, q, inertia, params, axis, start, stop):  # type: i
         rows[s], rows[s + _ROW], rows[s + 2 * _ROW] = c[0], c[1], c[2]
         rows[s + 3 * _ROW], rows[s + 4 * _ROW], rows[s + 5 * _ROW] = c[3], c[4], c[5]
         rows[s + 6 * _ROW], rows[s + 7 * _ROW], rows[s + 8 * _ROW] = c[6], c[7], c[8]
-        _put_state(
-            rows, j, enter((w[0, k], w[1, k], w[2, k], q[0, k], q[1, k], q[2, k], q[3, k]), c)
-        )
-        b1, b2, b3, along, energy, squared, numerator, denominator = initial(
-            w[0, k], w[1, k], w[2, k], inertia[0, k], inertia[1, k], inertia[2, k], axis[0, k],
-            axis[1, k], axis[2, k],
-        )  # fmt: skip
-        rows[_AXIS * _ROW + j], rows[(_AXIS + 1) * _ROW + j] = b1, b2
-        rows[(_AXIS + 2) * _ROW + j] = b3
+        state = enter((w[0, k], w[1, k], w[2, k], q[0, k], q[1, k], q[2, k], q[3, k]), c)
+        _put_state(rows, j, state)
+        l1, l2, l3, w1, w2, w3 = vectors(state, c)
+        b1, b2, b3, energy = initial(l1, l2, l3, w1, w2, w3, axis[0, k], axis[1, k], axis[2, k])
+        start_nominal(rows, j, b1, b2, b3)
+        along, signed, squared = about(rows, j, l1, l2, l3)
+        numerator, denominator = nutation_start(signed, squared)
         rows[_REFERENCE_EVEN * _ROW + j] = along
         rows[_NUMERATOR * _ROW + j] = numerator
         rows[_DENOMINATOR * _ROW + j] = denominator
@@ -478,48 +487,82 @@ def _measuring_rows(enter, w, q, inertia, params, axis, start, stop):  # type: i
     return rows, block_params
 
 
-@njit(inline="always")
-def _along_any(rows, j, l1, l2, l3):  # type: ignore[no-untyped-def]
-    """b · L of body j of a measuring block, for any nominal axis."""
-    return _at(rows, _AXIS, j) * l1 + _at(rows, _AXIS + 1, j) * l2 + _at(rows, _AXIS + 2, j) * l3
+class Nominal(NamedTuple):
+    """How a measuring kernel takes the nominal axes, as two compiled functions:
+    ``start(rows, j, b1, b2, b3)`` writes what ``about`` reads of body j's scaled
+    axis ``b = a / |L₀|`` (:func:`tumble.core.metrics.initial`) into its block's
+    array, and ``about(rows, j, l1, l2, l3)`` gives, from its L, the three numbers
+    :func:`tumble.core.metrics.observe` takes: ``(c, signed, squared)``, ``c`` of
+    the sign of a · L, the nutation's signed square ``(b·L)|b·L|`` and |L|²."""
+
+    start: Any
+    about: Any
 
 
 @njit(inline="always")
-def _along_axis_1(rows, j, l1, l2, l3):  # type: ignore[no-untyped-def]
-    """b · L of body j of a measuring block whose nominal axis is on axis 1."""
-    return _at(rows, _AXIS, j) * l1
+def _start_any(rows, j, b1, b2, b3):  # type: ignore[no-untyped-def]
+    """Body j's b, whole."""
+    rows[_AXIS * _ROW + j], rows[(_AXIS + 1) * _ROW + j] = b1, b2
+    rows[(_AXIS + 2) * _ROW + j] = b3
 
 
 @njit(inline="always")
-def _along_axis_2(rows, j, l1, l2, l3):  # type: ignore[no-untyped-def]
-    """b · L, the nominal axis on axis 2."""
-    return _at(rows, _AXIS + 1, j) * l2
+def _about_any(rows, j, l1, l2, l3):  # type: ignore[no-untyped-def]
+    """b · L, (b·L)|b·L| and |L|² of body j, for a nominal axis in any direction."""
+    c = _at(rows, _AXIS, j) * l1 + _at(rows, _AXIS + 1, j) * l2 + _at(rows, _AXIS + 2, j) * l3
+    return c, c * abs(c), l1 * l1 + l2 * l2 + l3 * l3
 
 
-@njit(inline="always")
-def _along_axis_3(rows, j, l1, l2, l3):  # type: ignore[no-untyped-def]
-    """b · L, the nominal axis on axis 3."""
-    return _at(rows, _AXIS + 2, j) * l3
+#: The measures about nominal axes in any direction.
+_ANY_AXIS = Nominal(_start_any, _about_any)
 
 
-#: b · L by the principal axis the nominal axes lie on (None: any axis).
-_ALONG = {None: _along_any, 0: _along_axis_1, 1: _along_axis_2, 2: _along_axis_3}
+def _on_axis(k: int) -> Nominal:
+    """The measures about nominal axes on principal axis ``k`` (0, 1 or 2), of
+    either sense. There ``b · L = b_k L_k``, so ``c`` is ``L_k`` itself: it has the
+    sign of a · L or the opposite for every step of a body, which makes the same
+    flips, and the first flip's time, which interpolates by a ratio of two of
+    them, the same to round-off. The signed square ``(b·L)|b·L|`` is the weight
+    ``b_k|b_k|``, made once a body by ``start`` and kept in row ``_AXIS + k``,
+    times ``L_k|L_k|``, the ``L_k²`` of |L|² with L_k's sign (a copy of a bit):
+    three multiplications fewer a body and step than :func:`_about_any`."""
+    row = _AXIS + k
+
+    @njit(inline="always", cache=False)
+    def start(rows, j, b1, b2, b3):  # type: ignore[no-untyped-def]
+        """Body j's weight b_k|b_k|."""
+        b = (b1, b2, b3)[k]
+        rows[row * _ROW + j] = b * abs(b)
+
+    @njit(inline="always", cache=False)
+    def about(rows, j, l1, l2, l3):  # type: ignore[no-untyped-def]
+        """L_k, b_k|b_k| L_k|L_k| and |L|² of body j."""
+        along = (l1, l2, l3)[k]
+        square = along * along
+        squared = (
+            (square if k == 0 else l1 * l1)
+            + (square if k == 1 else l2 * l2)
+            + (square if k == 2 else l3 * l3)
+        )
+        return along, _at(rows, row, j) * math.copysign(square, along), squared
+
+    return Nominal(start, about)
 
 
 @njit(inline="always")
 def _observed(measured_vectors, rows, j, state, coefficients, last, current):  # type: ignore[no-untyped-def]
     """Update body j's running measures in a measuring block's array from its new
-    ``state`` (:func:`tumble.core.metrics.observe` of its L, ω and b · L, from
-    ``measured_vectors(rows, j, state, coefficients)``), and say whether this
-    step was its first flip. ``last`` and ``current``: the rows of the reference
-    b · L this step reads and writes."""
-    l1, l2, l3, w1, w2, w3, along = measured_vectors(rows, j, state, coefficients)
+    ``state`` (:func:`tumble.core.metrics.observe` of its L, ω and its numbers
+    about its nominal axis, from ``measured_vectors(rows, j, state,
+    coefficients)``), and say whether this step was its first flip. ``last`` and
+    ``current``: the rows of the reference ``c`` this step reads and writes."""
+    l1, l2, l3, w1, w2, w3, c, signed, squared = measured_vectors(rows, j, state, coefficients)
     (
         first, rows[current * _ROW + j], rows[_FLIPS * _ROW + j], rows[_NUMERATOR * _ROW + j],
         rows[_DENOMINATOR * _ROW + j], rows[_ENERGY_DEVIATION * _ROW + j],
         rows[_SMALLEST * _ROW + j], rows[_LARGEST * _ROW + j],
     ) = observe(
-        l1, l2, l3, w1, w2, w3, along, _at(rows, last, j), _at(rows, _FLIPS, j),
+        l1, l2, l3, w1, w2, w3, c, signed, squared, _at(rows, last, j), _at(rows, _FLIPS, j),
         _at(rows, _NUMERATOR, j), _at(rows, _DENOMINATOR, j), _at(rows, _ENERGY0, j),
         _at(rows, _ENERGY_DEVIATION, j), _at(rows, _SMALLEST, j), _at(rows, _LARGEST, j),
     )  # fmt: skip
@@ -529,7 +572,7 @@ def _observed(measured_vectors, rows, j, state, coefficients, last, current):  #
 @njit(inline="always")
 def _first_flips(rows, t, dt, last, current):  # type: ignore[no-untyped-def]
     """Record the first flips of the step of ``dt`` s from time ``t``: its end and
-    the b · L before and after it. Called only for the rare steps that have one:
+    the ``c`` before and after it. Called only for the rare steps that have one:
     stored at every step, or under a mask in the measuring loop, they cost more
     than the test."""
     for j in range(METRICS_BLOCK):
