@@ -864,8 +864,9 @@ def test_the_kernel_for_nominal_axes_on_a_principal_axis_measures_as_the_kernel_
     # Oracle: the kernel for nominal axes in any direction (itself checked against
     # numpy by the test below) on the same bodies. The steps are the same code, so
     # the states agree bit for bit; with the other two components of every axis
-    # exactly zero, b · L = b_k L_k is never zero where L_k is not and has its
-    # sign or the opposite throughout, so the flips agree exactly. The rest is
+    # exactly zero, b · L = b_k L_k is zero only where L_k is (short of an
+    # underflow, 1e-308 of |L₀|) and has its sign or the opposite throughout, so
+    # the flips agree exactly. The rest is
     # the same arithmetic rounded in another order (b_k L_k squared against
     # b_k|b_k| times L_k², |L|² contracted into FMAs otherwise): see each
     # tolerance. Axes of both senses; bodies that flip and bodies that do not; a
@@ -912,7 +913,8 @@ def test_the_kernel_for_nominal_axes_on_a_principal_axis_measures_as_the_kernel_
     # its square; b_k|b_k|, L_k², their product), |L|² two: a few ε of a cosine
     # ≤ 1, whichever of two steps within them is the least.
     assert_allclose(measures[1][MIN_COS], measures[0][MIN_COS], rtol=0, atol=8 * eps)
-    # |L|² summed in another order: its extreme and |L₀|² each to 2 ε of |L|², so
+    # The same sum for |L|², its products contracted into FMAs otherwise: its
+    # extreme and |L₀|² each to 2 ε of |L|², so
     # |L| − |L₀| to 2 ε of |L|; twice that for the square roots' own rounding.
     momentum = np.linalg.norm(moments * omega, axis=1)
     assert_allclose(
@@ -1081,8 +1083,8 @@ def test_the_measures_scale_exactly_with_the_moments(
     # running fraction is compared by products of two |L|²-sized numbers, which
     # here would overflow (|L|⁴ ~ 1e408) or underflow (1e-408) were the nominal
     # axis not divided by |L₀| first. Nominal axes in any direction, and on
-    # principal axis 2, measured by the kernel for such axes (whose flips follow
-    # L2 itself, |L|-sized).
+    # principal axis 2 (row 1), measured by the kernel for such axes (whose flips
+    # follow L2 itself, |L|-sized).
     from tumble.batch import _principal_axis_of
     from tumble.core.metrics import ENERGY_DEVIATION, MOMENTUM_DEVIATION
 

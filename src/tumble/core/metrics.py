@@ -43,10 +43,10 @@ def observe(  # type: ignore[no-untyped-def]
     (rad/s) in the principal frame, and say whether the step was its first flip.
 
     The caller gives three numbers of L about the nominal axis (a measuring kernel's
-    own way, see :func:`tumble.core.stepping.metrics_kernel`): ``c``, of the sign of
-    ``a · L`` (its sign changes are the flips); ``signed``, the nutation's signed
+    own way, see :func:`tumble.core.stepping.metrics_kernel`): ``c``, whose sign
+    changes are those of ``a · L`` (the flips); ``signed``, the nutation's signed
     square ``(b·L)|b·L|`` with ``b = a / |L₀|`` (:func:`initial`), so that it is
-    at most 1 in size whatever the units; and ``squared``, ``|L|²``. ``reference``
+    of order 1 whatever the units; and ``squared``, ``|L|²``. ``reference``
     is the last non-zero ``c`` (so a sample exactly on zero neither hides nor
     doubles a flip); the new one is returned. The nutation is tracked as the least
     ``signed / |L|²``, held as a fraction ``numerator / denominator`` and compared

@@ -492,8 +492,9 @@ class Nominal(NamedTuple):
     ``start(rows, j, b1, b2, b3)`` writes what ``about`` reads of body j's scaled
     axis ``b = a / |L₀|`` (:func:`tumble.core.metrics.initial`) into its block's
     array, and ``about(rows, j, l1, l2, l3)`` gives, from its L, the three numbers
-    :func:`tumble.core.metrics.observe` takes: ``(c, signed, squared)``, ``c`` of
-    the sign of a · L, the nutation's signed square ``(b·L)|b·L|`` and |L|²."""
+    :func:`tumble.core.metrics.observe` takes: ``(c, signed, squared)``, ``c``
+    whose sign changes are those of a · L, the nutation's signed square
+    ``(b·L)|b·L|`` and |L|²."""
 
     start: Any
     about: Any

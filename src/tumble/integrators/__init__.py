@@ -136,8 +136,9 @@ class Integrator:
         """The compiled kernel ``role`` specialised for ``torque`` (and, for bodies
         carrying parts, their ``layout``: :func:`tumble.parts.layout_of`; for a
         stepping integrator's metrics kernel, the ``principal_axis`` 0, 1 or 2
-        that every nominal axis lies on, or None for any axes, a hint the other
-        kernels ignore), built once per process; compiled on first call, or
+        that every nominal axis lies on, none of them zero, or None for any
+        axes, a hint the other kernels ignore), built once per process; compiled
+        on first call, or
         loaded from the on-disk cache."""
         factory = getattr(self, role)
         if factory is None:
