@@ -138,8 +138,7 @@ class Integrator:
         stepping integrator's metrics kernel, the ``principal_axis`` 0, 1 or 2
         that every nominal axis lies on, none of them zero, or None for any
         axes, a hint the other kernels ignore), built once per process; compiled
-        on first call, or
-        loaded from the on-disk cache."""
+        on first call, or loaded from the on-disk cache."""
         factory = getattr(self, role)
         if factory is None:
             raise InputError(f"Expected an integrator with a {role} kernel, got {self.name!r}.")
