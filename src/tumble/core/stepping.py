@@ -58,34 +58,28 @@ __all__ = [
     "store_block",
 ]
 
-#: Bodies per block of the batch and the measuring kernels: a block's state and
-#: coefficients stay in L1 cache for all its steps, and the inner loop over the
-#: block's bodies is what the compiler vectorises.
+#: Bodies per block of the batch kernels: a block's state and coefficients stay
+#: in L1 cache for all its steps, and the inner loop over the block's bodies is
+#: what the compiler vectorises.
 BLOCK = 128
 
-#: Bodies per block of the measuring kernels, as many as the batch kernels'. A
-#: block's state, coefficients and running measures are rows of one array
-#: (:func:`_measuring_rows`), 25 of which are read at each step: 27 KiB, in L1
-#: cache.
-METRICS_BLOCK = BLOCK
+#: Bodies per block of the measuring kernels. A block's state, coefficients and
+#: running measures are rows of one array (:func:`_measuring_rows`), 25 of which
+#: are read at each step: 27 KiB, in L1 cache.
+METRICS_BLOCK = 128
 
-#: Entries per row of a block's array (batch and measuring): a row is 8 entries
-#: longer than the block, so that the same entry of two rows is never a multiple
-#: of 4 KiB apart. A processor that matches a load against earlier stores by the
-#: low 12 bits of their addresses would otherwise make loads of one row wait for
-#: stores to another ("4K aliasing"): measured, a measuring block's rows of
-#: exactly 128 entries cost 15 % to 40 % over plain stepping from one run to the
-#: next, rows of 136 a steady 15 %. A batch block's 16 arrays allocated apart
-#: fell where malloc put them: some processes stepped at half the speed of others
-#: throughout (bench/RESULTS.md, "A batch block is one array").
-_ROW = BLOCK + 8
+#: Entries per row of a measuring block's array: a row is 8 entries longer than
+#: the block, so that the same entry of two rows is never a multiple of 4 KiB
+#: apart. A processor that matches a load against earlier stores by the low 12
+#: bits of their addresses would otherwise make loads of one row wait for stores
+#: to another ("4K aliasing"): measured, rows of exactly 128 entries cost 15 % to
+#: 40 % over plain stepping from one run to the next, rows of 136 a steady 15 %.
+_ROW = METRICS_BLOCK + 8
 
-# The rows of a block's array: the stepper's 7 variables and the 9 Euler
-# coefficients (the moments last), all a batch block has; a measuring block's
-# then has the nominal axis as the kernel's ``Nominal`` keeps it, and the running
-# measures.
+# The rows of a measuring block's array: the stepper's 7 variables, the 9 Euler
+# coefficients (the moments last), the nominal axis as the kernel's ``Nominal``
+# keeps it, and the running measures.
 _STATE, _COEFFICIENTS, _AXIS = 0, 7, 16
-_BLOCK_ROWS = _AXIS
 # The last non-zero ``c`` (:func:`tumble.core.metrics.observe`), in one of two
 # rows: a step reads one and writes the other, so at a first flip both are at
 # hand; odd steps swap their roles.
@@ -190,21 +184,39 @@ def _coefficients(arrays, j):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def load_block(enter, w, q, inertia, params, start, stop):  # type: ignore[no-untyped-def]
-    """The block of bodies ``start:stop`` (at most ``BLOCK``) as the first
-    ``_BLOCK_ROWS`` rows of one array (:func:`_fill_rows`), as views of an entry a
-    body: the stepper's 7 variables and the 9 Euler coefficients; and the block's
-    columns of ``params`` (:func:`_block_params`)."""
+    """The block of bodies ``start:stop`` as its own arrays (they stay in L1 cache
+    through its steps): the stepper's variables (``enter`` of ω1, ω2, ω3, q0 …
+    q3), the Euler coefficients, and the block's columns of ``params`` (shared
+    or per body) as (rows, m)."""
     m = stop - start
-    rows = np.empty(_BLOCK_ROWS * _ROW)
-    _fill_rows(enter, w, q, inertia, rows, start, stop, m)
-    return _state_views(rows, m), _coefficient_views(rows, m), _block_params(params, start, stop, m)
+    block_params = np.empty((params.shape[0], m))
+    shared = params.shape[1] == 1
+    for r in range(params.shape[0]):
+        for j in range(m):
+            block_params[r, j] = params[r, 0] if shared else params[r, start + j]
+    coefficients = euler_coefficients(
+        inertia[0, start:stop].copy(), inertia[1, start:stop].copy(),
+        inertia[2, start:stop].copy(),
+    )  # fmt: skip
+    state = (
+        np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m)
+    )  # fmt: skip
+    for j in range(m):
+        k = start + j
+        entered = enter(
+            (w[0, k], w[1, k], w[2, k], q[0, k], q[1, k], q[2, k], q[3, k]),
+            _coefficients(coefficients, j),
+        )  # fmt: skip
+        for i in range(7):
+            state[i][j] = entered[i]
+    return state, coefficients, block_params
 
 
 @njit(inline="always")
-def store_block(leave, w, q, start, stop, state, coefficients):  # type: ignore[no-untyped-def]
-    """Write the bodies ``start:stop`` of a block's state arrays back into ``w``
-    (3, N) and ``q`` (4, N), as ω and q (``leave``)."""
-    for j in range(stop - start):
+def store_block(leave, w, q, start, state, coefficients):  # type: ignore[no-untyped-def]
+    """Write a block's state arrays back into ``w`` (3, N) and ``q`` (4, N), as
+    ω and q (``leave``)."""
+    for j in range(state[0].shape[0]):
         final = leave(_entries(state, j), _coefficients(coefficients, j))
         for i in range(3):
             w[i, start + j] = final[i]
@@ -276,7 +288,7 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
                 step, torque, t0, dt, n_steps, state, coefficients, block_params, context,
                 no_observer, (),
             )  # fmt: skip
-            store_block(leave, w, q, start, stop, state, coefficients)
+            store_block(leave, w, q, start, state, coefficients)
 
     return batch
 
@@ -362,8 +374,8 @@ def _measured_steps(  # type: ignore[no-untyped-def]
                 )  # fmt: skip
     else:
         advance(
-            step, torque, t0, dt, n_steps, _state_views(rows, METRICS_BLOCK),
-            _coefficient_views(rows, METRICS_BLOCK), params, context, measure, (rows, t0, dt),
+            step, torque, t0, dt, n_steps, _state_views(rows), _coefficient_views(rows), params,
+            context, measure, (rows, t0, dt),
         )  # fmt: skip
 
 
@@ -375,7 +387,7 @@ def _at(rows, row, j):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def _state_at(rows, j):  # type: ignore[no-untyped-def]
-    """Body j's 7 state variables in a block's array."""
+    """Body j's 7 state variables in a measuring block's array."""
     r, s = rows, _STATE * _ROW + j
     return (r[s], r[s + _ROW], r[s + 2 * _ROW], r[s + 3 * _ROW], r[s + 4 * _ROW],
             r[s + 5 * _ROW], r[s + 6 * _ROW])  # fmt: skip
@@ -383,113 +395,83 @@ def _state_at(rows, j):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def _coefficients_at(rows, j):  # type: ignore[no-untyped-def]
-    """Body j's 9 Euler coefficients in a block's array."""
+    """Body j's 9 Euler coefficients in a measuring block's array."""
     r, s = rows, _COEFFICIENTS * _ROW + j
     return (r[s], r[s + _ROW], r[s + 2 * _ROW], r[s + 3 * _ROW], r[s + 4 * _ROW],
             r[s + 5 * _ROW], r[s + 6 * _ROW], r[s + 7 * _ROW], r[s + 8 * _ROW])  # fmt: skip
 
 
-# The rows of a block's array that the steppers take, as tuples of arrays of
-# ``size`` entries: the block's bodies, or all ``METRICS_BLOCK`` of a measuring
-# block. The rows' bounds are written out: numba's analysis of the parallel loop
-# fails on slices that come out of a nested tuple.
+# The rows of a measuring block's array that a stepper's own ``advance`` takes, as
+# tuples of arrays of ``METRICS_BLOCK`` entries. The bounds are written out:
+# numba's analysis of the parallel loop fails on slices whose bounds are
+# arguments, or that come out of a nested tuple.
 
 
 @njit(inline="always")
-def _state_views(rows, size):  # type: ignore[no-untyped-def]
-    """The first ``size`` entries of the 7 state rows."""
+def _state_views(rows):  # type: ignore[no-untyped-def]
+    """The 7 state rows."""
     return (
-        rows[_STATE * _ROW : _STATE * _ROW + size],
-        rows[(_STATE + 1) * _ROW : (_STATE + 1) * _ROW + size],
-        rows[(_STATE + 2) * _ROW : (_STATE + 2) * _ROW + size],
-        rows[(_STATE + 3) * _ROW : (_STATE + 3) * _ROW + size],
-        rows[(_STATE + 4) * _ROW : (_STATE + 4) * _ROW + size],
-        rows[(_STATE + 5) * _ROW : (_STATE + 5) * _ROW + size],
-        rows[(_STATE + 6) * _ROW : (_STATE + 6) * _ROW + size],
+        rows[_STATE * _ROW : _STATE * _ROW + METRICS_BLOCK],
+        rows[(_STATE + 1) * _ROW : (_STATE + 1) * _ROW + METRICS_BLOCK],
+        rows[(_STATE + 2) * _ROW : (_STATE + 2) * _ROW + METRICS_BLOCK],
+        rows[(_STATE + 3) * _ROW : (_STATE + 3) * _ROW + METRICS_BLOCK],
+        rows[(_STATE + 4) * _ROW : (_STATE + 4) * _ROW + METRICS_BLOCK],
+        rows[(_STATE + 5) * _ROW : (_STATE + 5) * _ROW + METRICS_BLOCK],
+        rows[(_STATE + 6) * _ROW : (_STATE + 6) * _ROW + METRICS_BLOCK],
     )
 
 
 @njit(inline="always")
-def _coefficient_views(rows, size):  # type: ignore[no-untyped-def]
-    """The first ``size`` entries of the 9 rows of the Euler coefficients."""
+def _coefficient_views(rows):  # type: ignore[no-untyped-def]
+    """The 9 rows of the Euler coefficients."""
     return (
-        rows[_COEFFICIENTS * _ROW : _COEFFICIENTS * _ROW + size],
-        rows[(_COEFFICIENTS + 1) * _ROW : (_COEFFICIENTS + 1) * _ROW + size],
-        rows[(_COEFFICIENTS + 2) * _ROW : (_COEFFICIENTS + 2) * _ROW + size],
-        rows[(_COEFFICIENTS + 3) * _ROW : (_COEFFICIENTS + 3) * _ROW + size],
-        rows[(_COEFFICIENTS + 4) * _ROW : (_COEFFICIENTS + 4) * _ROW + size],
-        rows[(_COEFFICIENTS + 5) * _ROW : (_COEFFICIENTS + 5) * _ROW + size],
-        rows[(_COEFFICIENTS + 6) * _ROW : (_COEFFICIENTS + 6) * _ROW + size],
-        rows[(_COEFFICIENTS + 7) * _ROW : (_COEFFICIENTS + 7) * _ROW + size],
-        rows[(_COEFFICIENTS + 8) * _ROW : (_COEFFICIENTS + 8) * _ROW + size],
+        rows[_COEFFICIENTS * _ROW : _COEFFICIENTS * _ROW + METRICS_BLOCK],
+        rows[(_COEFFICIENTS + 1) * _ROW : (_COEFFICIENTS + 1) * _ROW + METRICS_BLOCK],
+        rows[(_COEFFICIENTS + 2) * _ROW : (_COEFFICIENTS + 2) * _ROW + METRICS_BLOCK],
+        rows[(_COEFFICIENTS + 3) * _ROW : (_COEFFICIENTS + 3) * _ROW + METRICS_BLOCK],
+        rows[(_COEFFICIENTS + 4) * _ROW : (_COEFFICIENTS + 4) * _ROW + METRICS_BLOCK],
+        rows[(_COEFFICIENTS + 5) * _ROW : (_COEFFICIENTS + 5) * _ROW + METRICS_BLOCK],
+        rows[(_COEFFICIENTS + 6) * _ROW : (_COEFFICIENTS + 6) * _ROW + METRICS_BLOCK],
+        rows[(_COEFFICIENTS + 7) * _ROW : (_COEFFICIENTS + 7) * _ROW + METRICS_BLOCK],
+        rows[(_COEFFICIENTS + 8) * _ROW : (_COEFFICIENTS + 8) * _ROW + METRICS_BLOCK],
     )
 
 
 @njit(inline="always")
 def _put_state(rows, j, state):  # type: ignore[no-untyped-def]
-    """Write body j's 7 state variables into a block's array."""
+    """Write body j's 7 state variables into a measuring block's array."""
     r, s = rows, _STATE * _ROW + j
     r[s], r[s + _ROW], r[s + 2 * _ROW], r[s + 3 * _ROW] = state[0], state[1], state[2], state[3]
     r[s + 4 * _ROW], r[s + 5 * _ROW], r[s + 6 * _ROW] = state[4], state[5], state[6]
 
 
 @njit(inline="always")
-def _put_coefficients(rows, j, coefficients):  # type: ignore[no-untyped-def]
-    """Write body j's 9 Euler coefficients into a block's array."""
-    r, s, c = rows, _COEFFICIENTS * _ROW + j, coefficients
-    r[s], r[s + _ROW], r[s + 2 * _ROW] = c[0], c[1], c[2]
-    r[s + 3 * _ROW], r[s + 4 * _ROW], r[s + 5 * _ROW] = c[3], c[4], c[5]
-    r[s + 6 * _ROW], r[s + 7 * _ROW], r[s + 8 * _ROW] = c[6], c[7], c[8]
-
-
-@njit(inline="always")
-def _fill_rows(enter, w, q, inertia, rows, start, stop, size):  # type: ignore[no-untyped-def]
-    """Write the state (``enter`` of ω and q) and the Euler coefficients of the
-    bodies ``start:stop`` into the first ``size`` entries of the first
-    ``_BLOCK_ROWS`` rows of a block's array; where ``size`` is larger than the
-    block, the rest are copies of its last body. A measuring block is filled up
-    to ``METRICS_BLOCK`` so that its loops always run that many times, which lets
-    the compiler see that the rows they read and write do not overlap; a batch
-    block takes only its own bodies (:func:`load_block`)."""
-    for j in range(size):
-        k = start + min(j, stop - start - 1)
-        coefficients = euler_coefficients(inertia[0, k], inertia[1, k], inertia[2, k])
-        _put_coefficients(rows, j, coefficients)
-        _put_state(
-            rows, j,
-            enter((w[0, k], w[1, k], w[2, k], q[0, k], q[1, k], q[2, k], q[3, k]), coefficients),
-        )  # fmt: skip
-
-
-@njit(inline="always")
-def _block_params(params, start, stop, size):  # type: ignore[no-untyped-def]
-    """The columns of ``params`` (one shared column, or one a body) of the bodies
-    ``start:stop`` as (rows, ``size``), filled up as :func:`_fill_rows` fills a
-    block's array."""
-    block_params = np.empty((params.shape[0], size))
-    shared = params.shape[1] == 1
-    for r in range(params.shape[0]):
-        for j in range(size):
-            block_params[r, j] = (
-                params[r, 0] if shared else params[r, start + min(j, stop - start - 1)]
-            )
-    return block_params
-
-
-@njit(inline="always")
 def _measuring_rows(  # type: ignore[no-untyped-def]
     enter, vectors, start_nominal, about, w, q, inertia, params, axis, start, stop
 ):  # fmt: skip
-    """The measuring array of bodies ``start:stop`` (``_ROWS`` rows of ``_ROW``: the
-    state and coefficients of :func:`_fill_rows`, then the measures) and their
-    columns of ``params`` (:func:`_block_params`). The measures start from the
+    """The measuring array of bodies ``start:stop`` (``_ROWS`` rows of ``_ROW``) and
+    their columns of ``params`` as (rows, ``METRICS_BLOCK``). A last block of fewer
+    than ``METRICS_BLOCK`` bodies is filled up with copies of its last body: the
+    loops then always run ``METRICS_BLOCK`` times, which lets the compiler see
+    that the rows they read and write do not overlap. The measures start from the
     state as the steps will see it: L₀ and ω₀ from ``vectors`` of the entered
     state, the numbers about the nominal axis from ``about``."""
+    m = stop - start
+    block_params = np.empty((params.shape[0], METRICS_BLOCK))
+    shared = params.shape[1] == 1
+    for r in range(params.shape[0]):
+        for j in range(METRICS_BLOCK):
+            block_params[r, j] = params[r, 0] if shared else params[r, start + min(j, m - 1)]
     rows = np.zeros(_ROWS * _ROW)
-    _fill_rows(enter, w, q, inertia, rows, start, stop, METRICS_BLOCK)
     for j in range(METRICS_BLOCK):
-        k = start + min(j, stop - start - 1)
-        state, c = _state_at(rows, j), _coefficients_at(rows, j)
+        k = start + min(j, m - 1)
+        coefficients = euler_coefficients(inertia[0, k], inertia[1, k], inertia[2, k])
+        c, s = coefficients, _COEFFICIENTS * _ROW + j
+        rows[s], rows[s + _ROW], rows[s + 2 * _ROW] = c[0], c[1], c[2]
+        rows[s + 3 * _ROW], rows[s + 4 * _ROW], rows[s + 5 * _ROW] = c[3], c[4], c[5]
+        rows[s + 6 * _ROW], rows[s + 7 * _ROW], rows[s + 8 * _ROW] = c[6], c[7], c[8]
+        state = enter((w[0, k], w[1, k], w[2, k], q[0, k], q[1, k], q[2, k], q[3, k]), c)
+        _put_state(rows, j, state)
         l1, l2, l3, w1, w2, w3 = vectors(state, c)
         b1, b2, b3, energy = initial(l1, l2, l3, w1, w2, w3, axis[0, k], axis[1, k], axis[2, k])
         start_nominal(rows, j, b1, b2, b3)
@@ -502,7 +484,7 @@ def _measuring_rows(  # type: ignore[no-untyped-def]
         rows[_SQUARED0 * _ROW + j] = squared
         rows[_SMALLEST * _ROW + j] = squared
         rows[_LARGEST * _ROW + j] = squared
-    return rows, _block_params(params, start, stop, METRICS_BLOCK)
+    return rows, block_params
 
 
 class Nominal(NamedTuple):
