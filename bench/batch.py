@@ -34,15 +34,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import statistics
-import time
 
 import numba
 import numpy as np
 from numba import prange
 
 import tumble as tb
-from machine import describe, median_rate
+from machine import describe, measured_peak, median_rate
 
 #: Flops of one RK4 body-step of the bare kernel (FMA counted as 2): four
 #: evaluations of Euler's and the quaternion's equations (30 each), three
@@ -112,32 +110,6 @@ def bare_rk4(w, q, inertia, dt, n_steps):  # type: ignore[no-untyped-def]
                 q0[j], q1[j], q2[j], q3[j] = n0 * scale, n1 * scale, n2 * scale, n3 * scale
         w[0, s:e], w[1, s:e], w[2, s:e] = w1, w2, w3
         q[0, s:e], q[1, s:e], q[2, s:e], q[3, s:e] = q0, q1, q2, q3
-
-
-@numba.njit(parallel=True, fastmath=True, cache=True)
-def fma_chains(a, b, n, threads):  # type: ignore[no-untyped-def]
-    """``threads`` × 64 independent chains ``x ← a x + b``, ``n`` times each."""
-    out = np.zeros(threads)
-    for thread in prange(threads):
-        acc = np.full(64, 1.0 + thread)
-        for _ in range(n):
-            for j in range(64):
-                acc[j] = acc[j] * a + b
-        out[thread] = acc.sum()
-    return out
-
-
-def measured_peak(repeat: int) -> float:
-    """The machine's double-precision FMA throughput, flop/s (median)."""
-    threads = numba.get_num_threads()
-    n = 2_000_000
-    fma_chains(0.999999, 1e-7, 10, threads)
-    rates = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fma_chains(0.999999, 1e-7, n, threads)
-        rates.append(2 * 64 * n * threads / (time.perf_counter() - start))
-    return statistics.median(rates)
 
 
 def numpy_rk4(moments: np.ndarray, w: np.ndarray, q: np.ndarray, dt: float, steps: int) -> None:

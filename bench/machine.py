@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numba
 import numpy as np
+from numba import prange
 
 
 def describe(versions: dict[str, str]) -> str:
@@ -50,3 +51,38 @@ def median_rate(run: Callable[[], object], body_steps: float, repeat: int) -> fl
         run()
         times.append(time.perf_counter() - start)
     return body_steps / statistics.median(times)
+
+
+@numba.njit(parallel=True, fastmath=True, cache=True)
+def fma_chains(a, b, n, threads):  # type: ignore[no-untyped-def]
+    """``threads`` × 64 independent chains ``x ← a x + b``, ``n`` times each."""
+    out = np.zeros(threads)
+    for thread in prange(threads):
+        acc = np.full(64, 1.0 + thread)
+        for _ in range(n):
+            for j in range(64):
+                acc[j] = acc[j] * a + b
+        out[thread] = acc.sum()
+    return out
+
+
+def fma_rate(threads: int, n: int = 2_000_000) -> float:
+    """One timed run of :func:`fma_chains` on ``threads`` threads (numba's count
+    must allow them; compiled first), flop/s: 2 flops an FMA."""
+    fma_chains(0.999999, 1e-7, 10, threads)
+    start = time.perf_counter()
+    fma_chains(0.999999, 1e-7, n, threads)
+    return 2 * 64 * n * threads / (time.perf_counter() - start)
+
+
+def measured_peak(repeat: int, threads: int | None = None) -> float:
+    """The machine's double-precision FMA throughput, flop/s (median of
+    ``repeat`` runs of :func:`fma_rate`), on ``threads`` threads (numba's count
+    when None): 64 independent multiply-add chains a thread."""
+    before = numba.get_num_threads()
+    threads = before if threads is None else threads
+    numba.set_num_threads(threads)
+    try:
+        return statistics.median(fma_rate(threads) for _ in range(repeat))
+    finally:
+        numba.set_num_threads(before)

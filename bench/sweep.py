@@ -3,10 +3,17 @@
 1. Kernels: body-steps/s of each method's measuring batch kernel (its steps +
    per-step flips, nutation and drift) against its plain batch kernel on the
    same bodies, ``--methods`` (rk4, strang, splitting): the cost of measuring,
-   the median over ``--processes`` fresh processes of alternated rounds. The
+   the median over ``--processes`` fresh processes of alternated rounds, on
+   each of ``--threads`` (1 and numba's count by default). Beside them, the
+   measuring kernel without the attitude, a sweep's when it keeps no final
+   states: its speed against the plain kernel (which steps the attitude). The
    nominal axes lie on principal axis 2, as a sweep's spin axes do, and are
    measured by the kernel for such axes; ``--any-axes`` times the kernel for
-   axes in any direction.
+   axes in any direction. Printed with the machine's FMA throughput on 1
+   thread and on each count: where two threads do less than twice the work of
+   one, they share execution units (the host's other work, or two
+   hyperthreads of a core), and the measuring kernel, with more instructions
+   to issue, loses more of its speed than the plain one.
 2. Backends: one sweep (``--bodies`` bodies, ``--steps`` steps) run to the end
    in-process, then on a Dask LocalCluster with 1 and 2 workers; wall time of
    ``run_sweep`` (cluster start, scheduling, transfers and writing included)
@@ -23,6 +30,7 @@ Not timed tests: numbers, printed for bench/RESULTS.md. Run from the root::
 
     .venv/bin/python bench/sweep.py [--bodies 1048576] [--steps 200] [--big 10000000]
         [--methods rk4 strang splitting] [--any-axes] [--kernel-bodies 262144] [--rounds 9]
+        [--threads 1 2]
 """
 
 from __future__ import annotations
@@ -38,9 +46,10 @@ import tempfile
 import time
 from pathlib import Path
 
+import numba
 import numpy as np
 
-from machine import describe
+from machine import describe, measured_peak
 
 SWEEP = """
 [sweep]
@@ -118,15 +127,19 @@ KERNEL_BODIES = 1 << 18
 
 
 def kernel_rounds(
-    steps: int, methods: list[str], any_axes: bool, bodies: int, rounds: int
-) -> dict[str, tuple[list[float], list[float]]]:
-    """Per method, the body-steps/s of its plain and its measuring batch kernel on
-    ``bodies`` bodies in ``rounds`` alternated rounds."""
+    steps: int, methods: list[str], any_axes: bool, bodies: int, rounds: int, threads: int
+) -> dict[str, dict[str, list[float]]]:
+    """Per method, the body-steps/s of its plain batch kernel (``plain``), of its
+    measuring kernel (``measured``) and of its measuring kernel without the
+    attitude (``metrics_only``, a sweep's when it does not keep the final
+    states) on ``bodies`` bodies in ``rounds`` alternated rounds, on
+    ``threads`` threads."""
     from tumble.body import BodyBatch
     from tumble.core.metrics import N_METRICS
     from tumble.integrators import INTEGRATORS
     from tumble.torques import bind
 
+    numba.set_num_threads(threads)
     n = bodies
     rng = np.random.default_rng(0)
     inertia = np.vstack([np.ones(n), rng.uniform(1.05, 1.95, n), np.full(n, 2.0)])
@@ -143,8 +156,10 @@ def kernel_rounds(
         plain_kernel = INTEGRATORS[method].kernel("batch", free)
         # The kernel a sweep's measure_batch picks for spin axes on axis 2; with
         # --any-axes, the one for nominal axes in any direction.
-        measuring_kernel = INTEGRATORS[method].kernel(
-            "metrics", free, principal_axis=None if any_axes else 1
+        axis_hint = None if any_axes else 1
+        measuring_kernel = INTEGRATORS[method].kernel("metrics", free, principal_axis=axis_hint)
+        metrics_only_kernel = INTEGRATORS[method].kernel(
+            "metrics", free, principal_axis=axis_hint, attitude=False
         )
 
         def step(w, q, steps, kernel=plain_kernel):  # type: ignore[no-untyped-def]
@@ -153,65 +168,103 @@ def kernel_rounds(
         def measure(w, q, steps, kernel=measuring_kernel):  # type: ignore[no-untyped-def]
             kernel(w, q, inertia, params, context, axis, 0.0, 5e-3, steps, out, status)
 
-        step(w.copy(), q.copy(), 2)  # compile, or load from the cache
-        measure(w.copy(), q.copy(), 2)
-        plain, measured = [], []
+        def measure_only(w, q, steps, kernel=metrics_only_kernel):  # type: ignore[no-untyped-def]
+            kernel(w, q, inertia, params, context, axis, 0.0, 5e-3, steps, out, status)
+
+        runs = {"plain": step, "measured": measure, "metrics_only": measure_only}
+        for run in runs.values():
+            run(w.copy(), q.copy(), 2)  # compile, or load from the cache
+        found: dict[str, list[float]] = {name: [] for name in runs}
         for _ in range(rounds):
-            a, b = w.copy(), q.copy()
-            start = time.perf_counter()
-            step(a, b, steps)
-            plain.append(n * steps / (time.perf_counter() - start))
-            a, b = w.copy(), q.copy()
-            start = time.perf_counter()
-            measure(a, b, steps)
-            measured.append(n * steps / (time.perf_counter() - start))
-        rates[method] = (plain, measured)
+            for name, run in runs.items():
+                a, b = w.copy(), q.copy()
+                start = time.perf_counter()
+                run(a, b, steps)
+                found[name].append(n * steps / (time.perf_counter() - start))
+        rates[method] = found
     return rates
 
 
 def kernels(
-    steps: int, methods: list[str], processes: int, any_axes: bool, bodies: int, rounds: int
-) -> None:
-    """Time the kernels in ``processes`` fresh processes and print, per method, the
-    best rates and the cost of measuring in each process and over all."""
+    steps: int, methods: list[str], processes: int, any_axes: bool, bodies: int, rounds: int,
+    thread_counts: list[int],
+) -> None:  # fmt: skip
+    """Time the kernels in ``processes`` fresh processes on each of
+    ``thread_counts`` and print, per method, the best rates and the cost of
+    measuring in each process and over all."""
+    peaks = {threads: measured_peak(5, threads) for threads in sorted({1, *thread_counts})}
     print(
-        f"kernels, {bodies} bodies × {steps} steps ({rounds} rounds alternated, "
-        f"in each of {processes} fresh processes), nominal axes "
-        + ("in any direction:" if any_axes else "on principal axis 2 (a sweep's):")
+        "FMA throughput: "
+        + ", ".join(f"{peak / 1e9:.1f} GFLOP/s on {t}" for t, peak in peaks.items())
+        + " thread(s)"
     )
-    runs = []
-    for _ in range(processes):
-        done = subprocess.run(
-            [sys.executable, __file__, *(["--any-axes"] if any_axes else []),
-             "--kernel-bodies", str(bodies), "--rounds", str(rounds), "--kernel-rounds",
-             str(steps), *methods],
-            capture_output=True, text=True, check=False,
-        )  # fmt: skip
-        if done.returncode:
-            raise SystemExit(f"the kernels' process failed:\n{done.stderr}")
-        runs.append(json.loads(done.stdout.strip().splitlines()[-1]))
-    for method in methods:
-        costs, best_costs = [], []
-        for run in runs:
-            plain, measured = run[method]
-            # Each round's pair ran back to back: the median of their ratios is
-            # the least moved by the load of a shared machine.
-            costs.append(
-                statistics.median(100 * (x / y - 1) for x, y in zip(plain, measured, strict=True))
+    for threads in thread_counts:
+        if threads > 1:
+            print(
+                f"  {threads} threads do {peaks[threads] / peaks[1]:.2f}× the FMA work of 1"
+                + (
+                    ": they share execution units (as the hyperthreads of one core do)"
+                    if peaks[threads] < 0.75 * threads * peaks[1]
+                    else ""
+                )
             )
-            # For reference, each kernel's fastest round, the one least slowed by
-            # other work on the machine (which only ever adds time).
-            best_costs.append(100 * (max(plain) / max(measured) - 1))
-        best_plain = max(max(run[method][0]) for run in runs)
-        best_measured = max(max(run[method][1]) for run in runs)
-        cost = statistics.median(costs)
+    for threads in thread_counts:
         print(
-            f"  {method:10s} plain {best_plain:9.3g}, measuring {best_measured:9.3g} body-steps/s "
-            f"(best); measuring costs {', '.join(f'{c:.0f}' for c in costs)} % (median of the "
-            f"rounds, each process): {cost:.0f} %, target <= 15 %: "
-            + ("met" if cost <= 15 else "NOT met")
-            + f"; from each kernel's fastest round: {', '.join(f'{c:.0f}' for c in best_costs)} %"
+            f"kernels on {threads} thread(s), {bodies} bodies × {steps} steps ({rounds} rounds "
+            f"alternated, in each of {processes} fresh processes), nominal axes "
+            + ("in any direction:" if any_axes else "on principal axis 2 (a sweep's):")
         )
+        runs = []
+        for _ in range(processes):
+            done = subprocess.run(
+                [sys.executable, __file__, *(["--any-axes"] if any_axes else []),
+                 "--kernel-bodies", str(bodies), "--rounds", str(rounds), "--threads",
+                 str(threads), "--kernel-rounds", str(steps), *methods],
+                capture_output=True, text=True, check=False,
+            )  # fmt: skip
+            if done.returncode:
+                raise SystemExit(f"the kernels' process failed:\n{done.stderr}")
+            runs.append(json.loads(done.stdout.strip().splitlines()[-1]))
+        for method in methods:
+            print_costs(method, [run[method] for run in runs])
+
+
+def print_costs(method: str, runs: list[dict[str, list[float]]]) -> None:
+    """Two lines for ``method``: its kernels' best rates over ``runs`` (each a
+    process's rates of :func:`kernel_rounds`), the cost of measuring in each
+    process and the verdict on their median; the kernel without the attitude
+    against the plain kernel."""
+    costs, best_costs, speeds = [], [], []
+    for run in runs:
+        # Each round's kernels ran back to back: the median of their ratios is
+        # the least moved by the load of a shared machine.
+        plain = run["plain"]
+        costs.append(
+            statistics.median(
+                100 * (x / y - 1) for x, y in zip(plain, run["measured"], strict=True)
+            )
+        )
+        speeds.append(
+            statistics.median(y / x for x, y in zip(plain, run["metrics_only"], strict=True))
+        )
+        # For reference, each kernel's fastest round, the one least slowed by
+        # other work on the machine (which only ever adds time).
+        best_costs.append(100 * (max(plain) / max(run["measured"]) - 1))
+    best = {name: max(max(run[name]) for run in runs) for name in runs[0]}
+    cost = statistics.median(costs)
+    print(
+        f"  {method:10s} plain {best['plain']:9.3g}, measuring {best['measured']:9.3g} "
+        f"body-steps/s (best); measuring costs {', '.join(f'{c:.0f}' for c in costs)} % "
+        f"(median of the rounds, each process): {cost:.0f} %, target <= 15 %: "
+        + ("met" if cost <= 15 else "NOT met")
+        + f"; from each kernel's fastest round: {', '.join(f'{c:.0f}' for c in best_costs)} %"
+    )
+    print(
+        f"  {'':10s} metrics only (no attitude, a sweep without final states) "
+        f"{best['metrics_only']:9.3g} body-steps/s (best): "
+        f"{', '.join(f'{v:.2f}' for v in speeds)}× the plain kernel (median of the rounds, "
+        f"each process)"
+    )
 
 
 def backends(folder: Path, bodies: int, steps: int) -> None:
@@ -306,13 +359,27 @@ def main() -> None:
     )  # fmt: skip
     parser.add_argument("--kernel-bodies", type=int, default=KERNEL_BODIES)
     parser.add_argument("--rounds", type=int, default=ROUNDS)
+    parser.add_argument(
+        "--threads", type=int, nargs="+",
+        help="the thread counts the kernels are timed on (default: 1 and numba's count)",
+    )  # fmt: skip
     parser.add_argument("--kernel-rounds", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    most = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
+    if args.threads and not all(1 <= threads <= most for threads in args.threads):
+        parser.error(f"--threads: expected counts from 1 to {most}, got {args.threads}")
     if args.kernel_rounds:  # one process of the kernels' comparison: its rates as JSON
         steps, *methods = args.kernel_rounds
         print(
             json.dumps(
-                kernel_rounds(int(steps), methods, args.any_axes, args.kernel_bodies, args.rounds)
+                kernel_rounds(
+                    int(steps),
+                    methods,
+                    args.any_axes,
+                    args.kernel_bodies,
+                    args.rounds,
+                    args.threads[0],
+                )
             )
         )
         return
@@ -322,7 +389,7 @@ def main() -> None:
         if "kernels" not in args.skip:
             kernels(
                 args.steps, args.methods, args.processes, args.any_axes, args.kernel_bodies,
-                args.rounds,
+                args.rounds, args.threads or sorted({1, numba.get_num_threads()}),
             )  # fmt: skip
         if "backends" not in args.skip:
             backends(folder, args.bodies, args.steps)

@@ -857,6 +857,37 @@ class _FullArray:
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
 
+def _spun_near_two_axes(n: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Principal moments (n, 3) and ω (n, 3) of n bodies, the first half spun at 6
+    rad/s near the intermediate axis 2 (they flip), the rest near axis 3."""
+    moments = np.column_stack([np.ones(n), rng.uniform(1.2, 1.8, n), np.full(n, 2.0)])
+    omega = rng.normal(0, 0.3, (n, 3))
+    omega[: n // 2, 1] = 6.0
+    omega[n // 2 :, 2] = 6.0
+    return moments, omega
+
+
+def _on_principal_axis(k: int, n: int) -> np.ndarray:
+    """Nominal axes (3, n) on principal axis k, every third of the opposite sense."""
+    axis = np.zeros((3, n))
+    axis[k] = np.where(np.arange(n) % 3 == 0, -1.0, 1.0)
+    return axis
+
+
+def _measured_by(  # type: ignore[no-untyped-def]
+    kernel, torque, moments: np.ndarray, omega: np.ndarray, axis: np.ndarray, dt: float, steps: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """ω (3, n), q (4, n) and the measures (N_METRICS, n) after ``steps`` steps of
+    ``dt`` s of a metrics ``kernel``, from the bodies' ω (n, 3) and the identity
+    attitude."""
+    n = len(moments)
+    w, q = omega.T.copy(), np.vstack([np.ones(n), np.zeros((3, n))])
+    out = np.empty((N_METRICS, n))
+    kernel(w, q, moments.T.copy(), torque.params, torque.context, axis, 0.0, dt, steps, out,
+           np.zeros(n, dtype=np.int64))  # fmt: skip
+    return w, q, out
+
+
 @pytest.mark.parametrize(("method", "principal"), [("rk4", 0), ("strang", 2)])
 def test_the_kernel_for_nominal_axes_on_a_principal_axis_measures_as_the_kernel_for_any(
     method: str, principal: int
@@ -877,13 +908,8 @@ def test_the_kernel_for_nominal_axes_on_a_principal_axis_measures_as_the_kernel_
     from tumble.torques import bind
 
     n, steps, dt = 200, 300, 0.01
-    rng = np.random.default_rng(11)
-    moments = np.column_stack([np.ones(n), rng.uniform(1.2, 1.8, n), np.full(n, 2.0)])
-    omega = rng.normal(0, 0.3, (n, 3))
-    omega[: n // 2, 1] = 6.0  # near the intermediate axis: they flip
-    omega[n // 2 :, 2] = 6.0
-    axis = np.zeros((3, n))
-    axis[principal] = np.where(np.arange(n) % 3 == 0, -1.0, 1.0)
+    moments, omega = _spun_near_two_axes(n, np.random.default_rng(11))
+    axis = _on_principal_axis(principal, n)
     assert _principal_axis_of(axis) == principal
     integrator = get_integrator(method, batch=True)
     torque = bind(None, BodyBatch(moments), bodies=n)
@@ -892,10 +918,7 @@ def test_the_kernel_for_nominal_axes_on_a_principal_axis_measures_as_the_kernel_
         integrator.kernel("metrics", torque),
         integrator.kernel("metrics", torque, principal_axis=principal),
     ):
-        w, q = omega.T.copy(), np.vstack([np.ones(n), np.zeros((3, n))])
-        out = np.empty((N_METRICS, n))
-        kernel(w, q, moments.T.copy(), torque.params, torque.context, axis, 0.0, dt, steps, out,
-               np.zeros(n, dtype=np.int64))  # fmt: skip
+        w, q, out = _measured_by(kernel, torque, moments, omega, axis, dt, steps)
         states.append((w, q))
         measures.append(out)
     assert np.isfinite(measures[0][FIRST_FLIP]).any()  # some bodies flipped
@@ -934,6 +957,109 @@ def test_the_kernel_for_nominal_axes_on_a_principal_axis_measures_as_the_kernel_
     assert_array_equal(measure_batch(integrator, batch, dt, steps, axis), measures[1])
 
 
+@pytest.mark.parametrize(
+    ("method", "principal", "damped"),
+    [("rk4", None, False), ("rk4", 1, True), ("strang", 1, False), ("splitting", None, True)],
+)
+def test_the_metrics_kernel_without_the_attitude_measures_as_the_kernel_with_it(
+    method: str, principal: int | None, damped: bool
+) -> None:
+    # Oracle: the kernel with the attitude (itself checked against numpy above) on
+    # the same bodies, torque-free or under a linear damping (which reads ω, not
+    # the attitude). Euler's equations do not read q, so ω is the same
+    # arithmetic in both kernels; the compiler may contract and order it apart in
+    # the loop without the quaternion (bit for bit here when measured), and the
+    # bodies near the intermediate axis would grow an ε into some 1e3 ε over
+    # 3 s: ω to 1e-12 of its size. The flips are the same sign changes (a · L is
+    # far from round-off where it crosses); the other measures to round-off of
+    # the quantities they are differences of, as in the test above.
+    from tumble.batch import Batch, measure_batch
+    from tumble.body import BodyBatch
+    from tumble.integrators import get_integrator
+    from tumble.torques import bind
+
+    n, steps, dt = 200, 300, 0.01
+    rng = np.random.default_rng(17)
+    moments, omega = _spun_near_two_axes(n, rng)
+    if principal is None:
+        axis = rng.normal(size=(3, n))
+        axis /= np.linalg.norm(axis, axis=0)
+    else:
+        axis = _on_principal_axis(principal, n)
+    q0 = np.vstack([np.ones(n), np.zeros((3, n))])
+    integrator = get_integrator(method, batch=True)
+    model = tb.torques.LinearDamping(rng.uniform(0.01, 0.1, n)) if damped else None
+    torque = bind(model, BodyBatch(moments), bodies=n)
+    states, measures = [], []
+    for attitude in (True, False):
+        kernel = integrator.kernel("metrics", torque, principal_axis=principal, attitude=attitude)
+        w, q, out = _measured_by(kernel, torque, moments, omega, axis, dt, steps)
+        states.append((w, q))
+        measures.append(out)
+    with_attitude, without = measures
+    assert np.isfinite(with_attitude[FIRST_FLIP]).any()  # some bodies flipped
+    assert not np.array_equal(states[0][1], q0)  # the kernel with it turned the bodies
+    assert_array_equal(states[1][1], q0)  # the one without left q as given
+    size = np.linalg.norm(omega, axis=1)
+    assert_allclose(states[1][0], states[0][0], rtol=0, atol=1e-12 * size.max())
+    assert_array_equal(without[FLIPS], with_attitude[FLIPS])
+    assert_allclose(without[FIRST_FLIP], with_attitude[FIRST_FLIP], rtol=0, atol=1e-12)
+    assert_allclose(without[MIN_COS], with_attitude[MIN_COS], rtol=0, atol=1e-12)
+    eps = np.finfo(float).eps
+    twice_energy = np.sum(moments * omega**2, axis=1)
+    assert_allclose(
+        without[ENERGY_DEVIATION], with_attitude[ENERGY_DEVIATION], rtol=0,
+        atol=64 * eps * twice_energy.max(),
+    )  # fmt: skip
+    momentum = np.linalg.norm(moments * omega, axis=1)
+    assert_allclose(
+        without[MOMENTUM_DEVIATION], with_attitude[MOMENTUM_DEVIATION], rtol=0,
+        atol=64 * eps * momentum.max(),
+    )  # fmt: skip
+    # measure_batch takes the kernel without the attitude when the final states
+    # are not wanted, and the one with it when they are.
+    for final_state, expected, turned in ((False, without, False), (True, with_attitude, True)):
+        batch = Batch(moments.T.copy(), omega.T.copy(), q0.copy(), torque)
+        assert_array_equal(
+            measure_batch(integrator, batch, dt, steps, axis, final_state=final_state), expected
+        )
+        assert np.array_equal(batch.q, q0) is not turned
+
+
+def test_a_torque_that_reads_the_attitude_keeps_it_in_the_metrics_kernel() -> None:
+    # A torque fixed in space turns with the body: the measures need q, so
+    # measure_batch keeps it whatever final_state says, and a kernel without it
+    # is refused.
+    from tumble.batch import Batch, measure_batch
+    from tumble.body import BodyBatch
+    from tumble.errors import InputError
+    from tumble.integrators import get_integrator
+    from tumble.torques import bind
+
+    n, steps, dt = 8, 50, 0.01
+    moments = np.tile([1.0, 1.5, 2.0], (n, 1))
+    omega = np.tile([0.1, 6.0, 0.1], (n, 1))
+    axis = np.zeros((3, n))
+    axis[1] = 1.0
+    push = tb.torques.ConstantSpaceTorque([0.5, 0.0, 0.0]) + tb.torques.LinearDamping(0.01)
+    torque = bind(push, BodyBatch(moments), bodies=n)
+    rk4 = get_integrator("rk4", batch=True)
+    with pytest.raises(
+        InputError,
+        match=r"Expected a torque independent of the attitude for a metrics kernel without it, "
+        r"got ConstantSpaceTorque, LinearDamping, which depends on it\.",
+    ):
+        rk4.kernel("metrics", torque, attitude=False)
+    runs = []
+    for final_state in (True, False):
+        batch = Batch(moments.T.copy(), omega.T.copy(), np.vstack([np.ones(n), np.zeros((3, n))]),
+                      torque)  # fmt: skip
+        runs.append((measure_batch(rk4, batch, dt, steps, axis, final_state=final_state), batch))
+    assert_array_equal(runs[1][0], runs[0][0])
+    assert_array_equal(runs[1][1].q, runs[0][1].q)
+    assert_array_equal(runs[1][1].w, runs[0][1].w)
+
+
 def test_only_a_stepping_integrators_metrics_kernel_is_specialised_for_a_principal_axis() -> None:
     # The closed form measures about any axis in its own frame: the hint names
     # the same kernel there, and for a stepping integrator's batch kernel.
@@ -947,6 +1073,10 @@ def test_only_a_stepping_integrators_metrics_kernel_is_specialised_for_a_princip
     rk4 = get_integrator("rk4", batch=True)
     assert rk4.kernel("batch", torque, principal_axis=1) is rk4.kernel("batch", torque)
     assert rk4.kernel("metrics", torque, principal_axis=1) is not rk4.kernel("metrics", torque)
+    # So is the attitude's: the closed form leaves the states to measure_batch.
+    assert exact.kernel("metrics", torque, attitude=False) is exact.kernel("metrics", torque)
+    assert rk4.kernel("batch", torque, attitude=False) is rk4.kernel("batch", torque)
+    assert rk4.kernel("metrics", torque, attitude=False) is not rk4.kernel("metrics", torque)
 
 
 def test_nominal_axes_lie_on_a_principal_axis_only_where_two_rows_are_zero() -> None:

@@ -95,7 +95,10 @@ print(sorted(path.name for path in (folder / "in-process").iterdir()))
 # :func:`tumble.sweep.open_results` opens the Zarr store read-only: the varied
 # parameters under ``parameters/``, the metrics under ``metrics/``, and the initial
 # and final states (``initial/omega``, ``final/quaternion``, ...) unless the file's
-# ``[outputs]`` turns them off. Each array has one row per body.
+# ``[outputs]`` turns them off. Each array has one row per body. A sweep without
+# ``final_state`` whose torque does not depend on the attitude (none here) steps
+# ω alone: the measures need nothing else, and RK4 then does about half the work
+# a step (``bench/sweep.py``).
 
 results = open_results(folder / "in-process")
 ratio = results["parameters/ratio_2"][:]

@@ -159,9 +159,12 @@ def measure_batch(
     body about its nominal axis ``axis`` (3, N) after every step: the measures
     (``N_METRICS``, N) of :mod:`tumble.core.metrics`. One call of the
     integrator's metrics kernel: the measures keep running extremes and the
-    first flip in registers, not in arrays. A closed form (``"exact"``)
-    measures without stepping, and advances the states only if
-    ``final_state`` (they are needed).
+    first flip in registers, not in arrays. ``final_state=False`` says the
+    caller does not need the final states: a closed form (``"exact"``) then
+    measures without stepping and leaves them, and a stepping method, where
+    the torque does not depend on the attitude, steps ω alone (the measures
+    need nothing else; about half the work of an RK4 step) and leaves ``q``
+    as it was. The measures are the same either way.
 
     Raises
     ------
@@ -197,7 +200,10 @@ def measure_batch(
             batch.w[:] = bodies.from_principal(w.T).T
             batch.q[:] = bodies.attitude_from_principal(q.T).T
     else:
-        kernel = integrator.kernel("metrics", torque, principal_axis=_principal_axis_of(axis))
+        kernel = integrator.kernel(
+            "metrics", torque, principal_axis=_principal_axis_of(axis),
+            attitude=final_state or "attitude" in torque.depends_on,
+        )  # fmt: skip
         kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, axis, 0.0, dt,
                n_steps, metrics, status)  # fmt: skip
     batch.check_finite(status, dt, first_body, where)

@@ -293,7 +293,9 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
     return batch
 
 
-def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None, principal_axis=None):  # type: ignore[no-untyped-def]
+def metrics_kernel(  # type: ignore[no-untyped-def]
+    step, torque, identity, variables=VELOCITY, advance=None, principal_axis=None, attitude=True
+):  # fmt: skip
     """``batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status)``:
     as :func:`batch_kernel`, measuring each body after every step into ``out``
     (``N_METRICS``, N) (see :mod:`tumble.core.metrics`; ``axis`` (3, N) the
@@ -302,6 +304,14 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None, pri
     third), which measures about them as :func:`_on_axis` says: the same measures
     to round-off, with three fewer multiplications a body and step than the
     kernel for any axis (see bench/sweep.py for what that saves).
+
+    ``attitude=False``: a kernel that leaves ``q`` as it was given, for a torque
+    that does not depend on the attitude (``torque`` must not read the
+    quaternion). The measures need only ω (or L), which such a body's motion
+    does not couple to q: the stepping loop keeps none of the quaternion's
+    results, so the compiler drops their arithmetic, about half of an RK4 step
+    (with the default ``advance``; a stepper's own still steps q, unwritten).
+    ``w`` and the measures are those of the kernel with the attitude.
 
     With the default ``advance``, a body is measured in the loop that steps it,
     while its new state is still in registers. A stepper's own ``advance`` steps
@@ -334,7 +344,12 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None, pri
         else:
             _measured(measured_vectors, t0 + k * dt, dt, rows, _REFERENCE_ODD, _REFERENCE_EVEN)
 
-    @specialise(njit_vector, f"stepping.metrics|{stamp}|axis {principal_axis}|{identity}")
+    put = _put_state if attitude else _put_rates
+
+    @specialise(
+        njit_vector,
+        f"stepping.metrics|{stamp}|axis {principal_axis}|attitude {attitude}|{identity}",
+    )
     def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
         n = w.shape[1]
         for block in prange((n + METRICS_BLOCK - 1) // METRICS_BLOCK):
@@ -344,32 +359,34 @@ def metrics_kernel(step, torque, identity, variables=VELOCITY, advance=None, pri
                 enter, vectors, start_nominal, about, w, q, inertia, params, axis, start, stop
             )
             _measured_steps(
-                step, measured_vectors, chosen, measure, torque, t0, dt, n_steps, rows,
+                step, measured_vectors, put, chosen, measure, torque, t0, dt, n_steps, rows,
                 block_params, context,
             )  # fmt: skip
-            _finish_rows(leave, rows, w, q, dt, out, start, stop)
+            _finish_rows(leave, rows, w, q, dt, out, start, stop, attitude)
 
     return batch
 
 
 @njit(inline="always")
 def _measured_steps(  # type: ignore[no-untyped-def]
-    step, measured_vectors, advance, measure, torque, t0, dt, n_steps, rows, params, context
+    step, measured_vectors, put, advance, measure, torque, t0, dt, n_steps, rows, params, context
 ):  # fmt: skip
     """``n_steps`` steps of ``dt`` s from time ``t0`` of a measuring block, each
     measured (:func:`tumble.core.metrics.observe`): body by body in one loop when
-    ``advance`` is None, else by ``advance`` with ``measure`` its observer."""
+    ``advance`` is None (the new state written by ``put``: :func:`_put_state`, or
+    :func:`_put_rates` to leave the attitude), else by ``advance`` with
+    ``measure`` its observer."""
     if advance is None:
         for k in range(n_steps):
             # As in ``measure``: the rows of the reference ``c`` as constants.
             if k % 2 == 0:
                 _stepped_and_measured(
-                    step, measured_vectors, torque, t0 + k * dt, dt, rows, params, context,
+                    step, measured_vectors, put, torque, t0 + k * dt, dt, rows, params, context,
                     _REFERENCE_EVEN, _REFERENCE_ODD,
                 )  # fmt: skip
             else:
                 _stepped_and_measured(
-                    step, measured_vectors, torque, t0 + k * dt, dt, rows, params, context,
+                    step, measured_vectors, put, torque, t0 + k * dt, dt, rows, params, context,
                     _REFERENCE_ODD, _REFERENCE_EVEN,
                 )  # fmt: skip
     else:
@@ -443,6 +460,14 @@ def _put_state(rows, j, state):  # type: ignore[no-untyped-def]
     r, s = rows, _STATE * _ROW + j
     r[s], r[s + _ROW], r[s + 2 * _ROW], r[s + 3 * _ROW] = state[0], state[1], state[2], state[3]
     r[s + 4 * _ROW], r[s + 5 * _ROW], r[s + 6 * _ROW] = state[4], state[5], state[6]
+
+
+@njit(inline="always")
+def _put_rates(rows, j, state):  # type: ignore[no-untyped-def]
+    """Write body j's first 3 state variables (ω, or L), not its quaternion, into a
+    measuring block's array."""
+    r, s = rows, _STATE * _ROW + j
+    r[s], r[s + _ROW], r[s + 2 * _ROW] = state[0], state[1], state[2]
 
 
 @njit(inline="always")
@@ -586,15 +611,16 @@ def _first_flips(rows, t, dt, last, current):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def _stepped_and_measured(  # type: ignore[no-untyped-def]
-    step, measured_vectors, torque, t, dt, rows, params, context, last, current
+    step, measured_vectors, put, torque, t, dt, rows, params, context, last, current
 ):  # fmt: skip
     """One step of ``dt`` s from time ``t`` of a measuring block, each body
-    measured in the loop that steps it (:func:`_observed`)."""
+    measured in the loop that steps it (:func:`_observed`) and its new state
+    written by ``put``."""
     firsts = False
     for j in range(METRICS_BLOCK):
         coefficients = _coefficients_at(rows, j)
         new = step(torque, t, dt, _state_at(rows, j), coefficients, params, j, context)
-        _put_state(rows, j, new)
+        put(rows, j, new)
         firsts |= _observed(measured_vectors, rows, j, new, coefficients, last, current)
     if firsts:  # at most once a body in a run
         _first_flips(rows, t, dt, last, current)
@@ -615,16 +641,17 @@ def _measured(measured_vectors, t, dt, rows, last, current):  # type: ignore[no-
 
 
 @njit(inline="always")
-def _finish_rows(leave, rows, w, q, dt, out, start, stop):  # type: ignore[no-untyped-def]
-    """Write a measuring block's final state into ``w`` and ``q`` and its measures
-    into ``out`` (:func:`tumble.core.metrics.finish`)."""
+def _finish_rows(leave, rows, w, q, dt, out, start, stop, attitude):  # type: ignore[no-untyped-def]
+    """Write a measuring block's final state into ``w`` and, if ``attitude``, ``q``,
+    and its measures into ``out`` (:func:`tumble.core.metrics.finish`)."""
     for j in range(stop - start):
         k = start + j
         final = leave(_state_at(rows, j), _coefficients_at(rows, j))
         for i in range(3):
             w[i, k] = final[i]
-        for i in range(4):
-            q[i, k] = final[3 + i]
+        if attitude:
+            for i in range(4):
+                q[i, k] = final[3 + i]
         (
             out[FLIPS, k], out[FIRST_FLIP, k], out[MIN_COS, k], out[ENERGY_DEVIATION, k],
             out[MOMENTUM_DEVIATION, k],

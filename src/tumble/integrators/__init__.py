@@ -106,7 +106,9 @@ class Integrator:
     applies: Callable[[Any, BoundTorque], str | None] | None = None
     parts_single: PartsKernelFactory | None = None
     parts_batch: PartsKernelFactory | None = None
-    _kernels: dict[tuple[str, str, Any, int | None], Any] = field(default_factory=dict, repr=False)
+    _kernels: dict[tuple[str, str, Any, int | None, bool], Any] = field(
+        default_factory=dict, repr=False
+    )
     _lock: Any = field(default_factory=threading.Lock, repr=False)
 
     @property
@@ -132,28 +134,39 @@ class Integrator:
         layout: Any = None,
         *,
         principal_axis: int | None = None,
+        attitude: bool = True,
     ) -> Any:
         """The compiled kernel ``role`` specialised for ``torque`` (and, for bodies
-        carrying parts, their ``layout``: :func:`tumble.parts.layout_of`; for a
-        stepping integrator's metrics kernel, the ``principal_axis`` 0, 1 or 2
-        that every nominal axis lies on, none of them zero, or None for any
-        axes, a hint the other kernels ignore), built once per process; compiled
-        on first call, or loaded from the on-disk cache."""
+        carrying parts, their ``layout``: :func:`tumble.parts.layout_of`), built
+        once per process; compiled on first call, or loaded from the on-disk
+        cache. Hints for a stepping integrator's metrics kernel, which the other
+        kernels ignore: ``principal_axis``, the axis 0, 1 or 2 that every nominal
+        axis lies on, none of them zero, or None for any axes; ``attitude=False``
+        for a kernel that leaves the quaternions as given, for a torque that does
+        not depend on the attitude (:func:`tumble.core.stepping.metrics_kernel`).
+        """
         factory = getattr(self, role)
         if factory is None:
             raise InputError(f"Expected an integrator with a {role} kernel, got {self.name!r}.")
         if role != "metrics" or self.kind != "stepping":
-            principal_axis = None
-        key = (role, torque.identity, layout, principal_axis)
+            principal_axis, attitude = None, True
+        if not attitude and "attitude" in torque.depends_on:
+            terms = ", ".join(type(term).__name__ for term in torque.terms)
+            raise InputError(
+                "Expected a torque independent of the attitude for a metrics kernel "
+                f"without it, got {terms}, which depends on it."
+            )
+        key = (role, torque.identity, layout, principal_axis, attitude)
         with self._lock:
             kernel = self._kernels.get(key)
             if kernel is None:
                 if role.startswith("parts"):
                     kernel = factory(torque.function, torque.drive, layout, torque.identity)
-                elif principal_axis is not None:
+                elif role == "metrics" and self.kind == "stepping":
                     kernel = factory(
-                        torque.function, torque.identity, principal_axis=principal_axis
-                    )
+                        torque.function, torque.identity, principal_axis=principal_axis,
+                        attitude=attitude,
+                    )  # fmt: skip
                 else:
                     kernel = factory(torque.function, torque.identity)
                 self._kernels[key] = kernel
