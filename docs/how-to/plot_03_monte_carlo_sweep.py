@@ -96,7 +96,7 @@ print(sorted(path.name for path in (folder / "in-process").iterdir()))
 # parameters under ``parameters/``, the metrics under ``metrics/``, and the initial
 # and final states (``initial/omega``, ``final/quaternion``, ...) unless the file's
 # ``[outputs]`` turns them off. Each array has one row per body. A sweep without
-# ``final_state`` whose torque does not depend on the attitude (none here) steps
+# ``final_state`` (this one keeps them) whose torque does not depend on the attitude steps
 # ω alone: the measures need nothing else, and RK4 then does about half the work
 # a step (``bench/sweep.py``).
 

@@ -161,10 +161,12 @@ def measure_batch(
     integrator's metrics kernel: the measures keep running extremes and the
     first flip in registers, not in arrays. ``final_state=False`` says the
     caller does not need the final states: a closed form (``"exact"``) then
-    measures without stepping and leaves them, and a stepping method, where
-    the torque does not depend on the attitude, steps ω alone (the measures
-    need nothing else; about half the work of an RK4 step) and leaves ``q``
-    as it was. The measures are the same either way.
+    measures without stepping and leaves them, and a stepping method that can
+    (:attr:`~tumble.integrators.Integrator.measures_without_attitude`: RK4),
+    where the torque does not depend on the attitude, leaves ``q`` as it was
+    and advances only ω, which is all the measures need: its kernel drops the
+    quaternion's arithmetic, about half of an RK4 step. The measures are the
+    same either way, to round-off.
 
     Raises
     ------

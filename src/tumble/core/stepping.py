@@ -307,11 +307,13 @@ def metrics_kernel(  # type: ignore[no-untyped-def]
 
     ``attitude=False``: a kernel that leaves ``q`` as it was given, for a torque
     that does not depend on the attitude (``torque`` must not read the
-    quaternion). The measures need only ω (or L), which such a body's motion
+    quaternion) and a stepper whose failed steps show in its first three
+    variables. The measures need only ω (or L), which such a body's motion
     does not couple to q: the stepping loop keeps none of the quaternion's
     results, so the compiler drops their arithmetic, about half of an RK4 step
     (with the default ``advance``; a stepper's own still steps q, unwritten).
-    ``w`` and the measures are those of the kernel with the attitude.
+    ``w`` and the measures are those of the kernel with the attitude, to
+    round-off (the compiler may contract the loop's arithmetic otherwise).
 
     With the default ``advance``, a body is measured in the loop that steps it,
     while its new state is still in registers. A stepper's own ``advance`` steps

@@ -6,7 +6,9 @@ what it preserves, which torques and which internal parts it handles, when
 (``single``), for batches (``batch``) and for batches measured as they step
 (``metrics``), each a factory ``factory(torque_function, identity) -> kernel``
 that specialises the kernel for one simulation's torque
-(:mod:`tumble.core.torques`); and for bodies carrying parts (rotors, dampers:
+(:mod:`tumble.core.torques`) (a stepping integrator's ``metrics`` factory also
+takes the keywords ``principal_axis`` and ``attitude`` of
+:func:`tumble.core.stepping.metrics_kernel`); and for bodies carrying parts (rotors, dampers:
 :mod:`tumble.core.parts`) ``parts_single`` and ``parts_batch``, factories
 ``factory(torque_function, drive_function, layout, identity) -> kernel``. Everything
 that needs to know which methods exist — :func:`tumble.simulate` and its
@@ -71,6 +73,11 @@ class Integrator:
         exactly (a step need not resolve the spin about the symmetry axis).
     exact_free_motion : True when its free flow is the exact torque-free motion
         of any body (a step need not resolve the rotation at all).
+    measures_without_attitude : True when its metrics kernel may leave the
+        attitude where the torque does not read it (``attitude=False`` of
+        :meth:`kernel`): a step of it that failed shows in ω, not only in q.
+        The splittings mark a step beyond the range of their sines
+        (:data:`tumble.core.trig.LARGEST_ANGLE`) by a NaN quaternion alone.
     kicks : True when it applies the torque in kicks that hold the attitude and
         the torque: exact for torques whose τ depends on the attitude and time
         only (:attr:`tumble.torques.TorqueModel.depends_on`), first order in
@@ -98,6 +105,7 @@ class Integrator:
     exact_symmetric_spin: bool = False
     exact_free_motion: bool = False
     kicks: bool = False
+    measures_without_attitude: bool = False
     auto: Callable[[BoundTorque], str | None] | None = None
     single: KernelFactory | None = None
     batch: KernelFactory | None = None
@@ -143,18 +151,21 @@ class Integrator:
         kernels ignore: ``principal_axis``, the axis 0, 1 or 2 that every nominal
         axis lies on, none of them zero, or None for any axes; ``attitude=False``
         for a kernel that leaves the quaternions as given, for a torque that does
-        not depend on the attitude (:func:`tumble.core.stepping.metrics_kernel`).
+        not depend on the attitude (:func:`tumble.core.stepping.metrics_kernel`;
+        only where ``measures_without_attitude``).
         """
         factory = getattr(self, role)
         if factory is None:
             raise InputError(f"Expected an integrator with a {role} kernel, got {self.name!r}.")
         if role != "metrics" or self.kind != "stepping":
             principal_axis, attitude = None, True
+        attitude = attitude or not self.measures_without_attitude
         if not attitude and "attitude" in torque.depends_on:
-            terms = ", ".join(type(term).__name__ for term in torque.terms)
+            reading = [type(t).__name__ for t in torque.terms if "attitude" in t.depends_on]
             raise InputError(
                 "Expected a torque independent of the attitude for a metrics kernel "
-                f"without it, got {terms}, which depends on it."
+                f"without it, got {' and '.join(reading)}, "
+                + ("which depends on it." if len(reading) == 1 else "which depend on it.")
             )
         key = (role, torque.identity, layout, principal_axis, attitude)
         with self._lock:
@@ -382,6 +393,7 @@ register_integrator(
         single=partial(stepping.single_kernel, rk4_step),
         batch=partial(stepping.batch_kernel, rk4_step),
         metrics=partial(stepping.metrics_kernel, rk4_step),
+        measures_without_attitude=True,
         parts=ALL_PARTS,
         parts_single=partial(part_kernels.single_kernel, part_kernels.parts_rk4_step),
         parts_batch=partial(part_kernels.batch_kernel, part_kernels.parts_rk4_step),

@@ -108,7 +108,10 @@ class TorqueModel:
     kernel: ClassVar[Any] = None
     #: What the torque τ its compiled function returns depends on besides the
     #: parameters: "attitude", "time", "omega" (the linear damping c it returns
-    #: beside τ multiplies ω by construction and is not counted).
+    #: beside τ multiplies ω by construction and is not counted). A function
+    #: that reads q must say "attitude": without it, a sweep that keeps no final
+    #: states steps ω alone (with RK4) and gives its function a q that does not
+    #: turn.
     depends_on: ClassVar[frozenset[str]] = frozenset()
     #: True when it derives from a potential (:meth:`potential_energy`).
     conservative: ClassVar[bool] = False
