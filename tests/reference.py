@@ -215,3 +215,31 @@ def spring_mass_reference(mp, mass, position, direction, stiffness, damping, ome
                     t_eval=times, max_step=duration / 50)  # fmt: skip
     y = sol.y.T
     return y[:, :3], y[:, 3:12].reshape(-1, 3, 3), y[:, 12], y[:, 13]
+
+
+def taylor_gyrostat(platform, axis, h, omega0, times, digits=30) -> np.ndarray:
+    """ω (n, 3), rad/s, at ``times`` (s) of a torque-free gyrostat: a platform of
+    principal moments ``platform`` (kg·m², body axes principal) whose rotors'
+    absolute momentum ``h`` (kg·m²/s, constant without motors) lies along the
+    principal ``axis``, from ``omega0`` (rad/s). Ḣ = H × ω with H = I_p ω + h a,
+    integrated by mpmath's Taylor-series method (odefun) at ``digits`` digits:
+    near a separatrix, where DOP853's 1e-13 grows with the motion's sensitivity
+    to its state. The numbers given (floats, or mpmath numbers formed at that
+    precision) are taken as exact."""
+    import mpmath
+
+    with mpmath.workdps(digits):
+        a = [mpmath.mpf(v) for v in axis]
+        moments = [mpmath.mpf(v) for v in platform]
+        momentum = mpmath.mpf(h)
+
+        def rate(t, m):
+            w = [(m[k] - momentum * a[k]) / moments[k] for k in range(3)]
+            return [m[1] * w[2] - m[2] * w[1], m[2] * w[0] - m[0] * w[2], m[0] * w[1] - m[1] * w[0]]
+
+        start = [moments[k] * mpmath.mpf(omega0[k]) + momentum * a[k] for k in range(3)]
+        solution = mpmath.odefun(rate, 0, start)
+        rows = [solution(mpmath.mpf(float(t))) for t in times]
+        return np.array(
+            [[float((m[k] - momentum * a[k]) / moments[k]) for k in range(3)] for m in rows]
+        )

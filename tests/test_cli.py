@@ -93,6 +93,10 @@ def test_mesh_json_with_mass() -> None:
             r"Expected `radius` to be a length in m, got 1 kg",
         ),
         (
+            ["inertia", "solid-sphere", "--mass", "1 kg", "--radius", "3 🍕"],
+            r"Expected `radius` to be a number or a quantity such as '250 g', got '3 🍕', which holds '🍕'",
+        ),
+        (
             ["inertia", "missing.stl", "--density", "1000"],
             r"Expected `mesh` to be a mesh file, got 'missing.stl' \(no such file\)",
         ),
@@ -205,3 +209,13 @@ def test_json_names_the_shape_as_typed() -> None:
     code, out, _ = run("inertia", "solid_sphere", "--mass", "1", "--radius", "1", "--json")
     assert code == 0
     assert json.loads(out)["body"] == "solid-sphere"
+
+
+def test_an_error_of_the_file_system_is_one_line_with_a_long_path_cut() -> None:
+    from tumble.cli.app import one_line
+
+    long = "/tmp/" + "x" * 5000
+    message = one_line(PermissionError(13, "Permission denied", long))
+    assert message.startswith("Expected to read or write '/tmp/xxx")
+    assert message.endswith("'..., got: Permission denied.")
+    assert len(message) < 300

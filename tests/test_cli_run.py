@@ -70,11 +70,96 @@ def test_show_prints_the_toml_to_copy(tmp_path: Path) -> None:
     code, out, err = invoke("show", "skewrod")
     assert code == 2 and out == ""
     assert err.strip().splitlines() == [
-        "error: Expected a built-in scenario (gyroscope, gyrocompass, skew-rod, tennis-racket, "
-        "heavy-top, free-symmetric-top, tumbling-satellite, dual-spin, explorer-1, "
-        "gravity-gradient, reaction-wheel-slew) or a .toml file, got 'skewrod'. "
-        "Did you mean skew-rod?"
+        f"error: Expected the name of a built-in scenario ({SCENARIOS}) or sweep ({SWEEPS}), "
+        "got 'skewrod'. Did you mean skew-rod?"
     ]
+
+
+SCENARIOS = (
+    "gyroscope, gyrocompass, skew-rod, tennis-racket, heavy-top, free-symmetric-top, "
+    "tumbling-satellite, dual-spin, explorer-1, gravity-gradient, reaction-wheel-slew"
+)
+SWEEPS = "dual-spin-map, flip-map"
+
+
+def test_show_prints_a_builtin_sweep() -> None:
+    from tumble.sweep import show_sweep
+
+    code, out, _ = invoke("show", "flip-map")
+    assert code == 0 and out == show_sweep("flip-map")
+
+
+@pytest.mark.parametrize(
+    ("name", "hint"),
+    [
+        # A file of one's own: show prints only what tumble ships.
+        ("base.toml", ", a file of your own: `tumble show` prints the files tumble ships."),
+        ("gyroscope.toml", ". Did you mean gyroscope?"),
+        ("flip-map.toml", ". Did you mean flip-map?"),
+        ("nothing-like-it", "."),
+    ],
+)
+def test_show_refuses_what_is_not_a_builtin_without_offering_files(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, name: str, hint: str
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "base.toml").write_text(QUICK)
+    code, out, err = invoke("show", name)
+    assert code == 2 and out == ""
+    assert err.strip().splitlines() == [
+        f"error: Expected the name of a built-in scenario ({SCENARIOS}) or sweep ({SWEEPS}), "
+        f"got {name!r}{hint}"
+    ]
+
+
+def test_show_cuts_a_long_name() -> None:
+    code, _, err = invoke("show", "n" * 5000)
+    assert code == 2
+    assert f"got {'n' * 60!r}...." in err and len(err) < 500
+
+
+def test_run_a_folder_says_it_is_a_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "adir").mkdir()
+    code, _, err = invoke("run", "adir")
+    assert code == 2
+    assert err.strip() == "error: Expected a scenario file, got 'adir' (a folder)."
+
+
+def test_run_a_builtin_sweep_points_to_tumble_sweep() -> None:
+    code, _, err = invoke("run", "flip-map")
+    assert code == 2
+    assert err.strip() == (
+        f"error: Expected a built-in scenario ({SCENARIOS}) or a .toml file, got 'flip-map', a "
+        "built-in sweep: run it with `tumble sweep flip-map`."
+    )
+
+
+@pytest.mark.parametrize("suffix", ["", ".toml"])
+def test_run_cuts_a_long_name(suffix: str) -> None:
+    code, _, err = invoke("run", "n" * 5000 + suffix)
+    assert code == 2
+    assert f"got {'n' * 60!r}..." in err and len(err) < 500
+
+
+@pytest.mark.parametrize("command", ["run", "sweep"])
+def test_deeply_nested_toml_is_one_line(tmp_path: Path, command: str) -> None:
+    path = tmp_path / "deep.toml"
+    path.write_text("a = " + "[" * 1000 + "]" * 1000 + "\n")
+    code, _, err = invoke(command, str(path), "-o", str(tmp_path / "out"))
+    assert code == 2
+    assert re.fullmatch(
+        r"error: \S*deep\.toml: Expected arrays and inline tables nested at most a few hundred "
+        r"levels deep, got 1000 levels\.",
+        err.strip(),
+    )
+
+
+def test_a_file_with_a_byte_order_mark_runs(tmp_path: Path) -> None:
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + QUICK.encode())
+    code, _, err = invoke("run", str(path), "-o", str(tmp_path / "out"), "--quiet")
+    assert code == 0, err
 
 
 def test_run_a_file_writes_the_folder_and_prints_the_report(quick: Path, tmp_path: Path) -> None:
@@ -87,6 +172,19 @@ def test_run_a_file_writes_the_folder_and_prints_the_report(quick: Path, tmp_pat
     assert f"Report: {out_dir / 'report.html'}" in out.replace("\n", "")
     for name in ("trajectory.parquet", "summary.json", "report.html", "viewer.html", "omega.png"):
         assert (out_dir / name).is_file()
+
+
+def test_run_prints_why_nothing_was_compared(quick: Path, tmp_path: Path) -> None:
+    # ω along z, a principal axis of the box: a steady spin, nothing to compare.
+    quick.write_text(QUICK.replace('"3, 0.1, 0.1 rad/s"', '"0, 0, 3 rad/s"'))
+    code, out, err = invoke("run", str(quick), "-o", str(tmp_path / "out"))
+    assert code == 0, err
+    assert "Theory" not in out
+    assert re.search(
+        r"Note: no theory comparison: the body spins about a principal axis \(I1 = [\d.]+ "
+        r"kg·m²\), where the free-body solution is a steady spin; nothing to compare\.",
+        " ".join(out.split()),
+    ), out
 
 
 @pytest.mark.parametrize(

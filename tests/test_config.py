@@ -316,7 +316,7 @@ def test_missing_and_unreadable_files_are_named(shelf: Builtins, tmp_path: Path)
     folder = tmp_path / "folder.toml"
     folder.mkdir()
     with pytest.raises(
-        SweepError, match=r"^Expected a thing file, got '.*folder\.toml' \(no such file\)\.$"
+        SweepError, match=r"^Expected a thing file, got '.*folder\.toml' \(a folder\)\.$"
     ):
         read_source(folder, shelf)
     bad = tmp_path / "bad.toml"
@@ -346,3 +346,76 @@ def test_methods_are_read_from_the_integrator_registry() -> None:
         match=r"Expected `method` to be one of exact, splitting, strang, splitting-exact, strang-exact, rk4, got 'adaptive'\.$",
     ):
         method_choice("adaptive", batch=True)
+
+
+# ------------------------------------------------------------------ hostile files
+def test_toml_nested_beyond_the_parser_names_the_depth() -> None:
+    # Python's TOML parser recurses once per level: 1000 levels exhaust its stack.
+    text = "a = " + "[" * 1000 + "]" * 1000 + "\n"
+    with pytest.raises(
+        SweepError,
+        match=r"^deep\.toml: Expected arrays and inline tables nested at most a few hundred "
+        r"levels deep, got 1000 levels\.$",
+    ):
+        parse_toml(text, "deep.toml", SweepError)
+
+
+def test_the_depth_counts_brackets_outside_strings_and_comments() -> None:
+    text = (
+        "[table]\ns = \"[[[{\"\nt = '''[[['''\n# [[[[\n"
+        + "a = "
+        + "[{b = " * 600
+        + "1"
+        + "}]" * 600
+        + "\n"
+    )
+    with pytest.raises(ConfigError, match=r"got 1200 levels\.$"):
+        parse_toml(text, "deep.toml")
+
+
+def test_a_byte_order_mark_is_read_as_nothing() -> None:
+    # Editors on Windows begin UTF-8 files with U+FEFF; TOML does not allow it.
+    assert parse_toml("\ufeffa = 1\n", "bom.toml") == {"a": 1}
+
+
+def test_a_file_with_a_byte_order_mark_is_read(shelf: Builtins, tmp_path: Path) -> None:
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf[inner]\ncount = 2\n")
+    source = read_source(path, shelf)
+    assert validate_toml(Top, source.text, source.name).inner.count == 2
+
+
+def test_a_folder_is_not_a_file(
+    shelf: Builtins, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "adir").mkdir()
+    with pytest.raises(SweepError, match=r"^Expected a thing file, got 'adir' \(a folder\)\.$"):
+        read_source("adir", shelf)
+
+
+def test_a_long_name_is_cut_in_the_message(shelf: Builtins) -> None:
+    name = "n" * 5000
+    for given in (name, f"{name}.toml"):
+        with pytest.raises(SweepError) as caught:
+            read_source(given, shelf)
+        assert len(str(caught.value)) < 300
+        assert f"got {name[:60]!r}..." in str(caught.value)
+
+
+def test_a_builtin_of_another_kind_says_how_to_run_it() -> None:
+    from tumble.scenario import load
+    from tumble.sweep import load_sweep
+
+    with pytest.raises(
+        ScenarioError,
+        match=r"^Expected a built-in scenario \(.*\) or a \.toml file, got 'flip-map', a built-in "
+        r"sweep: run it with `tumble sweep flip-map`\.$",
+    ):
+        load("flip-map")
+    with pytest.raises(
+        SweepError,
+        match=r"^Expected a built-in sweep \(.*\) or a \.toml file, got 'gyroscope', a built-in "
+        r"scenario: run it with `tumble run gyroscope`\.$",
+    ):
+        load_sweep("gyroscope")

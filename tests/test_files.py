@@ -1,15 +1,25 @@
-"""Output locations checked before any work; errors of the file system as one clear error."""
+"""Output locations checked before any work; errors of the file system as one clear
+error; one writer of an output at a time, and what a killed writer left removed."""
 
 from __future__ import annotations
 
 import errno
+import json
 import os
+import re
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import warnings
 from pathlib import Path
 
 import pytest
 
 from tumble.errors import OutputError
 from tumble.files import check_output, output_error, replaced, write_text
+from tumble.locks import OutputInUseError, OutputLock
 
 
 def test_a_folder_that_is_a_file_and_a_file_that_is_a_folder_are_refused(tmp_path: Path) -> None:
@@ -180,3 +190,246 @@ def test_a_missing_folder_for_an_atomic_file_is_one_error(tmp_path: Path) -> Non
         replaced(tmp_path / "missing" / "x.txt"),
     ):
         pass
+
+
+# ------------------------------------------------------------ one writer at a time
+#: A process that claims an output, says so, and holds it until its stdin closes;
+#: with "fork", it first forks a child that sleeps (and says its pid).
+HOLDER = """
+import os, sys, time
+from tumble.locks import OutputLock
+claim = OutputLock(sys.argv[1], "the run folder", inside=sys.argv[2] == "inside")
+claim.acquire()
+child = os.fork() if sys.argv[3] == "fork" else None
+if child == 0:
+    time.sleep(600)
+    os._exit(0)
+print("held", child, flush=True)
+sys.stdin.read()
+claim.release()
+"""
+
+
+def hold(
+    target: Path, *, inside: bool = False, fork: bool = False
+) -> tuple[subprocess.Popen[str], int | None]:
+    """Start a process that holds the claim on ``target``; it and its child's pid."""
+    process = subprocess.Popen(
+        [sys.executable, "-c", HOLDER, str(target), "inside" if inside else "beside",
+         "fork" if fork else "no"],
+        stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    assert process.stdout is not None
+    said, child = process.stdout.readline().split()
+    assert said == "held"
+    return process, None if child == "None" else int(child)
+
+
+def refusal(folder: Path, pid: int) -> str:
+    """The refusal of a second writer of ``folder`` while ``pid`` writes it."""
+    return (
+        rf"Expected the run folder '{re.escape(str(folder))}' to be free to write, got one "
+        rf"being written by pid {pid} on {re.escape(socket.gethostname())} since "
+        r"\d{4}-\d\d-\d\d \d\d:\d\d:\d\d [+-]\d{4}: wait for it to end, or write elsewhere\."
+    )
+
+
+def test_a_second_writer_is_refused_naming_the_first(tmp_path: Path) -> None:
+    target = tmp_path / "new" / "out"
+    holder, _ = hold(target)
+    try:
+        with pytest.raises(OutputInUseError, match=refusal(target, holder.pid)):
+            OutputLock(target, "the run folder").acquire()
+    finally:
+        holder.communicate("")  # it releases its claim and ends
+    assert holder.returncode == 0
+    # Released: the lock file is gone, and so are the folders made for it.
+    assert os.listdir(tmp_path) == []
+    with OutputLock(target, "the run folder"):
+        record = json.loads((tmp_path / "new" / ".out.lock").read_text())
+        assert (record["pid"], record["host"]) == (os.getpid(), socket.gethostname())
+    assert os.listdir(tmp_path) == []
+
+
+def test_the_lock_of_a_killed_writer_is_taken_over(tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    holder, _ = hold(target)
+    holder.kill()
+    holder.wait()
+    record = json.loads((tmp_path / ".out.lock").read_text())
+    assert record["pid"] == holder.pid  # left behind, with its owner's name
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # taken over without a word on this host
+        with OutputLock(target, "the run folder"):
+            assert json.loads((tmp_path / ".out.lock").read_text())["pid"] == os.getpid()
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_child_of_a_killed_writer_does_not_keep_its_claim(tmp_path: Path) -> None:
+    # A forked child inherits the open lock file; were it to keep the lock, the
+    # output would stay claimed as long as the child lives.
+    target = tmp_path / "out"
+    holder, child = hold(target, fork=True)
+    assert child is not None
+    try:
+        holder.kill()
+        holder.wait()
+        with OutputLock(target, "the run folder"):
+            pass
+    finally:
+        os.kill(child, signal.SIGKILL)
+
+
+def test_the_claim_is_reentrant_in_its_thread_and_refused_to_others(tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    errors: list[BaseException] = []
+
+    def other() -> None:
+        try:
+            OutputLock(target, "the run folder").acquire()
+        except OutputInUseError as exc:
+            errors.append(exc)
+
+    with OutputLock(target, "the run folder"), OutputLock(target, "the run folder"):
+        thread = threading.Thread(target=other)
+        thread.start()
+        thread.join()
+        assert (tmp_path / ".out.lock").exists()  # the inner release keeps the claim
+    assert not (tmp_path / ".out.lock").exists()
+    assert [str(e) for e in errors] == [
+        f"Expected the run folder {str(target)!r} to be free to write, got one being written "
+        f"by another thread of this process (pid {os.getpid()}): wait for it to end, or write "
+        "elsewhere."
+    ]
+
+
+def test_a_long_name_is_cut_in_the_refusal(tmp_path: Path) -> None:
+    target = tmp_path / ("x" * 200)
+    holder, _ = hold(target)
+    try:
+        with pytest.raises(OutputInUseError) as caught:
+            OutputLock(target, "the run folder").acquire()
+    finally:
+        holder.communicate("")
+    shown = str(target)[:160]
+    assert str(caught.value).startswith(f"Expected the run folder '{shown}...' to be free")
+
+
+def test_what_killed_writers_left_beside_an_output_is_removed(tmp_path: Path) -> None:
+    def staged(name: str, kind: str = "partial") -> Path:
+        folder = tmp_path / f".{name}.a1b2c3_4.{kind}"
+        folder.mkdir()
+        (folder / "summary.json").write_text("{}")
+        return folder
+
+    left = [staged("dead"), staged("out"), staged("out", "old")]
+    kept = [staged("unknown")]  # no lock file: nothing tells whether its writer lives
+    dead, _ = hold(tmp_path / "dead")
+    dead.kill()
+    dead.wait()
+    live, _ = hold(tmp_path / "live")
+    kept.append(staged("live"))  # its writer lives
+    try:
+        (tmp_path / ".out.a1b2c3_4.old" / "out").mkdir()  # a replaced run, moved aside
+        (tmp_path / ".notes.txt.a1b2c3_4.partial").write_text("")  # a file being written
+        with OutputLock(tmp_path / "out", "the run folder"):
+            assert [p.name for p in left if p.exists()] == []
+            assert all(p.exists() for p in kept)
+            # The writer was killed in the middle of its replacement: the old
+            # folder is back, as if it had never begun.
+            assert (tmp_path / "out").is_dir()
+            assert (tmp_path / ".notes.txt.a1b2c3_4.partial").is_file()
+            assert not (tmp_path / ".dead.lock").exists()
+            assert (tmp_path / ".live.lock").exists()
+    finally:
+        live.communicate("")
+
+
+def test_temporary_files_left_in_a_folder_written_into_are_removed(tmp_path: Path) -> None:
+    folder = tmp_path / "sweep"
+    holder, _ = hold(folder, inside=True)
+    holder.kill()
+    holder.wait()
+    (folder / "results.zarr" / "metrics" / "c").mkdir(parents=True)
+    left = [
+        folder / ".summary.json.a1b2c3_4.partial",
+        folder / "results.zarr" / "metrics" / "c" / "3.0123456789abcdef.partial",
+    ]
+    kept = [folder / "notes.partial", folder / "results.zarr" / "metrics" / "c" / "3"]
+    for path in [*left, *kept]:
+        path.write_text("")
+    own = ("summary.json", "results.zarr")
+    with OutputLock(folder, "the sweep's output folder", inside=True, own=own):
+        assert not any(p.exists() for p in left)
+        assert all(p.exists() for p in kept)
+        assert json.loads((folder / ".tumble.lock").read_text())["pid"] == os.getpid()
+    assert not (folder / ".tumble.lock").exists()
+
+
+def test_without_file_locks_a_live_owner_on_this_host_holds_the_claim(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import fcntl
+
+    def unsupported(*args: object) -> None:
+        raise OSError(errno.ENOLCK, os.strerror(errno.ENOLCK))
+
+    monkeypatch.setattr(fcntl, "flock", unsupported)
+    target = tmp_path / "out"
+    ended = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                           capture_output=True, text=True, check=True)  # fmt: skip
+    for pid, host, free in [
+        (os.getppid(), socket.gethostname(), False),  # alive here
+        (int(ended.stdout), socket.gethostname(), True),  # ended
+        (os.getppid(), "elsewhere", False),  # cannot be seen: taken as alive
+    ]:
+        record = {"pid": pid, "host": host, "since": "2026-01-01 00:00:00 +0000"}
+        (tmp_path / ".out.lock").write_text(json.dumps(record))
+        claim = OutputLock(target, "the run folder")
+        if free:
+            with claim:
+                pass
+        else:
+            with pytest.raises(OutputInUseError, match=f"by pid {pid} on {host} since 2026"):
+                claim.acquire()
+
+
+def test_a_lock_left_on_another_host_is_taken_over_with_a_note(tmp_path: Path) -> None:
+    record = {"pid": 1234, "host": "elsewhere", "since": "2026-01-01 00:00:00 +0000"}
+    (tmp_path / ".out.lock").write_text(json.dumps(record))
+    with (
+        pytest.warns(
+            UserWarning,
+            match=r"Took over the lock of the run folder '.*out' that pid 1234 on elsewhere "
+            r"left \(since 2026-01-01 00:00:00 \+0000\): no process holds it any more\.",
+        ),
+        OutputLock(tmp_path / "out", "the run folder"),
+    ):
+        pass
+
+
+def test_a_lock_held_without_a_record_is_refused_saying_so(tmp_path: Path) -> None:
+    # Another program (or a tumble that died while writing its record) holds it.
+    script = (
+        "import fcntl, os, sys\n"
+        "fd = os.open(sys.argv[1], os.O_RDWR | os.O_CREAT)\n"
+        "fcntl.flock(fd, fcntl.LOCK_EX)\n"
+        "print('held', flush=True)\n"
+        "sys.stdin.read()\n"
+    )
+    lock = tmp_path / ".out.lock"
+    holder = subprocess.Popen(
+        [sys.executable, "-c", script, str(lock)], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+        text=True,
+    )  # fmt: skip
+    try:
+        assert holder.stdout is not None and holder.stdout.readline() == "held\n"
+        with pytest.raises(OutputInUseError) as caught:
+            OutputLock(tmp_path / "out", "the run folder").acquire()
+    finally:
+        holder.communicate("")
+    assert str(caught.value) == (
+        f"Expected the run folder {str(tmp_path / 'out')!r} to be free to write, got one being "
+        f"written by another process (its lock file {str(lock)!r} does not say which): wait "
+        "for it to end, or write elsewhere."
+    )

@@ -180,7 +180,7 @@ def test_not_a_number_is_left_to_the_fit(tmp_path: Path) -> None:
     path.write_text(table(["t", "wx", "wy", "wz"], t, omega))
     recording = read_recording(path, units="rad/s")
     with pytest.raises(
-        InputError, match=r"Expected finite times and rates, got 1 samples .*sample 5"
+        InputError, match=r"Expected finite times and rates, got 1 sample that is not .*sample 5"
     ):
         tb.identify(recording.t, recording.omega)
 
@@ -300,12 +300,160 @@ def test_an_unreadable_file_is_refused(tmp_path: Path, monkeypatch: pytest.Monke
     # which the superuser running CI could still read).
     locked = write(tmp_path, "locked.csv", GOOD)
 
-    def refuse(self: Path) -> bytes:
+    def refuse(self: Path, *args: object, **kwargs: object) -> object:
         raise PermissionError(13, "Permission denied", str(self))
 
-    monkeypatch.setattr(Path, "read_bytes", refuse)
+    monkeypatch.setattr(Path, "open", refuse)
     with pytest.raises(
         InputError,
         match=r"^Expected a readable recording file, got '.*locked\.csv': Permission denied\.$",
     ):
         read_recording(locked)
+
+
+def test_files_named_zip_that_hold_no_table(tmp_path: Path) -> None:
+    junk = write(tmp_path, "junk.zip", "this is no zip file\n")
+    with pytest.raises(
+        InputError,
+        match=r"^Expected a zip file, as the name '.*junk\.zip' says, got a file that is not one "
+        r"\(a CSV table is read from a file named \.csv\)\.$",
+    ):
+        read_recording(junk)
+    empty = tmp_path / "empty.zip"
+    zipfile.ZipFile(empty, "w").close()
+    with pytest.raises(
+        InputError,
+        match=r"^Expected a zip file with one CSV table of data \(as phyphox exports\), got "
+        r"'.*empty\.zip', an empty zip file\.$",
+    ):
+        read_recording(empty)
+    meta = tmp_path / "meta.zip"
+    with zipfile.ZipFile(meta, "w") as archive:
+        archive.writestr("meta/device.csv", "a,b\n")
+        archive.writestr("notes.txt", "thrown twice")
+    with pytest.raises(
+        InputError,
+        match=r"^Expected a zip file with one CSV table of data \(as phyphox exports\), got "
+        r"'.*meta\.zip', which holds none \(it holds 'meta/device\.csv', 'notes\.txt'\)\.$",
+    ):
+        read_recording(meta)
+
+
+def test_a_damaged_table_inside_a_zip_file(
+    example: tuple[np.ndarray, np.ndarray], tmp_path: Path
+) -> None:
+    # The CRC of the table is wrong: found as the table is read.
+    path = tmp_path / "crc.zip"
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_STORED) as archive:
+        archive.writestr("Gyroscope.csv", phyphox_csv(*example))
+    data = bytearray(path.read_bytes())
+    data[data.index(b"0.000000,") + 2] ^= 1  # a digit of the first time
+    path.write_bytes(bytes(data))
+    with pytest.raises(
+        InputError,
+        match=r"^Expected a CSV or Parquet file, got '.*crc\.zip', a damaged zip file\.$",
+    ):
+        read_recording(path)
+
+
+def big_table(rows: int) -> str:
+    t = np.arange(rows) * 0.002
+    return table(list(PHYPHOX_COLUMNS), t, np.full((rows, 3), 0.5))
+
+
+@pytest.mark.parametrize("kind", ["csv", "zip", "parquet"])
+def test_a_recording_beyond_the_memory_budget_is_refused_before_it_is_read(
+    kind: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # 20000 rows: half a MB of text, more than a budget of 1 MB holds at the
+    # memory tumble fit takes a sample. The zip file is small: its table's size
+    # is what counts.
+    rows = 20_000
+    if kind == "csv":
+        path = write(tmp_path, "big.csv", big_table(rows))
+        what = r"the recording '.*big\.csv' of \d+(\.\d+)? KiB, about 2\.\d+e\+04 samples"
+    elif kind == "zip":
+        path = tmp_path / "big.zip"
+        with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as archive:
+            archive.writestr("Gyroscope.csv", big_table(rows))
+        assert path.stat().st_size < 200_000
+        what = (
+            r"the recording '.*big\.zip:Gyroscope\.csv' of \d+(\.\d+)? KiB \(uncompressed\), "
+            r"about 2\.\d+e\+04 samples"
+        )
+    else:
+        path = tmp_path / "big.parquet"
+        t = np.arange(rows) * 0.002
+        pq.write_table(pa.table({"t": t, "x": t, "y": t, "z": t}), path)
+        what = r"the recording '.*big\.parquet', about 2e\+04 samples"
+    monkeypatch.setenv("TUMBLE_MEMORY_BUDGET", "1 MB")
+    with pytest.raises(
+        InputError,
+        match=r"^Expected a request that fits in the memory budget of 977 KiB \(TUMBLE_MEMORY_BUDGET "
+        rf"= 1 MB\), got {what}: about \d+(\.\d+)? MiB\. Cut the recording to the throw and the "
+        r"free flight \(a few seconds\)\.$",
+    ):
+        read_recording(path)
+    monkeypatch.setenv("TUMBLE_MEMORY_BUDGET", "1 GB")
+    assert read_recording(path).t.size == rows
+
+
+def test_a_table_that_understates_its_rows_is_refused_as_it_is_read(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Long rows first (64 KiB of them), then short ones: the estimate from the
+    # first rows is far too low, and the rows read decide.
+    long_rows = "".join(
+        f"{k * 0.001:.17f},{1 / 3:.17f},{1 / 7:.17f},{1 / 9:.17f}\n" for k in range(1000)
+    )
+    short_rows = "1,0,0,0\n" * 150_000
+    path = write(tmp_path, "uneven.csv", "t,x,y,z\n" + long_rows + short_rows)
+    monkeypatch.setenv("TUMBLE_MEMORY_BUDGET", "60 MB")
+    with pytest.raises(
+        InputError,
+        match=r"got the recording '.*uneven\.csv' \(read so far\), about 1\.\d+e\+05 samples",
+    ):
+        read_recording(path)
+
+
+def test_rows_the_block_reader_refuses_are_read_line_by_line(
+    example: tuple[np.ndarray, np.ndarray], tmp_path: Path
+) -> None:
+    # Rows with a trailing separator (more cells than the header), blank and
+    # separator-only lines, a Latin-1 byte beyond the first block, and a time
+    # with a digit separator that Python reads: all read as the plain table is.
+    t, omega = example
+    plain = read_recording(write(tmp_path, "plain.csv", phyphox_csv(t, omega)))
+    text = phyphox_csv(t, omega)
+    lines = text.splitlines()
+    trailing = "\n".join([lines[0]] + [line + "," for line in lines[1:]]) + "\n"
+    blanks = "\n".join([*lines[:10], "", ",,,", "  ", *lines[10:]]) + "\n"
+    latin = "\n".join([*lines[:1500], lines[1500] + ",\xb0", *lines[1501:]]) + "\n"
+    for name, content, encoding in (
+        ("trailing.csv", trailing, "utf-8"),
+        ("blanks.csv", blanks, "utf-8"),
+        ("latin.csv", latin, "latin-1"),
+    ):
+        path = tmp_path / name
+        path.write_bytes(content.encode(encoding))
+        recording = read_recording(path)
+        assert_array_equal(recording.t, plain.t)
+        assert_array_equal(recording.omega, plain.omega)
+
+
+def test_a_long_table_is_read_exactly(tmp_path: Path) -> None:
+    # Beyond the first block of 64 KiB, and in several blocks of the reader;
+    # with a BOM and no header. Oracle: the numbers written with 17 digits.
+    generator = np.random.default_rng(4)
+    t = np.cumsum(generator.uniform(0.001, 0.003, 60_000))
+    omega = generator.normal(size=(60_000, 3))
+    path = tmp_path / "long.csv"
+    path.write_bytes(b"\xef\xbb\xbf" + table(None, t, omega).encode())
+    recording = read_recording(path, units="rad/s")
+    assert_array_equal(recording.t, t)
+    assert_array_equal(recording.omega, omega)
+    semicolons = tmp_path / "semicolons.csv"
+    semicolons.write_text(table(["t", "x", "y", "z"], t, omega, sep=";").replace(".", ","))
+    recording = read_recording(semicolons, units="rad/s")
+    assert_array_equal(recording.t, t)
+    assert_array_equal(recording.omega, omega)

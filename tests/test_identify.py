@@ -9,6 +9,7 @@ has a true one; the coverage of the reported standard errors over seeded trials
 from __future__ import annotations
 
 import os
+import re
 
 import numpy as np
 import pytest
@@ -190,7 +191,7 @@ def test_a_motion_that_shows_too_little_is_refused() -> None:
         (lambda t, w: (t, w[:, :2]), r"^Expected t of shape \(n,\) and omega of shape \(n, 3\)"),
         (
             lambda t, w: (t, np.where(np.arange(len(t))[:, None] == 7, np.nan, w)),
-            r"^Expected finite times and rates, got 1 samples that are not \(the first is "
+            r"^Expected finite times and rates, got 1 sample that is not \(the first is "
             r"sample 7",
         ),
         (
@@ -223,8 +224,10 @@ def test_bad_windows_are_refused(window: object, message: str) -> None:
 
 def test_a_window_that_is_not_free_flight_is_refused() -> None:
     phone = synthetic_phone(0)
+    # The hand's part breaks |dω/dt| ≤ |ω|²/√3, and the refusal says what may.
     with pytest.raises(InputError, match=r"to follow a torque-free motion, got residuals of .* "
-                       r"rad/s against noise of .* is the window all free flight\?$"):  # fmt: skip
+                       r"rad/s against noise of .* is the window all free flight\? \(the rates "
+                       r"break \|dω/dt\| ≤ \|ω\|²/√3 too, at .*: a hand's torque does, "):  # fmt: skip
         tb.identify(phone.t, phone.omega, window=(0.5, phone.catch))
 
 
@@ -258,6 +261,18 @@ def test_a_robust_loss_ignores_outliers() -> None:
     )
 
 
+@pytest.mark.parametrize("loss", ["soft_l1", "huber", "cauchy", "arctan"])
+def test_every_robust_loss_agrees_with_least_squares_on_a_clean_recording(loss: str) -> None:
+    # Oracle: plain least squares on the same samples. The shipped recording has
+    # no outliers, so a robust loss must land within the errors of the plain fit
+    # (2 σ: the two estimates share the samples, so they differ by less than
+    # independent ones would); a loss that crawls from a poor start does not.
+    recorded = tb.identification.read_recording(tb.identification.example_recording_path())
+    plain = tb.identify(recorded.t, recorded.omega)
+    robust = tb.identify(recorded.t, recorded.omega, loss=loss)
+    assert np.all(np.abs(robust.moment_ratios - plain.moment_ratios) < 2 * plain.uncertainty)
+
+
 def test_a_recording_without_a_free_flight_is_refused() -> None:
     # A phone turned in the hand: slow, with accelerations far above |ω|².
     t = np.linspace(0.0, 4.0, 2000)
@@ -273,3 +288,172 @@ def test_the_synthetic_phone_is_a_box_of_a_phones_size() -> None:
     assert np.allclose(phone.moment_ratios, moments[:2] / moments[2], rtol=1e-14)
     assert np.allclose(phone.axes.T @ phone.axes, np.eye(3), atol=1e-14)
     assert np.linalg.det(phone.axes) == pytest.approx(1.0, abs=1e-14)
+
+
+# ------------------------------------------------------------------ what identify is given
+def test_quantities_of_any_registry_are_converted() -> None:
+    # Oracle: the fit of the same samples as plain numbers in s and rad/s; the
+    # conversions are exact to rounding, so the fits agree far within their errors.
+    import warnings
+
+    import pint
+
+    from tumble.units import ureg
+
+    phone = synthetic_phone(0)
+    plain = tb.identify(phone.t, phone.omega)
+    other = pint.UnitRegistry()
+    given = [
+        (phone.t, ureg.Quantity(phone.omega / (2 * np.pi), "turn/s")),
+        (phone.t, other.Quantity(np.degrees(phone.omega), "deg/s")),
+        (other.Quantity(1e3 * phone.t, "ms"), ureg.Quantity(phone.omega, "rad/s")),
+    ]
+    for t, omega in given:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # no unit is stripped on the way
+            fit = tb.identify(t, omega)
+        assert np.allclose(
+            fit.moment_ratios, plain.moment_ratios, rtol=0, atol=1e-3 * plain.uncertainty.min()
+        )
+        assert np.all(np.abs(fit.moment_ratios - phone.moment_ratios) < 3 * fit.uncertainty)
+
+
+@pytest.mark.parametrize(
+    ("t", "omega", "message"),
+    [
+        ("[0, 1, 2] ms", None, r"^Expected `t` to be "),
+        (None, "1, 2, 3 rad/s", r"^Expected `omega` to have shape \(n, 3\), got \(3,\)\.$"),
+        ("1, 2, 3 kg", None, r"^Expected `t` to be a time in s, got .*\(dimensions \[mass\]\)\.$"),
+        (None, "rates", r"^Expected `omega` to be "),
+    ],
+)
+def test_times_and_rates_that_are_no_array_are_refused(
+    t: object, omega: object, message: str
+) -> None:
+    phone = synthetic_phone(0)
+    with pytest.raises(InputError, match=message):
+        tb.identify(phone.t if t is None else t, phone.omega if omega is None else omega)
+
+
+@pytest.mark.parametrize("flag", ["no", "yes", "False", 1, 0.0, None, [True]])
+def test_bias_must_be_true_or_false(flag: object) -> None:
+    phone = synthetic_phone(0)
+    with pytest.raises(
+        InputError, match=rf"^Expected `bias` to be True or False, got {re.escape(repr(flag))}\.$"
+    ):
+        tb.identify(phone.t, phone.omega, bias=flag)  # type: ignore[arg-type]
+
+
+def test_bias_as_a_numpy_bool_is_taken() -> None:
+    phone = synthetic_phone(0)
+    fit = tb.identify(phone.t, phone.omega - phone.bias, bias=np.False_)  # type: ignore[arg-type]
+    assert fit.covariance.shape == (8, 8) and np.all(fit.bias == 0.0)
+
+
+def test_the_samples_refused_are_shown_as_plain_numbers() -> None:
+    t, w = recording((0.3, 0.8, 1.0), (0.5, 3.0, 0.4), duration=1.0)
+    w[[3, 7]] = np.nan
+    with pytest.raises(InputError, match=r"got 2 samples that are not \(the first is sample 3: "
+                       r"t = 0\.00\d+, omega = \[nan, nan, nan\]\)\.$"):  # fmt: skip
+        tb.identify(t, w)
+    w[3] = 1.0
+    with pytest.raises(InputError, match=r"got 1 sample that is not \(the first is sample 7: "
+                       r"t = 0\.01\d+, omega = \[nan, nan, nan\]\)\.$"):  # fmt: skip
+        tb.identify(t, w)
+    t[5] = t[4]
+    w[7] = 1.0
+    with pytest.raises(InputError, match=r"^Expected increasing times, got t\[5\] = 0\.0\d+ after "
+                       r"t\[4\] = 0\.0\d+\.$"):  # fmt: skip
+        tb.identify(t, w)
+
+
+# ------------------------------------------------------------------ rates in the wrong unit
+def test_rates_too_small_for_any_body_are_refused() -> None:
+    # The shipped recording in rad/s divided by 180/π (np.radians applied twice,
+    # or a header that says rad/s of rates in deg/s): a torque-free body fits the
+    # samples (a huge bias makes up the rest), but no body turns so fast for its
+    # rates: |dω/dt| ≤ |ω|²/√3 is broken many times over.
+    from tumble.identification.files import example_recording_path, read_recording
+
+    recording = read_recording(example_recording_path())
+    with pytest.raises(
+        InputError,
+        match=r"^Expected rates of a torque-free body, \|dω/dt\| ≤ \|ω\|²/√3 = 0\.577 \|ω\|², "
+        r"got \|dω/dt\| up to \d+\.\d+ \|ω\|² .*: the rates look at least (\d\d) times too "
+        r"small: were they in deg/s read as rad/s \(57\.3 times\), or in turn/s \(6\.28 times\)\? "
+        r"\(Give them in rad/s, or as quantities with their unit\.\)$",
+    ):
+        tb.identify(recording.t, np.radians(recording.omega))
+    # Rates in turn/s read as rad/s: 2π times too small, and refused too.
+    with pytest.raises(InputError, match=r"the rates look at least \d times too small"):
+        tb.identify(recording.t, recording.omega / (2 * np.pi))
+    # Over the whole flight no body matches them; the refusal says why that may be.
+    phone = synthetic_phone(0)
+    with pytest.raises(
+        InputError,
+        match=r"is the window all free flight\? \(the rates break \|dω/dt\| ≤ \|ω\|²/√3 too, "
+        r"at \d+\.\d+ \|ω\|²: a hand's torque does, and so do rates too small for their unit, "
+        r"as deg/s read as rad/s\)$",
+    ):
+        tb.identify(phone.t, np.radians(phone.omega), window=(phone.release, phone.catch))
+
+
+@pytest.mark.parametrize(
+    ("moments", "omega0"),
+    [
+        ((0.3, 0.8, 1.0), (0.5, 3.0, 0.4)),  # about the major axis
+        ((0.3, 0.8, 1.0), (2.0, 0.3, 0.4)),  # about the minor axis
+        ((0.5, 0.5, 1.0), (1.0, 0.5, 2.0)),  # a flat disk: I1 + I2 = I3, the bound's edge
+        ((0.05, 0.95, 1.0), (1.0, 0.7, 0.9)),  # nearly a rod and a flat plate at once
+    ],
+)
+def test_every_free_body_keeps_the_bound(
+    moments: tuple[float, float, float], omega0: tuple[float, float, float]
+) -> None:
+    # Bodies that come closest to |dω/dt| = |ω|²/√3: none is refused, noisy or not.
+    for sigma in (0.0, 0.02):
+        t, w = recording(moments, omega0, sigma=sigma, bias=np.zeros(3))
+        fit = tb.identify(t, w, window=(t[0], t[-1]), bias=False)
+        assert np.all(
+            np.abs(fit.moment_ratios - np.array(moments[:2])) < max(3 * fit.uncertainty.max(), 1e-8)
+        )
+
+
+# ------------------------------------------------------------------ recordings sampled far too fast
+def test_a_recording_sampled_far_too_fast_is_averaged_with_a_note() -> None:
+    # The phone at 590 kHz: 2.2 million samples, averaged in blocks of far less
+    # than a degree of turn. Oracle: the truth, within 3 standard errors.
+    from tumble.identification.fit import MAX_SAMPLES
+
+    phone = synthetic_phone(0, rate=590_000.0)
+    fit = tb.identify(phone.t, phone.omega)
+    assert re.fullmatch(
+        r"averaged \d+ samples at a time \(\d+ samples at about 590 kHz to \d+; each average spans "
+        r"0\.0\d+ rad of turn at most\)",
+        fit.note,
+    ), fit.note
+    assert fit.t.size <= MAX_SAMPLES
+    assert np.all(np.abs(fit.moment_ratios - phone.moment_ratios) < 3 * fit.uncertainty)
+    # The noise of an average of k samples: σ/√k, as the residuals show.
+    k = int(fit.note.split()[1])
+    assert fit.residual_rms == pytest.approx(phone.noise / np.sqrt(k), rel=0.15)
+    assert fit.noise == pytest.approx(phone.noise / np.sqrt(k), rel=0.1)
+
+
+def test_a_recording_sampled_as_the_motion_needs_is_not_averaged() -> None:
+    phone = synthetic_phone(0)
+    fit = tb.identify(phone.t, phone.omega)
+    assert fit.note == "" and fit.noise == pytest.approx(noise_level(phone.t, phone.omega))
+
+
+def test_a_fit_beyond_the_memory_budget_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    # A slow tumble sampled at 10 Hz for 80 min: no average could keep its motion,
+    # so all 48000 samples would be fitted; a budget of 1 MB cannot hold that.
+    from tumble.errors import RequestTooLargeError
+
+    monkeypatch.setenv("TUMBLE_MEMORY_BUDGET", "1 MB")
+    t = np.arange(48_000) * 0.1
+    w = principal_rates(np.array([0.3, 0.8, 1.0]), np.array([0.05, 0.3, 0.04]), t) @ SENSOR.T
+    with pytest.raises(RequestTooLargeError, match=r"^Expected a request that fits in the memory "
+                       r"budget of .*, got a fit of 48000 samples: about .*\. Fit a shorter window"):  # fmt: skip
+        tb.identify(t, w, window=(t[0], t[-1]))

@@ -298,6 +298,25 @@ def test_adaptive_tolerance_errors(kwargs, message) -> None:
         tb.simulate(TUMBLER, OMEGA0, duration=1.0, method="adaptive", **kwargs)
 
 
+@pytest.mark.parametrize("method", ["exact", "rk4"])
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"rtol": -1}, r"^Expected `rtol` > 0, got -1\.$"),
+        ({"atol": True}, r"^Expected `atol` > 0, got True\.$"),
+        ({"rtol": "tight"}, r"^Expected `rtol` > 0, got 'tight'\.$"),
+        (
+            {"progress": 3},
+            r"^Expected `progress` to be None or a function \(done, total\), got 3\.$",
+        ),
+    ],
+)
+def test_arguments_a_method_does_not_read_are_still_checked(method, kwargs, message) -> None:
+    # A value that cannot be right is refused whichever method runs, not ignored.
+    with pytest.raises(tb.InputError, match=message):
+        tb.simulate(TUMBLER, OMEGA0, duration=1.0, dt=0.01, method=method, **kwargs)
+
+
 def test_progress_and_recording_for_the_adaptive_method() -> None:
     calls = []
     run = tb.simulate(

@@ -923,19 +923,60 @@ def test_a_directory_is_not_a_mesh_file(tmp_path):
         tumble.from_mesh(tmp_path, density=1.0)
 
 
-def test_malformed_stl_is_unreadable(tmp_path):
+_FACET = "solid bad\n facet normal 0 0 1\n  outer loop\n{}  endloop\n endfacet\nendsolid bad\n"
+
+
+@pytest.mark.parametrize(
+    "vertices",
+    [
+        "   vertex 0 0 0\n   vertex 1 0\n",  # five numbers: not xyz vertices
+        "   vertex 0 0 0\n   vertex 1 0 0\n",  # a facet of two vertices
+    ],
+)
+def test_malformed_ascii_stl_says_what_a_facet_needs(tmp_path, vertices):
     path = tmp_path / "bad.stl"
-    # Five coordinates cannot be split into xyz vertices: trimesh raises.
-    path.write_text(
-        "solid bad\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0\n"
-        "  endloop\n endfacet\nendsolid bad\n"
-    )
+    path.write_text(_FACET.format(vertices))
     with pytest.raises(
-        InputError,
-        match=rf"Expected `mesh` to be a readable mesh file \(STL, OBJ, PLY, GLB, STEP, "
-        rf"\.\.\.\), got {re.escape(repr(str(path)))}: ",
+        MeshError,
+        match=rf"^Expected mesh {re.escape(repr(str(path)))} to be a well-formed STL file "
+        r"\(each facet has 3 `vertex` lines of 3 numbers\), got one that is not\.$",
     ):
         tumble.from_mesh(path, density=1.0)
+
+
+def test_an_obj_vertex_that_is_not_three_numbers_says_what_a_line_needs(tmp_path):
+    path = tmp_path / "bad.obj"
+    path.write_text("v 0 0 0\nv 1 0 x\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(
+        MeshError,
+        match=rf"^Expected mesh {re.escape(repr(str(path)))} to be a well-formed OBJ file "
+        r"\(each `v` line has 3 numbers, each `f` line the numbers of its vertices\), "
+        r"got one that is not\.$",
+    ):
+        tumble.from_mesh(path, density=1.0)
+
+
+def test_an_obj_face_beyond_the_vertices_names_the_index(tmp_path):
+    path = tmp_path / "bad.obj"
+    # OBJ counts vertices from 1: vertex 9 of 3 is index 8.
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+    with pytest.raises(
+        MeshError,
+        match=rf"^Expected mesh {re.escape(repr(str(path)))} face indices in \[0, 2\], "
+        r"got index 8\.$",
+    ):
+        tumble.from_mesh(path, density=1.0)
+
+
+def test_a_long_file_name_is_cut_in_the_message(tmp_path):
+    # A name longer than the system allows is "File name too long" in the same place.
+    path = tmp_path.joinpath(*["n" * 200] * 10, "part.stl")  # 2000 characters
+    with pytest.raises(InputError) as caught:
+        tumble.from_mesh(path, density=1.0)
+    message = str(caught.value)
+    assert (
+        message == f"Expected `mesh` to be a mesh file, got {str(path)[:200]!r}... (no such file)."
+    )
 
 
 def test_garbage_bytes_are_rejected_with_the_file_named(tmp_path):

@@ -558,6 +558,18 @@ def test_auto_chooses_the_splitting_for_rotors_and_the_adaptive_method_for_dampe
             lambda: Rotor([0, 0, 1], 0.1, torque="3 kg"),
             r"\(a Rotor's `torque` is a torque or a list of \(time, torque\) pairs\)$",
         ),
+        (
+            lambda: Rotor([0, 0, 1], 0.1, speed=100, max_speed=10),
+            r"Expected `speed` of a Rotor within its `max_speed` \(10.0 rad/s\), got 100.0 rad/s\.",
+        ),
+        (
+            lambda: Rotor([0, 0, 1], 0.1, speed="-3000 rpm", max_speed="2000 rpm"),
+            r"Expected `speed` of a Rotor within its `max_speed` \(209.4\d* rad/s\), got -314.1\d* rad/s\.",
+        ),
+        (
+            lambda: tb.SpringMassDamper(1.0, [0, 0, 0], [1, 0, 0], 1.0, geometry="banana"),
+            r"unexpected keyword argument 'geometry'",
+        ),
         (lambda: KaneDamper(0.0, 0.1), r"Expected `inertia` of a KaneDamper > 0 kg·m², got 0.0"),
         (lambda: KaneDamper(0.1, -1.0), r"Expected `damping` of a KaneDamper >= 0 N·m·s, got -1.0"),
         (

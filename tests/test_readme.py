@@ -46,3 +46,12 @@ def test_readme_quotes_the_right_numbers() -> None:
     assert bracket.mass == pytest.approx(2700 * 736 * 30e-9, rel=1e-12)
     assert BLOCKS, "README has Python examples"
     assert len(BLOCKS) >= 5
+
+
+def test_the_torques_listed_are_those_files_may_use() -> None:
+    from tumble.config.registries import torque_types
+
+    text = (ROOT / "README.md").read_text()
+    start = text.index("Torques go in `[[torques]]` tables (")
+    sentence = text[start : text.index("), and the parts", start)]
+    assert re.findall(r'`(?:type = )?"([a-z-]+)"`', sentence) == torque_types()

@@ -13,7 +13,13 @@ import tumble as tb
 from tumble.batch import PEAK_PER_VALUE as BATCH_PEAK
 from tumble.batch import PER_BODY, PER_RECORD
 from tumble.errors import RequestTooLargeError
-from tumble.resources import BUDGET_VARIABLE, format_bytes, machine_memory, memory_budget
+from tumble.resources import (
+    BUDGET_VARIABLE,
+    format_bytes,
+    machine_memory,
+    memory_budget,
+    usable_memory,
+)
 from tumble.simulation import PEAK_PER_VALUE
 
 BOX = tb.shapes.box(1.0, [0.1, 0.2, 0.3])
@@ -116,7 +122,10 @@ def test_the_budget_is_read_from_the_environment(
     )
 
 
-@pytest.mark.parametrize("text", ["lots", "-1 GB", "0", "3 m", "nan", "inf B"])
+# "3 🍕 GiB" and "1,5 GiB": pint alone would read 3 GiB and 15 GiB.
+@pytest.mark.parametrize(
+    "text", ["lots", "-1 GB", "0", "3 m", "nan", "inf B", "3 🍕 GiB", "1,5 GiB"]
+)
 def test_a_budget_that_is_no_amount_of_memory_is_refused(
     text: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -133,24 +142,117 @@ def test_a_budget_that_is_no_amount_of_memory_is_refused(
 
 def test_the_default_budget_is_half_the_usable_memory(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.delenv(BUDGET_VARIABLE, raising=False)
-    usable = machine_memory()
+    usable, why = usable_memory()
+    assert machine_memory() == usable
     budget, source = memory_budget()
     assert usable > 0 and budget == usable / 2
     assert source == (
-        f"half of the {format_bytes(usable)} this process may use; set TUMBLE_MEMORY_BUDGET "
-        "to change it"
+        f"half of the {format_bytes(usable)} this process may use, {why}; set "
+        "TUMBLE_MEMORY_BUDGET to change it"
     )
 
 
+def fake_cgroups(root: Path, memberships: str, limits: dict[str, str]) -> Path:
+    """A /proc/self/cgroup holding ``memberships`` and, under ``root`` (the place of
+    /sys/fs/cgroup), the limit files ``limits`` (path relative to it: content)."""
+    proc = root / "proc"
+    proc.mkdir()
+    (proc / "cgroup").write_text(memberships)
+    for name, text in limits.items():
+        path = root / "cgroup" / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    return proc
+
+
+@pytest.mark.parametrize(
+    ("memberships", "limits", "expected", "file"),
+    [
+        # cgroup v2, the limit on the process's own cgroup, nested below the root.
+        ("0::/jobs/run-7\n", {"memory.max": "max\n", "jobs/run-7/memory.max": "1048576\n"},
+         2**20, "jobs/run-7/memory.max"),
+        # v2: a parent's limit applies to every cgroup below it.
+        ("0::/jobs/run-7\n", {"jobs/memory.max": "2097152\n", "jobs/run-7/memory.max": "max\n"},
+         2**21, "jobs/memory.max"),
+        # cgroup v1: the memory controller's hierarchy, nested; others ignored.
+        ("4:memory:/batch/42\n3:cpuset:/\n",
+         {"memory/memory.limit_in_bytes": "9223372036854771712\n",
+          "memory/batch/42/memory.limit_in_bytes": "3145728\n"},
+         3 * 2**20, "memory/batch/42/memory.limit_in_bytes"),
+        # A container whose own cgroup is the root of its mount (a path of the host).
+        ("0::/docker/abc\n", {"memory.max": "4194304\n"}, 2**22, "memory.max"),
+    ],
+)  # fmt: skip
 def test_a_container_limit_lowers_the_usable_memory(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, memberships: str, limits: dict[str, str],
+    expected: int, file: str,
+) -> None:  # fmt: skip
+    proc = fake_cgroups(tmp_path, memberships, limits)
+    monkeypatch.setattr("tumble.resources._PROC_SELF", proc)
+    monkeypatch.setattr("tumble.resources._CGROUP_ROOT", tmp_path / "cgroup")
+    usable, why = usable_memory()
+    assert usable == expected == machine_memory()
+    assert why == f"the memory limit of its cgroup, {tmp_path / 'cgroup' / file}"
+
+
+def test_without_a_container_limit_the_machine_s_memory_is_usable(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    limit = tmp_path / "memory.max"
-    limit.write_text("1048576\n")
-    monkeypatch.setattr("tumble.resources._CGROUP_LIMITS", (limit,))
-    assert machine_memory() == 2**20
-    limit.write_text("max\n")  # no limit
-    assert machine_memory() > 2**20
+    proc = fake_cgroups(tmp_path, "0::/a\n", {"memory.max": "max\n", "a/memory.max": "max\n"})
+    monkeypatch.setattr("tumble.resources._PROC_SELF", proc)
+    monkeypatch.setattr("tumble.resources._CGROUP_ROOT", tmp_path / "cgroup")
+    usable, why = usable_memory()
+    assert why == "the machine's memory"
+    assert usable > 2**20
+
+
+# The child runs a recording of about 10 GiB (4e7 steps of t, ω, q at 32 bytes
+# a value) under an address-space limit of 3 GiB (`ulimit -v`).
+LIMITED_CHILD = """
+import sys
+import tumble as tb
+from tumble.errors import RequestTooLargeError
+box = tb.shapes.box(1.0, [0.1, 0.2, 0.3])
+try:
+    tb.simulate(box, [1.0, 2.0, 3.0], duration=float(sys.argv[1]), dt=1e-3, method="rk4")
+except RequestTooLargeError as error:
+    print("refused:", error)
+else:
+    print("ran")
+"""
+
+
+def run_limited(duration: float) -> str:
+    """What the child says after a run of ``duration`` s under a 3 GiB address space."""
+    import os
+    import resource
+    import subprocess
+    import sys
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, resource.RLIM_INFINITY))
+
+    env = {k: v for k, v in os.environ.items() if k != BUDGET_VARIABLE}
+    done = subprocess.run(
+        [sys.executable, "-c", LIMITED_CHILD, str(duration)], preexec_fn=limit, env=env,
+        capture_output=True, text=True, timeout=600,  # a safety net, not a measure
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    return done.stdout.strip()
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads /proc (Linux)")
+def test_an_address_space_limit_lowers_the_budget() -> None:
+    said = run_limited(4e4)
+    assert said.startswith("refused: Expected a request that fits in the memory budget of "), said
+    assert re.search(
+        r"this process may use, its address-space limit \(ulimit -v\) of 3 GiB less the "
+        r"[\d.]+ [KMG]iB it has mapped; set TUMBLE_MEMORY_BUDGET to change it\), got 4e\+07 "
+        r"recorded samples",
+        said,
+    ), said
+    # A run that fits in what is left runs.
+    assert run_limited(10.0) == "ran"
 
 
 @pytest.mark.parametrize(
@@ -263,7 +365,7 @@ def test_a_fixed_step_run_beyond_max_steps_is_refused_before_it_starts() -> None
         RequestTooLargeError,
         match=re.escape(
             "Expected at most max_steps = 1000 steps, got duration / dt = 10 s / 0.001 s = "
-            "10000 steps: use a larger dt or a shorter duration."
+            "10000 steps: use a larger dt or a shorter duration, or raise `max_steps=`."
         ),
     ):
         tb.simulate(BOX, [1.0, 2.0, 3.0], duration=10.0, dt=1e-3, method="rk4", max_steps=1000,
@@ -293,3 +395,41 @@ def test_max_steps_is_a_positive_integer(value: object) -> None:
         match=rf"^Expected `max_steps` to be an integer >= 1 or None, got {re.escape(repr(value))}\.$",
     ):
         tb.simulate(BOX, [1.0, 2.0, 3.0], duration=1.0, max_steps=value)  # type: ignore[arg-type]
+
+
+def test_the_default_max_steps_is_finite_and_shared_with_the_scenarios() -> None:
+    import inspect
+
+    from tumble.resources import DEFAULT_MAX_STEPS
+    from tumble.scenario.schema import MAX_STEPS
+
+    default = inspect.signature(tb.simulate).parameters["max_steps"].default
+    assert default == DEFAULT_MAX_STEPS == MAX_STEPS == 50_000_000
+    assert "max_steps : the most steps the run may take (default 5e7" in (tb.simulate.__doc__ or "")
+
+
+def test_a_fixed_step_run_beyond_the_default_max_steps_is_refused_before_it_starts() -> None:
+    with pytest.raises(
+        RequestTooLargeError,
+        match=re.escape(
+            "Expected at most max_steps = 5e+07 steps, got duration / dt = 100000 s / 0.001 s = "
+            "100000000 steps: use a larger dt or a shorter duration, or raise `max_steps=`."
+        ),
+    ):
+        tb.simulate(BOX, [1.0, 2.0, 3.0], duration=1e5, dt=1e-3, method="rk4",
+                    record_every=10**6, progress=never)  # fmt: skip
+
+
+def test_the_adaptive_method_stops_at_max_steps() -> None:
+    # A mild damper (D (1/J + 1/I_p) ≈ 2.1 1/s, far inside any step's stability)
+    # at rtol 1e-10 takes 150 steps over 10 s: with room for 30 it
+    # stops at max_steps, saying how to raise it. (A stiff part is refused
+    # before any step: tests/test_spring_mass.py.)
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([2.0, 2.0, 1.0]))
+    with pytest.raises(
+        RequestTooLargeError,
+        match=r"^Expected the adaptive integration to end within 30 steps \(max_steps\), got "
+        r"30 steps to t = [\d.e-]+ s of 10 s: .* or raise `max_steps=` \(default 5e7\)\.$",
+    ):
+        tb.simulate(body, [0.01, 0.0, 1.0], duration=10.0, method="adaptive", max_steps=30,
+                    internal=[tb.KaneDamper(0.05, 0.1)])  # fmt: skip

@@ -98,7 +98,12 @@ def edited(old: str, new: str, text: str = GYRO) -> str:
         (
             "samples = 2500",
             "samples = 3",
-            r"line 39, `output\.samples`: Expected a valid value: input should be greater than or equal to 10\.",
+            r"line 39, `output\.samples`: Expected a value greater than or equal to 10, got 3\.",
+        ),
+        (
+            "samples = 2500",
+            "samples = 0",
+            r"line 39, `output\.samples`: Expected a value greater than or equal to 10, got 0\.$",
         ),
         # missing keys and tables
         (
@@ -161,7 +166,8 @@ def edited(old: str, new: str, text: str = GYRO) -> str:
         (
             "samples = 2500",
             'samples = "many"',
-            r"`output\.samples`: Expected a valid value: input should be a valid integer",
+            r"`output\.samples`: Expected a valid integer, unable to parse string as an integer, "
+            r"got 'many'\.$",
         ),
         # not TOML at all
         (
@@ -637,3 +643,113 @@ def test_torque_entries_become_the_registrys_models() -> None:
     # adaptive method's samples agree to its tolerance (1e-10 relative).
     assert_allclose(traj.omega[-1], expected.omega[-1], rtol=1e-9)
     assert traj.method == "adaptive" and result.drift == {}
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ('name = "gyroscope"', 'name = "' + "n" * 5000 + '"'),
+        ('shape = "solid-cylinder"', 'shape = "' + "n" * 5000 + '"'),
+        ('model = "gyroscope"', 'model = "' + "n" * 5000 + '"'),
+        ('method = "auto"', 'method = "' + "n" * 5000 + '"'),
+        ('name = "gyroscope"', 'name = "gyroscope"\n' + "n" * 5000 + " = 1"),  # unknown key
+    ],
+)
+def test_long_values_and_keys_are_cut_in_messages(old: str, new: str) -> None:
+    with pytest.raises(ScenarioError) as caught:
+        parse(edited(old, new), source="g.toml")
+    message = str(caught.value)
+    assert "n" * 60 + "..." in message.replace("'", "")
+    assert "n" * 61 not in message
+
+
+# ------------------------------------------------------------------ why nothing was compared
+RACKET = builtin_text("tennis-racket").replace('model = "flip-period"', 'model = "auto"')
+TOP = builtin_text("heavy-top")
+
+
+@pytest.mark.parametrize(
+    ("omega", "note"),
+    [
+        (
+            "0, 10, 0",
+            "no theory comparison: the body spins about a principal axis (I2 = 0.00173 kg·m²), "
+            "where the free-body solution is a steady spin; nothing to compare.",
+        ),
+        (
+            "10, 0, 0",
+            "no theory comparison: the body spins about a principal axis (I1 = 0.000483 kg·m²), "
+            "where the free-body solution is a steady spin; nothing to compare.",
+        ),
+        (
+            "0, 0, 0",
+            "no theory comparison: the body is at rest (ω = 0), where the free-body solution "
+            "stays at rest; nothing to compare.",
+        ),
+    ],
+)
+def test_a_free_body_in_a_steady_state_says_why_nothing_is_compared(omega: str, note: str) -> None:
+    text = edited('omega = "0.05, 10, 0.05 rad/s"', f'omega = "{omega} rad/s"', RACKET)
+    result = run(parse(text.replace('duration = "20 s"', 'duration = "2 s"')))
+    assert result.comparisons == []
+    assert result.summary()["notes"] == [note]
+
+
+def test_a_symmetric_body_spun_about_its_axis_says_why_nothing_is_compared() -> None:
+    text = edited(
+        'omega = "0.05, 10, 0.05 rad/s"',
+        'omega = "0, 0, 10 rad/s"',
+        RACKET.replace('size = "20, 10, 4 cm"', 'size = "10, 10, 4 cm"'),
+    )
+    result = run(parse(text.replace('duration = "20 s"', 'duration = "2 s"')))
+    assert result.comparisons == []
+    assert result.summary()["notes"] == [
+        "no theory comparison: the body spins about a principal axis (I3 = 0.000833 kg·m²), "
+        "where the free-body solution is a steady spin; nothing to compare."
+    ]
+
+
+def test_a_run_shorter_than_two_flips_says_so() -> None:
+    text = RACKET.replace('duration = "20 s"', 'duration = "1 s"')
+    result = run(parse(text))
+    assert result.comparisons == []
+    assert result.summary()["notes"] == [
+        "no theory comparison: the run (1 s) holds fewer than two flips (the flip period is "
+        "4.46 s); run longer to compare."
+    ]
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "cause"),
+    [
+        # Upright: the azimuth of the axis about the vertical is not defined.
+        ('euler_zxz = "0, 30, 0 deg"', 'euler_zxz = "0, 0, 0 deg"', r"Expected `axis` to stay off"),
+        # No spin: a spherical pendulum, not a top.
+        ('omega = "0, 0, 250 rad/s"', 'omega = "0, 0, 0 rad/s"', r"Expected `spin_rate` ≠ 0"),
+    ],
+)
+def test_a_named_check_that_cannot_measure_the_run_names_the_key_that_runs_it(
+    old: str, new: str, cause: str
+) -> None:
+    text = edited(old, new, TOP).replace('duration = "3 s"', 'duration = "0.5 s"')
+    with pytest.raises(
+        ScenarioError,
+        match=rf"^<scenario>, line \d+, `theory`: {cause}.* Set \[theory\] model = \"none\" to "
+        r"run it without a comparison\.$",
+    ):
+        run(parse(text))
+    result = run(parse(text.replace('model = "gyroscope"', 'model = "none"')))
+    assert result.comparisons == []
+    assert result.summary()["notes"] == ['no theory comparison: [theory] model = "none".']
+
+
+def test_the_automatic_check_that_cannot_measure_the_run_says_why() -> None:
+    text = edited('euler_zxz = "0, 30, 0 deg"', 'euler_zxz = "0, 0, 0 deg"', TOP)
+    text = text.replace('duration = "3 s"', 'duration = "0.5 s"')
+    result = run(parse(text.replace('model = "gyroscope"', 'model = "auto"')))
+    assert result.comparisons == [] and result.theory is None
+    (note,) = result.summary()["notes"]
+    assert note.startswith(
+        "no theory comparison: the gyroscope check cannot measure this run: Expected `axis` to "
+        "stay off"
+    )

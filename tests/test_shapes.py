@@ -7,6 +7,8 @@ that integrates quadratics exactly, an oracle independent of both.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
@@ -123,3 +125,53 @@ def test_thin_walled_limits_are_valid() -> None:
     assert tube.inertia[2, 2] == pytest.approx(0.2**2, rel=1e-15)  # thin tube: m r²
     shell = shapes.hollow_sphere(1.0, 0.2, 0.2)
     assert_allclose(shell.inertia, shapes.spherical_shell(1.0, 0.2).inertia, rtol=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("call", "shown"),
+    [
+        # I = m (b² + c²) / 12 = 1e-300 · 2e-400 / 12: below float64's range, 0.
+        (lambda: shapes.box(1e-300, [1e-200, 1e-200, 1e-200]), r"\[0\.0, 0\.0, 0\.0\]"),
+        # 1e-200 · 1e-120 / 6 ≈ 1.7e-321: subnormal, with 4 of its 16 digits left.
+        (
+            lambda: shapes.box(1e-200, [1e-60, 1e-60, 1e-60]),
+            r"\[1\.67e-321, 1\.67e-321, 1\.67e-321\]",
+        ),
+        (lambda: shapes.solid_sphere(1e-300, 1e-10), r".* for a mass of 1e-300 kg"),
+    ],
+)
+def test_shapes_refuse_moments_that_underflow_float64(call: object, shown: str) -> None:
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected moments of inertia of at least 2\.23e-308 kg·m², float64's smallest "
+        r"full-precision number, got " + shown,
+    ):
+        call()  # type: ignore[operator]
+
+
+def test_a_thin_rods_zero_axial_moment_is_not_an_underflow() -> None:
+    # The thin rod's axial moment is exactly 0 by definition; its others, m L² / 12.
+    rod = shapes.thin_rod(1e-100, 1e-100)
+    assert rod.principal()[0].tolist() == pytest.approx([0.0, 1e-300 / 12, 1e-300 / 12], rel=1e-15)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: shapes.box(1e300, [1e200, 1, 1]),
+        lambda: shapes.ellipsoid(1e300, [1e200, 1, 1]),
+        lambda: shapes.solid_sphere(1e300, 1e200),
+    ],
+)
+def test_shapes_refuse_moments_beyond_float64_without_numpy_warnings(call: object) -> None:
+    # m (b² + c²) / 12 with m = 1e300 and b = 1e200: beyond 1.8e308, inf. Refused as
+    # such, and with no "overflow encountered" warning printed before it (the
+    # warnings filter turns any warning into an error here).
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(
+            tb.InputError,
+            match=r"^Expected moments of inertia within float64's range, got \[.*inf.*\] kg·m² "
+            r"for a mass of 1e\+300 kg: the body is too heavy or too large for SI in float64\.$",
+        ):
+            call()  # type: ignore[operator]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import warnings
@@ -490,3 +491,59 @@ def test_the_drift_of_a_body_released_from_rest_is_relative_to_its_swing() -> No
     swing = tb.simulate(bar, [0, 0, 0], pivot=[0, 0, 0.5], gravity=[0, 0, -9.81],
                         attitude0=tilt, duration=2.0, dt=1e-3)  # fmt: skip
     assert swing.drift["angular_momentum_vertical"] < 100 * np.finfo(float).eps
+
+
+def _scaled(mp: tb.MassProperties, scale: float) -> tb.MassProperties:
+    """The same body with its mass and inertia multiplied by ``scale``."""
+    return tb.MassProperties(mp.mass * scale, mp.center_of_mass, mp.inertia * scale)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e154, 1e200])
+def test_the_drift_report_does_not_depend_on_the_scale_of_the_moments(scale: float) -> None:
+    # The motion depends on the ratios of the moments only, and the drift is
+    # relative: a body 1e±200 times heavier drifts as much. RK4's drift here is
+    # its truncation error (~1e-10); the scaled moments differ from the unit
+    # ones by a rounding, which moves the drift by round-off accumulated over
+    # the 200 steps (at most 200 ε ≈ 4.4e-14), far below it.
+    omega0 = [0.3, 2.0, 0.1]
+    unit = tb.simulate(TUMBLER, omega0, duration=2.0, dt=0.01, method="rk4")
+    run = tb.simulate(_scaled(TUMBLER, scale), omega0, duration=2.0, dt=0.01, method="rk4")
+    assert unit.drift["angular_momentum_vector"] > 1e-11
+    for name, drift in unit.drift.items():
+        assert run.drift[name] == pytest.approx(drift, abs=200 * np.finfo(float).eps)
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-200, 1e154, 1e200, 1e300])
+def test_relative_change_does_not_depend_on_the_scale_of_the_moments(scale: float) -> None:
+    # The same samples (ω, attitude, a rotor's speed) on a body and rotor scaled
+    # by `scale`: L and the energy are scaled by it, up to one rounding each,
+    # which moves a relative change by a few ε at most.
+    rotor = tb.Rotor([0, 0, 1], 0.05, speed=3.0)
+    unit = tb.simulate(TUMBLER, [0.3, 2.0, 0.1], duration=2.0, dt=0.01, method="rk4",
+                       internal=[rotor])  # fmt: skip
+    run = dataclasses.replace(
+        unit,
+        mass_properties=_scaled(TUMBLER, scale),
+        internal=(tb.Rotor([0, 0, 1], 0.05 * scale, speed=3.0),),
+    )
+    for name in ("energy", "angular_momentum_vector", "angular_momentum_norm"):
+        expected = unit.relative_change(name)
+        assert np.abs(expected).max() > 1e-11  # a drift to measure, not round-off
+        assert_allclose(run.relative_change(name), expected, rtol=0, atol=8 * np.finfo(float).eps)
+
+
+@pytest.mark.parametrize(
+    ("attitude0", "expected"),
+    [
+        ([1e300, 1e300, 0, 0], [math.sqrt(0.5), math.sqrt(0.5), 0, 0]),
+        ([1e-300, 1e-300, 0, 0], [math.sqrt(0.5), math.sqrt(0.5), 0, 0]),
+        ([0, -1.7e308, 0, 1.7e308], [0, -math.sqrt(0.5), 0, math.sqrt(0.5)]),
+        ([5e-324, 0, 0, 0], [1, 0, 0, 0]),  # the smallest float: not zero
+    ],
+)
+def test_a_quaternion_of_any_size_is_normalised(attitude0: list, expected: list) -> None:
+    # Only the direction of attitude0 counts; its length (its squares overflow
+    # or underflow at these sizes) does not. To round-off (one rounding in the
+    # scaling, one in the division by the length: a few ε).
+    run = tb.simulate(TUMBLER, [0.3, 1.0, -0.5], attitude0=attitude0, duration=1.0, dt=0.1)
+    assert_allclose(run.quaternion[0], expected, rtol=0, atol=4 * np.finfo(float).eps)

@@ -127,6 +127,24 @@ def _user_torque(t, omega, quaternion, params, out):
         ),
         ({"torque": 3.0}, r"Expected `torque` to be a model from tumble.torques, got float"),
         ({"record_every": 0}, r"Expected `record_every` to be None or an integer >= 1, got 0"),
+        # A fraction of a step, a string and a bool are refused as simulate refuses them.
+        (
+            {"record_every": 2.5},
+            r"^Expected `record_every` to be None or an integer >= 1, got 2\.5\.$",
+        ),
+        (
+            {"record_every": "2"},
+            r"^Expected `record_every` to be None or an integer >= 1, got '2'\.$",
+        ),
+        (
+            {"record_every": True},
+            r"^Expected `record_every` to be None or an integer >= 1, got True\.$",
+        ),
+        (
+            {"inertia": [[[1.0, 0.1, 0.0], [0.2, 2.0, 0.0], [0.0, 0.0, 2.5]]]},
+            r"^Expected `inertia` to be symmetric, got body 0 with inertia\[0, 0, 1\] = 0\.1 "
+            r"but inertia\[0, 1, 0\] = 0\.2 kg·m²\.$",
+        ),
         (
             {"torque": tb.torques.LinearDamping([0.1, 0.2])},
             r"Expected per-body LinearDamping values of shape \(1,\) for 1 bodies, got \(2,\)",
@@ -328,8 +346,9 @@ def test_the_exact_batch_equals_separate_exact_simulations() -> None:
 
 
 def test_the_exact_batch_records_every_kth_state() -> None:
-    # Recorded every 5 s, each record starting from the one before: the
-    # restarts add round-off, 1e-12 after 10 of them.
+    # Recorded every 5 s, each record the closed form from the initial state,
+    # as simulate() evaluates it: the attitude composed in compiled code here
+    # and by scipy there, round-off after ~50 rad: 1e-12.
     moments, omega, attitude = random_bodies(20)
     batch = tb.simulate_batch(moments, omega, attitude0=attitude, duration=50.0, dt=0.5,
                               method="exact", record_every=10)  # fmt: skip
@@ -367,3 +386,78 @@ def test_the_callers_initial_arrays_are_left_as_they_were(method: str) -> None:
         assert np.array_equal(omega0, before_w)
         if q0 is not None:
             assert np.array_equal(q0, before_q)
+
+
+def test_a_non_symmetric_tensor_is_refused_naming_its_body() -> None:
+    # The second of three bodies has I_yz = 0.3 but I_zy = 0.31: refused, as
+    # MassProperties refuses it, not silently averaged. A difference of 1e-12
+    # of the largest entry (round-off in a tensor formed by rotations) is
+    # within the tolerance MassProperties takes (1e-9) and is accepted there too.
+    tensors = np.tile(np.diag([1.0, 2.0, 2.5]), (3, 1, 1))
+    tensors[:, 1, 2] = tensors[:, 2, 1] = 0.3
+    tensors[1, 2, 1] = 0.31
+    omega = [[0.1, 1.0, 0.0]] * 3
+    message = (
+        r"^Expected `inertia` to be symmetric, got body 1 with inertia\[1, 1, 2\] = 0\.3 "
+        r"but inertia\[1, 2, 1\] = 0\.31 kg·m²\.$"
+    )
+    with pytest.raises(tb.InputError, match=message):
+        tb.simulate_batch(tensors, omega, duration=1.0, dt=0.1)
+    with pytest.raises(tb.InputError, match=r"^Expected `inertia` to be symmetric, got inertia"):
+        tb.MassProperties(1.0, [0, 0, 0], tensors[1])
+    with pytest.raises(tb.InputError, match=message):  # a body carrying parts too
+        tb.simulate_batch(tensors, omega, duration=1.0, dt=0.1,
+                          internal=[tb.Rotor([0, 0, 1], 0.1, speed=1.0)])  # fmt: skip
+    tensors[1, 2, 1] = 0.3 * (1 + 1e-12)
+    batch = tb.simulate_batch(tensors, omega, duration=1.0, dt=0.1)
+    one = tb.simulate(tb.MassProperties(1.0, [0, 0, 0], tensors[1]), omega[1], duration=1.0,
+                      dt=0.1, method="rk4")  # fmt: skip
+    assert_allclose(batch.omega[1], one.omega[-1], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("duration", "dt", "every"),
+    [(1.0, 1e-3, 250), (1.0, 3e-3, 7), (0.7, 0.1, 3), (2.0, 0.03, 100), (0.5, 0.025, 1)],
+)
+def test_each_record_is_labelled_with_the_time_of_its_state(duration, dt, every) -> None:
+    # Steps that divide the duration, steps that do not (dt shortened to whole
+    # steps), intervals that do not divide the steps (the end is recorded after
+    # a shorter interval) and one longer than the run: the times and states of
+    # simulate(), record for record. RK4 in both, the batch kernel contracted
+    # to FMA: round-off, 1e-12.
+    moments, omega, attitude = random_bodies(3, seed=5)
+    batch = tb.simulate_batch(moments, omega, attitude0=attitude, duration=duration, dt=dt,
+                              record_every=np.int64(every))  # fmt: skip
+    assert batch.t[-1] == pytest.approx(duration, rel=1e-15)
+    for k in range(3):
+        one = tb.simulate(tb.MassProperties(1.0, [0, 0, 0], np.diag(moments[k])), omega[k],
+                          attitude0=attitude[k], duration=duration, dt=dt, method="rk4",
+                          record_every=every)  # fmt: skip
+        assert_allclose(batch.t, one.t, rtol=1e-15, atol=0)
+        assert_allclose(batch.omega_history[:, k], one.omega, rtol=0, atol=1e-12)
+        assert_allclose(batch.omega_history[-1, k], batch.omega[k], rtol=0, atol=0)
+
+
+def test_the_exact_batch_s_history_is_the_closed_form_near_the_separatrix() -> None:
+    # I = (1, 2, 3) kg·m², ω0 1e-6 rad/s from a spin about the intermediate axis
+    # (a separatrix), 100 s (two flips), recorded every 10 steps of 0.01 s. Each
+    # record is the closed form evaluated from the initial state, as simulate()
+    # and tb.theory.free_motion evaluate it. How well the motion is determined:
+    # a change of the state by round-off (1e-16 relative) moves it by 1e-16 of
+    # |ω| along the separatrix, 1e-10 of its 1e-6 distance from it, which shifts
+    # the flips by 1e-10 of their phase: evaluations by different roundings may
+    # differ by ~1e-10 rad/s, ~1e-10 rad in attitude (measured: 2e-17 from
+    # free_motion, 8e-15 from simulate). Restarting each interval from the
+    # rounded state before (1e-16 a record, 1000 records) walks 1.6e-3 rad/s away.
+    moments = np.array([1.0, 2.0, 3.0])
+    omega = np.array([1e-6, 1.0, 1e-6])
+    batch = tb.simulate_batch([moments], [omega], duration=100.0, dt=0.01, method="exact",
+                              record_every=10)  # fmt: skip
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag(moments))
+    w, q = tb.theory.free_motion(body, omega).at(batch.t)
+    assert np.ptp(w[:, 1]) > 1.9  # it flips
+    assert_allclose(batch.omega_history[:, 0], w, rtol=0, atol=1e-9)
+    turn = Rotation.from_quat(batch.quaternion_history[:, 0], scalar_first=True).inv()
+    assert np.max((turn * Rotation.from_quat(q, scalar_first=True)).magnitude()) < 1e-9
+    one = tb.simulate(body, omega, duration=100.0, dt=0.1, method="exact")
+    assert_allclose(batch.omega_history[:, 0], one.omega, rtol=0, atol=1e-9)

@@ -186,3 +186,67 @@ def test_a_spring_not_yet_attached_to_a_body_has_no_coupling() -> None:
 def test_bad_bodies_with_a_spring_are_refused(kwargs, message: str) -> None:
     with pytest.raises(tb.InputError, match=message):
         tb.simulate(BODY, OMEGA0, duration=1.0, dt=0.1, **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("stiffness", "damping"), [(10.0, 0.0), (10.0, 2.0), (10.0, 50.0), (1e6, 1e4)]
+)
+def test_the_internal_rate_is_the_largest_eigenvalue_of_the_slot_oscillator(
+    stiffness: float, damping: float
+) -> None:
+    # Oracle: the eigenvalues of the first-order system of μ ẍ + c ẋ + k x = 0.
+    part = tb.SpringMassDamper(1.0, [0.5, 0, 0], [1, 0, 0], stiffness, damping).attached(
+        tb.MassProperties(11.0, [0, 0, 0], np.diag([1.0, 1.2, 1.4]))
+    )
+    reduced = 1.0 * 10.0 / 11.0
+    system = np.array([[0.0, 1.0], [-stiffness / reduced, -damping / reduced]])
+    largest = np.max(np.abs(np.linalg.eigvals(system)))
+    assert part.internal_rate(1.0) == pytest.approx(largest, rel=1e-12)
+
+
+def test_a_step_beyond_rk4s_stability_for_the_spring_is_refused_and_would_diverge(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # The slot oscillator of the test above at k = 1e6 N/m: √(k/μ) ≈ 1049 1/s.
+    # RK4 is stable for dt × rate <= 2.785 on the real axis and 2.83 on the
+    # imaginary axis: at 2.5 the run keeps the spring's energy bounded; at 3.2
+    # it is refused, and, with the check removed, it does diverge.
+    hub = tb.MassProperties(10.0, [0, 0, 0], np.diag([1.0, 1.2, 1.4]))
+    body = hub + tb.point_masses([1.0], [[0.5, 0, 0]])
+    part = tb.SpringMassDamper(1.0, [0.5, 0, 0], [1, 0, 0], stiffness=1e6, displacement=0.02)
+    rate = math.sqrt(1e6 / (10.0 / 11.0))
+    stable = tb.simulate(
+        body, [0, 0, 0], duration=1.0, dt=2.5 / rate, method="rk4", internal=[part]
+    )
+    assert np.max(np.abs(stable.internal_values[:, 0])) <= 0.02 * (1 + 1e-9)
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected dt within the stability of the method for the SpringMassDamper's own "
+        r"rate \(1\.05e\+03 1/s\): dt × rate <= 2\.78, got dt = 0\.00305 s, dt × rate = 3\.2 "
+        r"\(the run would diverge\); use dt <= 0\.00265 s, or less damping or stiffness\.$",
+    ):
+        tb.simulate(body, [0, 0, 0], duration=1.0, dt=3.2 / rate, method="rk4", internal=[part])
+    monkeypatch.setattr(tb.simulation, "check_internal_stability", lambda *args: None)
+    with pytest.raises(tb.InputError, match=r"NaN or inf"):
+        tb.simulate(body, [0, 0, 0], duration=1.0, dt=3.2 / rate, method="rk4", internal=[part])
+
+
+def test_a_stiff_kane_damper_is_refused_before_any_step() -> None:
+    # D (1/I_s + 1/I_p) with D = 1e12 N·m·s and I_s = 1e-4 kg·m²: ~1e16 1/s, so
+    # Dormand–Prince (stable to |h λ| = 3.3) needs ~3e15 steps for 1 s: refused
+    # at once rather than stopped after 5e7 steps.
+    box = tb.shapes.box(1.0, [0.1, 0.2, 0.3])
+    damper = tb.KaneDamper(1e-4, 1e12)
+    platform = np.linalg.eigvalsh(box.inertia - 1e-4 * np.eye(3))[0]
+    # Oracle: the platform and the sphere about one axis, coupled by D (ω − ω_s):
+    # the eigenvalues of d/dt (ω, ω_s) are 0 and the relaxation rate.
+    coupled = 1e12 * np.array([[-1 / platform, 1 / platform], [1e4, -1e4]])
+    largest = np.max(np.abs(np.linalg.eigvals(coupled)))
+    assert damper.internal_rate(platform) == pytest.approx(largest, rel=1e-12)
+    with pytest.raises(
+        tb.RequestTooLargeError,
+        match=r"^Expected the adaptive integration to end within 5e\+07 steps \(max_steps\), got "
+        r"at least 3\.1e\+15 steps: the KaneDamper's own rate \(1\.02e\+16 1/s\) holds an "
+        r"explicit method's step under 3\.22e-16 s \(a stiff part\)",
+    ):
+        tb.simulate(box, [0.1, 2, 0.1], duration=1, method="adaptive", internal=[damper])

@@ -576,7 +576,7 @@ def test_unknown_builtin_is_refused() -> None:
         (
             {"[base]": "[basis]"},
             r"`basis`: Expected one of `sweep`, `base`, `vary`, `outputs`, `report`, `dask`, "
-            r"got the unknown key `basis`",
+            r"`limits`, got the unknown key `basis`",
         ),
         (
             {"dt = 0.01": "dt = true"},
@@ -646,7 +646,7 @@ def test_unknown_builtin_is_refused() -> None:
         ),
         (
             {"values = [1.2, 1.5, 1.8]": 'values = [1.2, "1.5 kg"]'},
-            r"line 17, `vary.ratio_2.values\[1\]`: Expected `ratio_2` to be a dimensionless, got 1.5 kg",
+            r"line 17, `vary.ratio_2.values\[1\]`: Expected `ratio_2` to be a dimensionless number, got 1.5 kg",
         ),
         (
             {'max = "360 deg"': 'max = "360 m"'},
@@ -696,7 +696,7 @@ def test_unknown_builtin_is_refused() -> None:
         ),
         (
             {"num = 10": "num = 100_000_000"},
-            r"`vary.damping.num`: Expected a value less than or equal to 10000000, got 100000000.",
+            r"`vary.damping.num`: Expected a value less than or equal to 1000000, got 100000000.",
         ),
         (
             {"[sweep]": "[sweep\n"},

@@ -6,6 +6,7 @@ from __future__ import annotations
 import cmath
 import math
 
+import mpmath
 import numpy as np
 import pytest
 import sympy as sp
@@ -13,6 +14,7 @@ from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
 import tumble as tb
+from reference import taylor_gyrostat
 from tumble import checks, theory
 
 DIAGONAL = tb.MassProperties(10.0, [0, 0, 0], np.diag([4.0, 6.0, 8.0]))
@@ -85,6 +87,58 @@ def test_an_unstable_gyrostat_grows_at_the_closed_form_rate(h: float, moments) -
     size = np.hypot(run.omega[:, 0], run.omega[:, 2])
     window = (run.t > 5.0) & (size < 1e-3)
     assert growth_rate(run.t[window], size[window]) == pytest.approx(result.growth_rate, rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("locked", "axis", "inertia", "speed", "steady", "offset"),
+    [
+        # The dual-spin body: ω = (0, 1, 0) rad/s about the intermediate axis with
+        # a rotor along it of h = J Ω_rel = 0.4 kg·m²/s, inside the unstable
+        # range (−1, 1) (gyrostat_stability: growth 0.53/s, a deviation of 1e-6
+        # reaches O(1) in 26 s). Off it in ω1 and ω3: four real roots, the state
+        # 5e-13 (in 1 − s, s = sn²) from a turning point, where the phase is
+        # steepest.
+        ((1.0, 2.0, 3.0), (0, 1, 0), 0.1, 4.0, (0.0, 1.0, 0.0), (1e-6, 0.0, 1e-6)),
+        # A rotor across the spin: on z, h = 0.1 kg·m²/s; ω = (0, 1, −0.125) rad/s
+        # is a steady spin (H = (0, 3, −0.375) = 3 ω), unstable (the deviation
+        # grows 8000-fold in 30 s): off it in ω1, a complex pair of roots, the
+        # motion 1.5e-12 (in 1 − m) from the separatrix.
+        ((2.0, 3.0, 4.0), (0, 0, 1), 0.2, 0.625, (0.0, 1.0, -0.125), (1e-6, 0.0, 0.0)),
+    ],
+)
+def test_the_exact_gyrostat_keeps_its_digits_next_to_an_unstable_steady_spin(
+    locked, axis, inertia, speed, steady, offset
+) -> None:
+    # 1e-6 rad/s from an unstable steady spin, over 30 s, against a Taylor-series
+    # integration at 30 digits of the same doubles. How well the motion is
+    # determined: a change of the inputs by round-off (1e-16 relative; the
+    # library rounds the platform's moment 4 − 0.2) moves the state by 1e-16 of
+    # |ω| against its 1e-6 distance from the steady spin, 1e-10 of it, which
+    # shifts the growing deviation by 1e-10 of its size (≤ ~1 rad/s): a closed
+    # form that keeps its digits errs by ~1e-10 rad/s at most (measured 2e-15
+    # and 3e-13). With the roots' differences formed by subtraction it erred
+    # 3.4e-5 and 2.1e-6 rad/s. (tests/core/test_gyrostat.py holds the closed
+    # form itself to 1e-13.)
+    mp = body(*locked)
+    rotor = tb.Rotor(axis, inertia, speed=speed)
+    spin = np.asarray(steady)
+    momentum = np.multiply(locked, spin) + inertia * speed * np.asarray(axis, dtype=float)
+    assert np.allclose(np.cross(spin, momentum), 0.0, atol=1e-15)  # ω ∥ H: a steady spin
+    if np.allclose(np.cross(spin, axis), 0.0):  # the rotor along the spin: the dual spin
+        stability = theory.gyrostat_stability(mp, 1.0, inertia * speed, axis=axis)
+        assert not stability.stable and stability.growth_rate == pytest.approx(0.5292, abs=1e-4)
+    omega0 = spin + offset
+    run = tb.simulate(mp, omega0, duration=30.0, dt=1.0, internal=[rotor])
+    assert run.method == "exact"
+    # The oracle's platform and h formed from the given doubles at 30 digits.
+    with mpmath.workdps(30):
+        j = mpmath.mpf(inertia)
+        platform = [mpmath.mpf(locked[k]) - j * axis[k] ** 2 for k in range(3)]
+        along = mpmath.fsum(mpmath.mpf(a) * w for a, w in zip(axis, omega0, strict=True))
+        h = j * (along + mpmath.mpf(speed))
+        reference = taylor_gyrostat(platform, axis, h, omega0, run.t)
+    assert np.max(np.abs(reference[-1] - spin)) > 1e3 * np.max(offset)  # it grew
+    assert np.max(np.abs(run.omega - reference)) < 1e-9
 
 
 # ------------------------------------------------------------------ Kane damper

@@ -227,6 +227,7 @@ def scenario_keys() -> str:
         ("[report]", sweep_schema.Report),
         ("[[report.maps]]", sweep_schema.MapTable),
         ("[dask]", sweep_schema.DaskTable),
+        ("[limits]", sweep_schema.Limits),
     ):
         lines += _table(f"``{key}``", model)
     return "\n".join(lines) + "\n"

@@ -162,6 +162,15 @@ tumble("run", "units.toml", "-o", "units", "--no-figures", "--no-viewer", expect
 tumble("run", "toy-top.toml", "-o", "toy-top", "--no-figures", "--no-viewer", expect=2)
 
 # %%
+# One command writes a folder at a time: a second ``tumble run``, ``fit`` or
+# ``sweep`` into a folder that another is writing is refused at once, with the pid,
+# host and start of the first (``error: Expected the run folder 'toy-top' to be free
+# to write, got one being written by pid 4242 on lab-pc since 2026-05-09 14:02:11
+# +0200: wait for it to end, or write elsewhere.``). What a killed command left
+# half-written (a ``.NAME.XXXXXXXX.partial`` folder beside its output) is removed
+# by the next one.
+
+# %%
 # ``tumble --debug ...`` shows the full traceback instead of the one line, for
 # reporting a problem; its last line is the same message:
 

@@ -312,7 +312,7 @@ class RigidBody:
             return None
         turned = self.platform_inertia @ axis
         off = turned - float(axis @ turned) * axis
-        if np.linalg.norm(off) > 1e-12 * float(np.trace(self.platform_inertia)):
+        if math.hypot(*off) > 1e-12 * float(np.trace(self.platform_inertia)):
             return None
         return np.asarray(axis, dtype=float)
 
@@ -421,6 +421,15 @@ class RigidBody:
         else:
             rate = largest_rate(moments, principal)
         return rate + self.pendulum_rate(weight)
+
+    def internal_rate(self) -> tuple[float, Any]:
+        """The fastest rate of the parts' own motion relative to the platform, 1/s,
+        and the part it belongs to (0 and None without such parts): what an
+        explicit step must keep within its stability interval
+        (:meth:`tumble.parts.InternalPart.internal_rate`, with the smallest
+        platform moment)."""
+        rates = [(part.internal_rate(float(self.moments[0])), part) for part in self.parts]
+        return max(rates, key=lambda pair: pair[0], default=(0.0, None))
 
     def pendulum_rate(self, weight: float) -> float:
         """√(m g l / I1), rad/s: an upper estimate of the rate of the swing that a

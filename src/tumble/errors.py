@@ -6,6 +6,8 @@ show what was received, e.g. ``Expected `mass` > 0 kg, got -1.0.``
 
 from __future__ import annotations
 
+import os
+
 __all__ = [
     "CoarseStepWarning",
     "InputError",
@@ -13,7 +15,14 @@ __all__ = [
     "MeshError",
     "OutputError",
     "RequestTooLargeError",
+    "quoted",
 ]
+
+#: The most characters of a value a message echoes; the rest is cut (``'...'...``).
+QUOTED_LENGTH = 60
+
+#: The same for a file's path, which is longer: folders and a file name.
+QUOTED_PATH_LENGTH = 200
 
 
 class InputError(ValueError):
@@ -70,3 +79,15 @@ class RequestTooLargeError(InputError):
 
 class CoarseStepWarning(UserWarning):
     """The time step is too coarse for the fastest rotation of the body."""
+
+
+def quoted(value: object, limit: int = QUOTED_LENGTH) -> str:
+    """``value`` as a message shows a value it echoes: its ``repr`` (a path as its
+    text, quoted), cut after ``limit`` characters with ``...`` (a 5000-character
+    name would bury the message); :data:`QUOTED_PATH_LENGTH` for a path."""
+    if isinstance(value, os.PathLike):
+        value = os.fspath(value)
+    if isinstance(value, str):
+        return repr(value) if len(value) <= limit else f"{value[:limit]!r}..."
+    text = repr(value)
+    return text if len(text) <= limit else f"{text[:limit]}..."

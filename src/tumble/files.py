@@ -7,6 +7,9 @@ temporary file behind. :func:`check_output` refuses, before any work, a place
 that cannot be written; an error of the file system while writing (a full
 disk, a lost permission) becomes an :class:`~tumble.errors.OutputError` that
 names the path and the cause.
+
+Outputs written by one process at a time, and folders filled beside their
+output and moved into place, are in :mod:`tumble.locks`.
 """
 
 from __future__ import annotations
@@ -22,8 +25,8 @@ from tumble.errors import OutputError
 
 __all__ = [
     "check_output",
-    "created_parents",
     "output_error",
+    "path_exists",
     "permissions",
     "replaced",
     "write_bytes",
@@ -81,7 +84,7 @@ def check_output(
     shown = str(path)
     above = target.parent
     missing = [target.name]
-    while not (_exists(above) or os.path.lexists(above)) and above != above.parent:
+    while not (path_exists(above) or os.path.lexists(above)) and above != above.parent:
         missing.append(above.name)
         above = above.parent
     try:
@@ -97,13 +100,13 @@ def check_output(
                 "(use a shorter name).",
                 shown,
             )
-    if os.path.lexists(target) and not _exists(target):
+    if os.path.lexists(target) and not path_exists(target):
         raise OutputError(
             f"Expected {what} at a path that exists or can be made, got {shown!r}, a broken "
             "symbolic link (remove it or write elsewhere).",
             shown,
         )
-    if _exists(target):
+    if path_exists(target):
         if folder and not target.is_dir():
             raise OutputError(
                 f"Expected {what} to be a folder, got {shown!r}, which is a file.", shown
@@ -121,7 +124,7 @@ def check_output(
     if not above.is_dir():
         # A path "through" a file, or a broken link: find what is in the way.
         blocker = next((p for p in [above, *above.parents] if os.path.lexists(p)), above)
-        kind = "the broken link" if not _exists(blocker) else "the file"
+        kind = "the broken link" if not path_exists(blocker) else "the file"
         raise OutputError(
             f"Expected {what} in a folder, got {shown!r}, which is under {kind} {str(blocker)!r}.",
             shown,
@@ -134,7 +137,7 @@ def check_output(
         )
 
 
-def _exists(path: Path) -> bool:
+def path_exists(path: Path) -> bool:
     """Whether ``path`` exists; False where the system cannot even look (a name
     too long, a path through a file, a loop of links)."""
     try:
@@ -194,24 +197,6 @@ def replaced(path: str | os.PathLike[str]) -> Iterator[Path]:
         temporary.unlink(missing_ok=True)
 
 
-@contextmanager
-def created_parents(path: str | os.PathLike[str]) -> Iterator[None]:
-    """Create the missing folders above ``path`` for the block, and remove those
-    it created (still empty) when the block raises: a failed write leaves the
-    file system as it found it."""
-    missing = [p for p in Path(path).parents if not _exists(p)]  # deepest first
-    try:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        yield
-    except BaseException:
-        for folder in missing:
-            try:
-                folder.rmdir()
-            except OSError:  # not created here after all, or no longer empty
-                break
-        raise
-
-
 def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
     """Write ``data`` to ``path`` atomically (errors as :func:`replaced`)."""
     with replaced(path) as temporary:
@@ -222,3 +207,6 @@ def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
 def write_text(path: str | os.PathLike[str], text: str) -> Path:
     """Write UTF-8 ``text`` to ``path`` atomically (errors as :func:`replaced`)."""
     return write_bytes(path, text.encode("utf-8"))
+
+
+# ------------------------------------------------------------ one writer at a time

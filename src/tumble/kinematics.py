@@ -8,6 +8,7 @@ coordinates (rad/s²). Each function accepts one vector ``(3,)`` or a stack
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -146,7 +147,8 @@ def required_torque(mp: MassProperties, omega: Any, omega_dot: Any, about: Any =
 
 def as_attitude(value: Any, name: str = "attitude0") -> Array:
     """A unit quaternion ``[w, x, y, z]`` (body → space) from None (the identity),
-    a quaternion (4,) (normalised here) or a single scipy ``Rotation``."""
+    a quaternion (4,) of any non-zero length (normalised here) or a single scipy
+    ``Rotation``."""
     from scipy.spatial.transform import Rotation
 
     if value is None:
@@ -156,9 +158,12 @@ def as_attitude(value: Any, name: str = "attitude0") -> Array:
             raise InputError(f"Expected `{name}` to be a single rotation, got {len(value)}.")
         return np.asarray(value.as_quat(scalar_first=True), dtype=float)
     q = vector_to_si(value, "dimensionless", name, (4,))
-    norm = float(np.linalg.norm(q))
-    if norm < 1e-12:
+    largest = float(np.max(np.abs(q)))
+    if largest == 0.0:
         raise InputError(
             f"Expected `{name}` to be a non-zero quaternion [w, x, y, z], got {q.tolist()}."
         )
-    return q / norm
+    # Divided by its largest component first: the squares of [1e300, 1e300, 0, 0]
+    # overflow and those of [1e-300, 1e-300, 0, 0] underflow; only its direction counts.
+    q = q / largest
+    return np.asarray(q / math.sqrt(float(q @ q)))

@@ -27,6 +27,7 @@ __all__ = [
     "MassProperties",
     "as_mass_properties",
     "axisymmetric_moments",
+    "check_symmetric",
     "point_masses",
     "readonly",
 ]
@@ -43,6 +44,34 @@ PHYSICAL_TOLERANCE = 1e-9
 REPEATED_MOMENT_TOLERANCE = 1e-9
 
 Array = NDArray[np.float64]
+
+
+def check_symmetric(inertia: Array) -> None:
+    """Refuse an inertia tensor (3, 3), or a stack of them (N, 3, 3, one a body),
+    that is not symmetric to ``PHYSICAL_TOLERANCE`` of its largest entry (kg·m²,
+    finite). The message names the pair of entries farthest apart (and their body).
+
+    Raises
+    ------
+    InputError
+        A tensor that is not symmetric.
+    """
+    tensors = inertia.reshape(-1, 3, 3)
+    scale = np.max(np.abs(tensors), axis=(1, 2))
+    # Over each tensor's largest entry: no difference of entries near 1e308 overflows.
+    unit = tensors / np.where(scale > 0.0, scale, 1.0)[:, None, None]
+    asymmetry = np.abs(unit - np.swapaxes(unit, 1, 2)).reshape(-1, 9)
+    bad = np.flatnonzero(np.max(asymmetry, axis=1) > PHYSICAL_TOLERANCE)
+    if bad.size == 0:
+        return
+    k = int(bad[0])
+    i, j = np.unravel_index(int(np.argmax(asymmetry[k])), (3, 3))
+    body, at = (f"body {k} with ", f"{k}, ") if inertia.ndim == 3 else ("", "")
+    raise InputError(
+        f"Expected `inertia` to be symmetric, got {body}inertia[{at}{i}, {j}] = "
+        f"{float(tensors[k, i, j])!r} but inertia[{at}{j}, {i}] = {float(tensors[k, j, i])!r} "
+        "kg·m²."
+    )
 
 
 def readonly(values: Any) -> Array:
@@ -114,17 +143,11 @@ class MassProperties:
             raise InputError(f"Expected `mass` > 0 kg, got {mass_si!r}.")
         com = vector_to_si(center_of_mass, "length", "center_of_mass", (3,))
         tensor = vector_to_si(inertia, "inertia", "inertia", (3, 3))
+        check_symmetric(tensor)
         scale = float(np.max(np.abs(tensor)))
         # The checks work on the tensor over its largest entry, so that sums and
         # eigenvalues of entries near 1e308 neither overflow nor fail to converge.
         unit = tensor / scale if scale > 0 else tensor
-        asymmetry = np.abs(unit - unit.T)
-        if asymmetry.max() > PHYSICAL_TOLERANCE:
-            i, j = np.unravel_index(int(np.argmax(asymmetry)), (3, 3))
-            raise InputError(
-                f"Expected `inertia` to be symmetric, got inertia[{i}, {j}] = "
-                f"{float(tensor[i, j])!r} but inertia[{j}, {i}] = {float(tensor[j, i])!r} kg·m²."
-            )
         if scale <= np.finfo(float).max / 2:
             tensor = 0.5 * (tensor + tensor.T)
         else:  # halves first: the sum would overflow (halving rounds only subnormals)

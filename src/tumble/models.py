@@ -31,6 +31,7 @@ from tumble.core import gimbal
 from tumble.errors import InputError
 from tumble.integrators.drivers import (
     Schedule,
+    check_record_every,
     step_in_chunks,
     time_step,
     warn_if_coarse,
@@ -287,12 +288,7 @@ def gyrocompass(
     c = to_si(damping, "damping", "damping")
     if c < 0:
         raise InputError(f"Expected `damping` >= 0 N·m·s, got {c!r}.")
-    if (
-        isinstance(record_every, bool)
-        or not isinstance(record_every, int | np.integer)
-        or record_every < 1
-    ):
-        raise InputError(f"Expected `record_every` to be an integer >= 1, got {record_every!r}.")
+    record_every = check_record_every(record_every)
 
     if latitude is None:
         lam = None

@@ -1,4 +1,5 @@
-"""The memory budget of a request, checked before any work.
+"""The memory budget of a request, checked before any work, and the most
+steps a run may take (:data:`DEFAULT_MAX_STEPS`).
 
 A simulation keeps its recorded samples in memory. Before it starts,
 :func:`check_memory` compares the memory they will take with the budget and
@@ -6,10 +7,14 @@ refuses, with the estimate and how to ask for less, a request that cannot fit,
 instead of failing deep inside numpy (or being killed by the operating system)
 after minutes of work.
 
-The budget is half of the memory this process may use: the machine's memory,
-or the limit of its container (cgroup) when that is lower. Set the environment
-variable ``TUMBLE_MEMORY_BUDGET`` to another amount (``"64 GiB"``, ``"500 MB"``,
-or a number of bytes) to change it; it is read at each call.
+The budget is half of the memory this process may use (:func:`usable_memory`):
+the smallest of the machine's memory, the memory limit of its cgroup (v1 or
+v2, its own or an ancestor's), and what its resource limits leave: the
+address-space limit (``ulimit -v``) less the address space it has mapped
+already (the compiled kernels' code and libraries take hundreds of MB), the
+data limit (``ulimit -d``) less its data. Set the environment variable
+``TUMBLE_MEMORY_BUDGET`` to another amount (``"64 GiB"``, ``"500 MB"``, or a
+number of bytes) to change it; it is read at each call.
 """
 
 from __future__ import annotations
@@ -23,10 +28,13 @@ from tumble.errors import InputError, RequestTooLargeError
 __all__ = [
     "BUDGET_VARIABLE",
     "DEFAULT_FRACTION",
+    "DEFAULT_MAX_STEPS",
+    "DEFAULT_MAX_STEPS_TEXT",
     "check_memory",
     "format_bytes",
     "machine_memory",
     "memory_budget",
+    "usable_memory",
 ]
 
 #: The environment variable that sets the memory budget.
@@ -36,29 +44,119 @@ BUDGET_VARIABLE = "TUMBLE_MEMORY_BUDGET"
 #: left for the process's other data, its temporaries and the other programs.
 DEFAULT_FRACTION = 0.5
 
-# cgroup v2, then v1: the memory limit of the container this process runs in.
-_CGROUP_LIMITS = (
-    Path("/sys/fs/cgroup/memory.max"),
-    Path("/sys/fs/cgroup/memory/memory.limit_in_bytes"),
+#: The most integration steps a run may take unless it asks for more
+#: (:func:`tumble.simulate`'s ``max_steps``; the limit of scenario files): a
+#: few seconds to a minute of the compiled kernels. An adaptive run on a stiff
+#: problem, whose steps follow its fastest time scale, stops there rather than
+#: run for hours. ``DEFAULT_MAX_STEPS_TEXT`` is how messages write it.
+DEFAULT_MAX_STEPS = 50_000_000
+DEFAULT_MAX_STEPS_TEXT = f"{DEFAULT_MAX_STEPS:.0e}".replace("e+0", "e")
+
+# Where the kernel shows this process's cgroups and status, and where the cgroup
+# hierarchies are mounted.
+_PROC_SELF = Path("/proc/self")
+_CGROUP_ROOT = Path("/sys/fs/cgroup")
+
+# The memory limit file of each hierarchy: (its mount under the root, the file,
+# cgroup v2 or v1). v2 is mounted at the root, or at "unified" beside v1's
+# controllers (the hybrid layout).
+_HIERARCHIES = (
+    ("", "memory.max", "v2"),
+    ("unified", "memory.max", "v2"),
+    ("memory", "memory.limit_in_bytes", "v1"),
 )
 
 
-def machine_memory() -> int:
-    """The memory this process may use, bytes: the physical memory, or the
-    limit of its container when that is lower."""
+def usable_memory() -> tuple[int, str]:
+    """The memory this process may use, bytes, and where that number comes from.
+
+    The smallest of: the machine's physical memory; the memory limit of the
+    cgroup this process is in or of any cgroup above it (v2 ``memory.max``, v1
+    ``memory.limit_in_bytes``; each applies to everything below it); its
+    address-space limit (``RLIMIT_AS``, ``ulimit -v``) less its mapped address
+    space (``VmSize``: a limit on address space counts what is mapped, not what
+    is used); its data limit (``RLIMIT_DATA``, ``ulimit -d``) less its data
+    (``VmData``).
+    """
     try:
-        physical = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+        physical = int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
     except (ValueError, OSError, AttributeError):  # not a POSIX system
         physical = 8 * 2**30
-    usable = int(physical)
-    for limit in _CGROUP_LIMITS:
-        try:
-            text = limit.read_text().strip()
-        except OSError:
+    candidates = [(physical, "the machine's memory"), *_cgroup_limits(), *_process_limits()]
+    return min(candidates, key=lambda candidate: candidate[0])
+
+
+def machine_memory() -> int:
+    """The memory this process may use, bytes (:func:`usable_memory`)."""
+    return usable_memory()[0]
+
+
+def _cgroup_limits() -> list[tuple[int, str]]:
+    """The memory limits (bytes, and the file that sets each) of this process's
+    cgroups and their ancestors, in every hierarchy mounted under ``_CGROUP_ROOT``."""
+    paths = {"v2": "/", "v1": "/"}
+    try:
+        lines = (_PROC_SELF / "cgroup").read_text().splitlines()
+    except OSError:
+        lines = []
+    for line in lines:  # "hierarchy-id:controllers:path"
+        controllers, _, path = line.partition(":")[2].partition(":")
+        if controllers == "":
+            paths["v2"] = path
+        elif "memory" in controllers.split(","):
+            paths["v1"] = path
+    found = []
+    for mount, name, version in _HIERARCHIES:
+        parts = [part for part in paths[version].split("/") if part]
+        if ".." in parts:  # a cgroup outside this namespace: only its root is visible
+            parts = []
+        # The cgroup, then each ancestor up to the mount's root: a path of the
+        # host that the container's mount does not show is skipped.
+        for depth in range(len(parts), -1, -1):
+            file = _CGROUP_ROOT.joinpath(mount, *parts[:depth], name)
+            try:
+                text = file.read_text().strip()
+            except OSError:
+                continue
+            if text.isdigit():
+                found.append((int(text), f"the memory limit of its cgroup, {file}"))
+    return found
+
+
+def _process_limits() -> list[tuple[int, str]]:
+    """What this process's address-space and data limits leave it, bytes, with
+    the limit and what it uses already (none where no limit is set)."""
+    try:
+        import resource
+    except ImportError:  # not a POSIX system
+        return []
+    try:
+        status = (_PROC_SELF / "status").read_text()
+    except OSError:
+        status = ""
+    used = {}
+    for line in status.splitlines():
+        key, _, value = line.partition(":")
+        fields = value.split()
+        if len(fields) == 2 and fields[0].isdigit() and fields[1] == "kB":
+            used[key] = int(fields[0]) * 1024
+    found = []
+    for which, flag, what, field, verb in (
+        (resource.RLIMIT_AS, "ulimit -v", "address-space", "VmSize", "it has mapped"),
+        (resource.RLIMIT_DATA, "ulimit -d", "data", "VmData", "of data it holds"),
+    ):
+        soft, _ = resource.getrlimit(which)
+        if soft == resource.RLIM_INFINITY or soft < 0:
             continue
-        if text.isdigit():
-            usable = min(usable, int(text))
-    return usable
+        taken = used.get(field, 0)
+        found.append(
+            (
+                max(soft - taken, 0),
+                f"its {what} limit ({flag}) of {format_bytes(soft)} less the "
+                f"{format_bytes(taken)} {verb}",
+            )
+        )
+    return found
 
 
 def memory_budget() -> tuple[float, str]:
@@ -73,23 +171,23 @@ def memory_budget() -> tuple[float, str]:
     text = os.environ.get(BUDGET_VARIABLE, "").strip()
     if text:
         return _parse_amount(text), f"{BUDGET_VARIABLE} = {text}"
-    usable = machine_memory()
+    usable, why = usable_memory()
     return DEFAULT_FRACTION * usable, (
-        f"half of the {format_bytes(usable)} this process may use; set {BUDGET_VARIABLE} "
-        "to change it"
+        f"half of the {format_bytes(usable)} this process may use, {why}; set "
+        f"{BUDGET_VARIABLE} to change it"
     )
 
 
 def _parse_amount(text: str) -> float:
     """Bytes from ``"64 GiB"``, ``"500 MB"`` or a plain number of bytes."""
-    from tumble.units import ureg
+    from tumble.units import quantity
 
     try:
         value = float(text)
     except ValueError:
         try:
-            value = float(ureg.Quantity(text).to("byte").magnitude)
-        except Exception:  # pint raises several kinds for text it cannot read
+            value = float(quantity(text, BUDGET_VARIABLE).to("byte").magnitude)
+        except Exception:  # an unreadable text, or one that is no amount of memory
             value = math.nan
     if not (math.isfinite(value) and value > 0):
         raise InputError(

@@ -53,8 +53,29 @@ def _positive_length(value: Any, name: str) -> float:
     return length
 
 
+#: Below this a float64 keeps fewer digits (subnormal), down to 0: a moment there
+#: would be silently wrong, or zero for a body of positive size.
+_SMALLEST_MOMENT = float(np.finfo(float).tiny)
+
+
 def _body(mass: float, ixx: float, iyy: float, izz: float) -> MassProperties:
-    return MassProperties(mass, _ORIGIN, np.diag([ixx, iyy, izz]))
+    """The solid's MassProperties from its closed-form moments about its centre of
+    mass, refused where a moment of a body of positive size underflows float64
+    (a thin rod's axial moment is exactly zero, and stays valid)."""
+    moments = [ixx, iyy, izz]
+    if not all(math.isfinite(moment) for moment in moments):
+        raise InputError(
+            f"Expected moments of inertia within float64's range, got "
+            f"{[float(f'{m:.3g}') for m in moments]} kg·m² for a mass of {mass:.3g} kg: the body "
+            "is too heavy or too large for SI in float64."
+        )
+    if any(0 < abs(moment) < _SMALLEST_MOMENT for moment in moments) or not any(moments):
+        raise InputError(
+            f"Expected moments of inertia of at least {_SMALLEST_MOMENT:.3g} kg·m², float64's "
+            f"smallest full-precision number, got {[float(f'{m:.3g}') for m in moments]} for a "
+            f"mass of {mass:.3g} kg: the body is too light or too small for SI in float64."
+        )
+    return MassProperties(mass, _ORIGIN, np.diag(moments))
 
 
 def box(mass: Any, size: Any) -> MassProperties:
@@ -71,7 +92,9 @@ def box(mass: Any, size: Any) -> MassProperties:
     True
     """
     m = _mass(mass)
-    a, b, c = vector_to_si(size, "length", "size", (3,))
+    # Python floats: a product beyond float64's range is inf, refused below, with no
+    # numpy overflow warning printed before the refusal.
+    a, b, c = (float(edge) for edge in vector_to_si(size, "length", "size", (3,)))
     for name, edge in zip(("size[0]", "size[1]", "size[2]"), (a, b, c), strict=True):
         edge = float(edge)
         if edge <= 0:
@@ -237,7 +260,7 @@ def ellipsoid(mass: Any, semi_axes: Any) -> MassProperties:
     ``I_xx = m (b² + c²) / 5`` and cyclic.
     """
     m = _mass(mass)
-    a, b, c = vector_to_si(semi_axes, "length", "semi_axes", (3,))
+    a, b, c = (float(axis) for axis in vector_to_si(semi_axes, "length", "semi_axes", (3,)))
     for name, axis in zip(("semi_axes[0]", "semi_axes[1]", "semi_axes[2]"), (a, b, c), strict=True):
         axis = float(axis)
         if axis <= 0:

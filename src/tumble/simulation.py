@@ -25,9 +25,11 @@ from tumble.errors import CoarseStepWarning, InputError, IntegrationError, Reque
 from tumble.integrators import INTEGRATORS, Integrator, auto_choice, get_integrator
 from tumble.integrators.drivers import (
     DEFAULT_STEPS_PER_TURN,
+    MAX_STEPS,
     MIN_STEPS_PER_TURN,
     Problem,
     Schedule,
+    check_record_every,
     recorded_samples,
     time_step,
     warn_if_coarse,
@@ -36,7 +38,7 @@ from tumble.integrators.drivers import (
 from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties, as_mass_properties
 from tumble.parts import check_parts, value_columns
-from tumble.resources import check_memory
+from tumble.resources import DEFAULT_MAX_STEPS, check_memory
 from tumble.torques import BoundTorque, Gravity, TorqueModel, bind
 from tumble.trajectory import Trajectory
 from tumble.units import to_si, vector_to_si
@@ -73,7 +75,7 @@ def simulate(
     rtol: float = 1e-10,
     atol: float = 1e-12,
     internal: Any = None,
-    max_steps: int | None = None,
+    max_steps: int | None = DEFAULT_MAX_STEPS,
 ) -> Trajectory:
     """Simulate the rotation of a rigid body under Euler's equations.
 
@@ -134,10 +136,12 @@ def simulate(
         parts, the splittings for rotors; ``"auto"`` picks the splitting for
         rotors without torques that act from outside or depend on ω, else the
         adaptive method.
-    max_steps : None, or the most steps the run may take: a fixed-step run
-        that needs more is refused before it starts; an adaptive run (whose
-        steps follow the motion) stops when it has tried that many. The
-        closed forms take none.
+    max_steps : the most steps the run may take (default 5e7,
+        :data:`tumble.resources.DEFAULT_MAX_STEPS`; None: up to 2^53): a
+        fixed-step run that needs more is refused before it starts; an
+        adaptive run (whose steps follow the motion: on a stiff problem, its
+        fastest time scale) stops when it has tried that many. The closed
+        forms take none.
 
     Returns
     -------
@@ -192,12 +196,7 @@ def simulate(
     >>> print(f"{rate:.2f} rad/s, theory {np.sqrt(2 * 9.81 * 0.2 / (0.008 + 2 * 0.2**2)):.2f}")
     6.68 rad/s, theory 6.68
     """
-    if (
-        isinstance(record_every, bool)
-        or not isinstance(record_every, int | np.integer)
-        or record_every < 1
-    ):
-        raise InputError(f"Expected `record_every` to be an integer >= 1, got {record_every!r}.")
+    record_every = check_record_every(record_every)
     setup = prepare(
         mp, omega0, attitude0=attitude0, pivot=pivot, gravity=gravity, torque=torque,
         method=method, internal=internal,
@@ -207,14 +206,21 @@ def simulate(
     total_time = to_si(duration, "time", "duration")
     if total_time <= 0:
         raise InputError(f"Expected `duration` > 0 s, got {total_time!r}.")
-    if integrator.kind == "adaptive":
-        if method == "auto":
-            reason += f" (rtol {rtol:g}, atol {atol:g})"
-        for name, value in (("rtol", rtol), ("atol", atol)):
-            if not (isinstance(value, float | int) and math.isfinite(value) and value > 0):
-                raise InputError(f"Expected `{name}` > 0, got {value!r}.")
-        if rtol < 1e-15:
-            raise InputError(f"Expected `rtol` >= 1e-15 (round-off), got {rtol!r}.")
+    # Checked whatever the method, though only the adaptive one reads them: a
+    # value that cannot be right is refused, not ignored.
+    for name, value in (("rtol", rtol), ("atol", atol)):
+        if isinstance(value, bool) or not (
+            isinstance(value, float | int) and math.isfinite(value) and value > 0
+        ):
+            raise InputError(f"Expected `{name}` > 0, got {value!r}.")
+    if rtol < 1e-15:
+        raise InputError(f"Expected `rtol` >= 1e-15 (round-off), got {rtol!r}.")
+    if progress is not None and not callable(progress):
+        raise InputError(
+            f"Expected `progress` to be None or a function (done, total), got {progress!r}."
+        )
+    if integrator.kind == "adaptive" and method == "auto":
+        reason += f" (rtol {rtol:g}, atol {atol:g})"
 
     g = setup.gravity
     weight = mp.mass * math.hypot(*g)
@@ -227,8 +233,9 @@ def simulate(
         raise RequestTooLargeError(
             f"Expected at most max_steps = {most:.6g} steps, got duration / dt = "
             f"{total_time:.6g} s / {schedule.step:.3g} s = {schedule.n_steps} steps: use a "
-            "larger dt or a shorter duration."
+            "larger dt or a shorter duration, or raise `max_steps=`."
         )
+    check_internal_stability(body, integrator.kind, schedule.step, total_time, most)
     if dt is not None and integrator.kind == "stepping":
         if integrator.exact_free_motion:  # only the torque needs resolving
             warn_if_coarse(schedule.step, body.pendulum_rate(weight), "the pendulum swing")
@@ -254,10 +261,54 @@ def simulate(
     )
 
 
+#: The stability intervals of the explicit methods on the negative real axis,
+#: |h λ| (Hairer & Wanner, *Solving ODEs II*, §IV.2): RK4 2.785, Dormand–Prince
+#: 5(4) 3.3. A part's motion faster than this for the step diverges.
+_STABILITY = {"stepping": 2.78, "adaptive": 3.3}
+
+
+def check_internal_stability(
+    body: RigidBody, kind: str, step: float, duration: float, most_steps: float
+) -> None:
+    """Refuse, before any work, a run whose parts move too fast for an explicit
+    method: a fixed step beyond the stability interval of the fastest part's
+    rate (the run would diverge), or an adaptive run that would need more than
+    ``most_steps`` steps to stay within it (a stiff damper).
+
+    Raises
+    ------
+    IntegrationError
+        A fixed step the part's rate makes unstable.
+    RequestTooLargeError
+        An adaptive run needing more than ``most_steps`` steps.
+    """
+    rate, part = body.internal_rate()
+    limit = _STABILITY.get(kind)
+    if not rate > 0 or limit is None:
+        return
+    name = type(part).__name__
+    if kind == "stepping" and step * rate > limit:
+        raise IntegrationError(
+            f"Expected dt within the stability of the method for the {name}'s own rate "
+            f"({rate:.3g} 1/s): dt × rate <= {limit}, got dt = {step:.3g} s, dt × rate = "
+            f"{step * rate:.3g} (the run would diverge); use dt <= {limit / rate:.3g} s, or "
+            "less damping or stiffness."
+        )
+    needed = duration * rate / limit
+    if kind == "adaptive" and needed > most_steps:
+        raise RequestTooLargeError(
+            f"Expected the adaptive integration to end within {most_steps:.3g} steps "
+            f"(max_steps), got at least {needed:.3g} steps: the {name}'s own rate "
+            f"({rate:.3g} 1/s) holds an explicit method's step under {limit / rate:.3g} s "
+            "(a stiff part); ask for a shorter duration, less damping or stiffness, or raise "
+            "`max_steps=`."
+        )
+
+
 def _most_steps(max_steps: Any) -> float:
     """``max_steps`` (an integer >= 1, or None: 2^53) as the float the kernels read."""
     if max_steps is None:
-        return 2.0**53
+        return float(MAX_STEPS)
     if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) or max_steps < 1:
         raise InputError(f"Expected `max_steps` to be an integer >= 1 or None, got {max_steps!r}.")
     return float(max_steps)

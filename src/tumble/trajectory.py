@@ -33,6 +33,12 @@ __all__ = ["Trajectory"]
 Array = NDArray[np.float64]
 
 
+def _lengths(vectors: Array) -> Array:
+    """(n,) the lengths of (n, 3) vectors, by hypot: no overflow or underflow
+    of their squares (L of a body of 1e200 kg·m², or 1e-200)."""
+    return np.asarray(np.hypot.reduce(vectors, axis=1))
+
+
 @dataclass(frozen=True, eq=False)
 class Trajectory:
     """A simulated rotation, sampled at times ``t``.
@@ -190,7 +196,7 @@ class Trajectory:
         if name == "angular_momentum_vector":
             return momentum
         if name == "angular_momentum_norm":
-            return np.asarray(np.linalg.norm(momentum, axis=1))
+            return _lengths(momentum)
         if name == "angular_momentum_vertical":
             size = math.hypot(*self.gravity)
             if size == 0.0:
@@ -198,7 +204,7 @@ class Trajectory:
             return np.asarray(momentum @ (-self.gravity / size))
         if name == "angular_momentum_axial":
             lever = self.body.lever
-            axis = lever / max(float(np.linalg.norm(lever)), np.finfo(float).tiny)
+            axis = lever / max(math.hypot(*lever), np.finfo(float).tiny)
             return np.asarray(self.body_momentum @ axis)
         raise InputError(
             f"Expected one of {', '.join(INVARIANTS)} or a model's own quantity, got {name!r}."
@@ -213,15 +219,20 @@ class Trajectory:
         conserved vertical component is measured against the momentum it swings
         with, not against that."""
         values = self.invariant(name)
-        tiny = np.finfo(float).tiny
         if name.startswith("angular_momentum"):
-            largest = float(np.max(np.linalg.norm(self.angular_momentum, axis=1)))
-            size = max(largest, self._momentum_scale, tiny)
-            if values.ndim == 2:
-                return np.asarray(np.linalg.norm(values - values[0], axis=1) / size)
-            return np.asarray((values - values[0]) / size)
-        scale = max(abs(float(values[0])), float(np.max(np.abs(values))), tiny)
-        return np.asarray((values - values[0]) / scale)
+            scale = max(float(np.max(_lengths(self.angular_momentum))), self._momentum_scale)
+        else:
+            scale = float(np.max(np.abs(values)))
+        # Scaled by a power of two (exact) to order one before the change and its
+        # length: the squares of L at 1e200 kg·m²/s overflow, those of a change
+        # at 1e-200 underflow, and the change of values near the largest float
+        # could overflow.
+        exponent = math.frexp(scale)[1] if math.isfinite(scale) else 0
+        scaled = np.ldexp(values, -exponent)
+        change = scaled - scaled[0]
+        if change.ndim == 2:
+            change = _lengths(change)
+        return np.asarray(change / max(math.ldexp(scale, -exponent), np.finfo(float).tiny))
 
     @cached_property
     def _momentum_scale(self) -> float:
@@ -231,9 +242,9 @@ class Trajectory:
         if not self.internal:
             return 0.0
         body = self.body
-        sizes = [np.linalg.norm(self.omega @ body.platform_inertia.T, axis=1)]
+        sizes = [_lengths(self.omega @ body.platform_inertia.T)]
         for part, values in zip(self.internal, body.split_values(self._part_values), strict=True):
-            sizes.append(np.linalg.norm(part.momentum(self.omega, values), axis=1))
+            sizes.append(_lengths(part.momentum(self.omega, values)))
         return float(np.max(sizes))
 
     @cached_property

@@ -7,9 +7,12 @@ to SI float64 with :func:`to_si` / :func:`vector_to_si`, and work in SI inside.
 
 from __future__ import annotations
 
+import io
+import itertools
 import math
 import re
 import sys
+import tokenize
 from collections.abc import Sequence
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
@@ -17,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
+from tumble.errors import QUOTED_LENGTH, InputError, quoted
 
 
 def _import_pint() -> ModuleType:
@@ -43,7 +46,15 @@ if TYPE_CHECKING:
 else:
     pint = _import_pint()
 
-__all__ = ["SI_UNITS", "length_scale", "to_si", "unit_vector", "ureg", "vector_to_si"]
+__all__ = [
+    "SI_UNITS",
+    "length_scale",
+    "quantity",
+    "to_si",
+    "unit_vector",
+    "ureg",
+    "vector_to_si",
+]
 
 
 def _registry() -> pint.UnitRegistry:
@@ -82,25 +93,131 @@ SI_UNITS: dict[str, str] = {
 _RUNAWAY_POWER = re.compile(r"(\*\*|\^)\s*\(?\s*[-+]?\d{3,}|(\*\*|\^)\s*[\d.]+\s*(\*\*|\^)")
 _MAX_TEXT = 200
 
+#: Signs people type that pint does not read, and what they mean: pint's tokenizer
+#: would drop them ("−3 kg", with a Unicode minus, would be +3 kg).
+_TYPOGRAPHY = str.maketrans({"−": "-", "×": "*", "·": "*", "⋅": "*"})
+
+#: Characters of a number or a unit expression besides letters of any script
+#: (µm, Å, Ω): those pint reads ("°", powers such as "m²"). Anything else pint's
+#: tokenizer drops without a word ("3 🍕" would be 3, "3 ✓ cm" 3 cm, "3 = m" 3 m),
+#: and pint drops commas as thousands separators ("3 m, 4" would be 12 m, "1,5 kg"
+#: 15 kg): all are refused.
+_EXPRESSION = frozenset("0123456789.+-*/^() _\t°⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def _checked_text(text: str, name: str) -> str:
+    """``text`` with typographic signs made plain, refused where pint would read
+    it otherwise than it is written: characters outside numbers and unit names,
+    and two numbers side by side ("3 4 m", "3..2 m"), which pint multiplies.
+
+    Raises
+    ------
+    InputError
+        Naming the value and the character or numbers that cannot be read.
+    """
+    plain = text.translate(_TYPOGRAPHY)
+    prepared = plain
+    for preprocess in ureg.preprocessors:  # "%" and "‰" to names
+        prepared = preprocess(prepared)
+    unknown = sorted({c for c in prepared if c not in _EXPRESSION and not c.isalpha()})
+    if unknown:
+        shown = ", ".join(repr(c) for c in unknown)
+        hint = (
+            " (one value, with a decimal point and no thousands separator)"
+            if "," in unknown
+            else ""
+        )
+        raise InputError(
+            f"Expected `{name}` to be a number or a quantity such as '250 g', got "
+            f"{quoted(text)}, which holds {shown}: not part of a number or a unit{hint}."
+        )
+    numbers = [token for token in _tokens(prepared) if token.type == tokenize.NUMBER]
+    for first, second in itertools.pairwise(numbers):
+        between = prepared[first.end[1] : second.start[1]]
+        if not between.strip():
+            raise InputError(
+                f"Expected `{name}` to be a number or a quantity such as '250 g', got "
+                f"{quoted(text)}, with the numbers {first.string} and {second.string} side by "
+                "side (write one number, or an operator between them)."
+            )
+    return plain
+
+
+def _tokens(text: str) -> list[tokenize.TokenInfo]:
+    """Python's tokens of one line of text, as pint reads them; none where the
+    tokenizer gives up (pint then raises its own error, which is reported)."""
+    try:
+        return list(tokenize.generate_tokens(io.StringIO(text).readline))
+    except (tokenize.TokenError, SyntaxError):
+        return []
+
+
+#: Why pint could not read a text, by the kind of its error.
+_PARSE_FAILURES = {
+    "TokenError": "unbalanced parentheses",
+    "ZeroDivisionError": "a division by zero",
+    "UndefinedUnitError": "an unknown unit",
+    "DefinitionSyntaxError": "not a valid expression",
+    "AssertionError": "not a valid expression",
+    "OverflowError": "a number beyond float range",
+}
+
+
+def quantity(text: str, name: str) -> Any:
+    """Parse ``text`` (``"250 g"``, ``"3000 rpm"``, ``"0.25"``) into a pint quantity
+    of :data:`ureg`, exactly as written or not at all.
+
+    pint alone drops what it does not understand and multiplies numbers written
+    side by side; this refuses characters outside numbers and unit names (an
+    emoji, ``#``, ``=``, a comma), and two numbers side by side. A Unicode minus,
+    ``·`` and ``×`` are read as ``-`` and ``*``.
+
+    Parameters
+    ----------
+    text : the value as typed.
+    name : the argument's name, used in error messages.
+
+    Raises
+    ------
+    InputError
+        Naming the value and why it cannot be read.
+
+    Examples
+    --------
+    >>> from tumble.units import quantity
+    >>> print(quantity("−3 N·m", "torque"))
+    -3 meter * newton
+    >>> quantity("3 🍕", "radius")
+    Traceback (most recent call last):
+        ...
+    tumble.errors.InputError: Expected `radius` ... got '3 🍕', which holds '🍕': not part ...
+    """
+    if len(text) > _MAX_TEXT or _RUNAWAY_POWER.search(text):
+        raise InputError(
+            f"Expected `{name}` to be a number or a quantity such as '250 g', got "
+            f"{quoted(text)} (too long or a runaway power)."
+        )
+    plain = _checked_text(text, name)
+    try:
+        return ureg.Quantity(plain)
+    except Exception as exc:  # pint's parser raises many kinds (tokenize, zero division, ...)
+        kind = type(exc).__name__
+        reason = _PARSE_FAILURES.get(kind, "not a valid expression")
+        if kind == "UndefinedUnitError":  # "'furlongz' is not defined in the unit registry"
+            reason = str(exc) or reason
+        raise InputError(
+            f"Expected `{name}` to be a number or a quantity such as '250 g', got "
+            f"{quoted(text)} ({reason})."
+        ) from None
+
 
 def _parse(value: Any, name: str) -> Any:
     """Turn a string into a pint quantity; leave other values alone."""
     if isinstance(value, str):
-        if len(value) > _MAX_TEXT or _RUNAWAY_POWER.search(value):
-            raise InputError(
-                f"Expected `{name}` to be a number or a quantity such as '250 g', got "
-                f"{value[:60]!r}{'...' if len(value) > 60 else ''} (too long or a runaway power)."
-            )
-        try:
-            quantity: Any = ureg.Quantity(value)
-        except Exception as exc:  # pint's parser raises many kinds (tokenize, zero division, ...)
-            raise InputError(
-                f"Expected `{name}` to be a number or a quantity such as "
-                f"'250 g', got {value!r} ({type(exc).__name__}: {exc})."
-            ) from None
+        parsed = quantity(value, name)
         # A bare number in a string ("0.25") is SI, like a bare float; "50 %" or
         # "5 cm/m" are not bare numbers and go through the dimension check.
-        return quantity.magnitude if quantity.units == ureg.dimensionless else quantity
+        return parsed.magnitude if parsed.units == ureg.dimensionless else parsed
     return value
 
 
@@ -110,19 +227,39 @@ def _quantity_to_si(value: Any, kind: str, name: str) -> Any:
     if kind == "angular_velocity" and "hertz" in str(value.units):
         # pint takes Hz as 1/s, which would read 1 Hz as 1 rad/s: off by 2π.
         raise InputError(
-            f"Expected `{name}` in rad/s, rpm or turn/s, got {value} (hertz is ambiguous for "
+            f"Expected `{name}` in rad/s, rpm or turn/s, got {_brief(value)} (hertz is "
+            "ambiguous for "
             "an angular velocity: write '1 turn/s' for 2π rad/s, or 'rad/s')."
         )
     expected = ureg.Quantity(1, si_unit) if si_unit else ureg.Quantity(1)
     if value.dimensionality != expected.dimensionality:
-        shown = f"{value:~P}" if np.ndim(value.magnitude) == 0 else str(value)
-        what = kind.replace("_", " ")
+        shown = f"{value:~P}" if np.ndim(value.magnitude) == 0 else _brief(value)
+        what = "dimensionless number" if kind == "dimensionless" else kind.replace("_", " ")
         unit = f" in {si_unit}" if si_unit else ""
         raise InputError(
             f"Expected `{name}` to be {_article(what)} {what}{unit}, got {shown} "
             f"(dimensions {value.dimensionality or 'dimensionless'})."
         )
     return value.to(si_unit).magnitude if si_unit else value.to("").magnitude
+
+
+def _brief(value: Any) -> str:
+    """A quantity or array as a message shows it: whole when short, else cut."""
+    text = str(value)
+    return text if len(text) <= QUOTED_LENGTH else f"{text[:QUOTED_LENGTH]}..."
+
+
+def _not_finite(array: NDArray[np.float64]) -> str:
+    """The values of an array that is not finite, as a message shows them: all of a
+    small array, else the first value that is not finite, where, and how many."""
+    if array.size <= 12:
+        return str(array.tolist())
+    bad = ~np.isfinite(array)
+    where = tuple(int(i) for i in np.argwhere(bad)[0])
+    return (
+        f"{array[where]} at index {list(where)} ({int(bad.sum())} of its {array.size} values "
+        "are NaN or infinite)"
+    )
 
 
 def _article(word: str) -> str:
@@ -166,14 +303,14 @@ def to_si(value: Any, kind: str, name: str) -> float:
     except ValueError:  # numpy refuses ragged nestings such as [[1], {}, 2]
         scalar = False
     if isinstance(value, bool | np.bool_) or not scalar:
-        raise InputError(f"Expected `{name}` to be a scalar, got {value!r}.")
+        raise InputError(f"Expected `{name}` to be a scalar, got {quoted(value)}.")
     if np.iscomplexobj(value):
-        raise InputError(f"Expected `{name}` to be a real number, got {value!r}.")
+        raise InputError(f"Expected `{name}` to be a real number, got {quoted(value)}.")
     try:
         result = float(value)
     except (TypeError, ValueError):
         raise InputError(
-            f"Expected `{name}` to be a number or a quantity such as '250 g', got {value!r}."
+            f"Expected `{name}` to be a number or a quantity such as '250 g', got {quoted(value)}."
         ) from None
     except OverflowError:  # an integer beyond float range (TOML and Python allow them)
         given = f"an integer of {len(str(abs(value)))} digits" if isinstance(value, int) else value
@@ -223,7 +360,7 @@ def vector_to_si(
         array = _nested_to_si(value, kind, name)
     else:
         raise InputError(
-            f"Expected `{name}` to be an array of shape {_shape_text(shape)}, got {value!r}."
+            f"Expected `{name}` to be an array of shape {_shape_text(shape)}, got {quoted(value)}."
         )
     if array.ndim != len(shape) or any(
         s != -1 and s != a for s, a in zip(shape, array.shape, strict=True)
@@ -232,7 +369,7 @@ def vector_to_si(
             f"Expected `{name}` to have shape {_shape_text(shape)}, got {array.shape}."
         )
     if not np.all(np.isfinite(array)):
-        raise InputError(f"Expected `{name}` to be finite, got {array.tolist()}.")
+        raise InputError(f"Expected `{name}` to be finite, got {_not_finite(array)}.")
     return array
 
 
@@ -245,7 +382,7 @@ def _nested_to_si(value: Any, kind: str, name: str) -> NDArray[np.float64]:
     if isinstance(value, Sequence | np.ndarray) and not isinstance(value, str):
         items = [_nested_to_si(v, kind, name) for v in value]
         if len({item.shape for item in items}) > 1:
-            raise InputError(f"Expected `{name}` to be a rectangular array, got {value!r}.")
+            raise InputError(f"Expected `{name}` to be a rectangular array, got {quoted(value)}.")
         return np.array(items, dtype=float)
     return np.asarray(to_si(value, kind, name), dtype=float)
 
@@ -296,18 +433,19 @@ def length_scale(units: Any, name: str = "units") -> float:
     """
     if isinstance(units, str):
         try:
-            quantity = ureg.Quantity(1, units) if units.strip() else None
+            unit = ureg.Quantity(1, _checked_text(units, name)) if units.strip() else None
         except Exception:  # pint's parser raises many kinds ("{": TokenError, "\b": assert)
-            quantity = None
-        if quantity is None:
+            unit = None
+        if unit is None:
             raise InputError(
-                f"Expected `{name}` to be a length unit such as 'mm' or 'inch', got {units!r}."
+                f"Expected `{name}` to be a length unit such as 'mm' or 'inch', got "
+                f"{quoted(units)}."
             )
-        scale = to_si(quantity, "length", name)
+        scale = to_si(unit, "length", name)
     else:
         scale = to_si(units, "length", name)
     if scale <= 0:
-        raise InputError(f"Expected `{name}` to be a positive length unit, got {units!r}.")
+        raise InputError(f"Expected `{name}` to be a positive length unit, got {quoted(units)}.")
     return scale
 
 

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from reference import taylor_gyrostat
 from tumble.core.gyrostat import gyrostat_constants, gyrostat_momentum, gyrostat_period
 
 
@@ -56,7 +57,7 @@ def test_the_closed_form_follows_an_independent_integration_in_every_normal_form
     times = np.linspace(0.0, 20.0, 81)
     for moments, h, omega in cases():
         h0 = moments * omega + [0.0, 0.0, h]
-        constants = gyrostat_constants(moments, h, *h0)
+        constants = gyrostat_constants(moments, h, *omega)
         assert constants is not None
         forms.add((constants[0], tuple(constants[12:18])))
         error = np.max(
@@ -74,7 +75,7 @@ def test_z_returns_after_one_period(index) -> None:
     # turning point: the period is not a multiple of the true one).
     moments, h, omega = cases()[index]
     h0 = moments * omega + [0.0, 0.0, h]
-    constants = gyrostat_constants(moments, h, *h0)
+    constants = gyrostat_constants(moments, h, *omega)
     period = gyrostat_period(constants)
     end = reference(moments, h, h0, np.array([0.0, 0.5 * period, period]))
     size = np.linalg.norm(h0)
@@ -85,4 +86,38 @@ def test_z_returns_after_one_period(index) -> None:
 
 def test_a_steady_rotation_has_no_elliptic_motion() -> None:
     # ω along the rotor axis: H parallel to ω, nothing moves in the body.
-    assert gyrostat_constants(np.array([2.0, 3.0, 4.0]), 1.0, 0.0, 0.0, 3.0) is None
+    assert gyrostat_constants(np.array([2.0, 3.0, 4.0]), 1.0, 0.0, 0.0, 0.5) is None
+
+
+# Platform moments (the rotors on axis 3), h and ω0, 1e-6 rad/s from an
+# unstable steady spin (ω ∥ H), each reaching a form where the closed form
+# once lost digits:
+NEXT_TO_STEADY_SPINS = [
+    # About axis 2, (I3 − I2) ω3 + h = 0 (b1 = 0): off it in ω1, a complex pair
+    # 3e-6 from the real axis, 1 − m = 1.5e-12 (the amplitude over 1 − m).
+    ((2.0, 3.0, 3.8), 0.1, (1e-6, 1.0, -0.125)),
+    # The same spin, off it in ω3: four real roots, two 7.6e-6 apart, which put
+    # the pole of the Möbius map next to s = 1 (the map near z = q).
+    ((2.0, 3.0, 3.8), 0.1, (0.0, 1.0, -0.125 + 1e-6)),
+    # About the rotor axis (h = 0.5 in (I1 − I3, I2 − I3) ω3: unstable): four
+    # real roots, the state 5e-13 (in 1 − s) from a turning point of z, where
+    # the initial phase is steepest (the angle am u0 would lose it).
+    ((1.0, 3.0, 1.9), 0.5, (1e-6, -1e-6, 1.0)),
+]
+
+
+@pytest.mark.parametrize(("moments", "h", "omega"), NEXT_TO_STEADY_SPINS)
+def test_the_closed_form_keeps_its_digits_next_to_an_unstable_steady_spin(moments, h, omega):
+    # Against a Taylor-series integration at 30 digits over 30 s, from the same
+    # doubles: the constants carry no cancellation, so what is left is their
+    # round-off times the phase's sensitivity, ~1e-16 of the ~20 rad of u:
+    # 1e-13 of |H| (measured ≤ 1.3e-15; with the differences formed by
+    # subtraction these cases erred 2e-6, 1.4e-12 and 4e-5 of |H|).
+    moments = np.array(moments)
+    times = np.linspace(0.0, 30.0, 16)
+    constants = gyrostat_constants(moments, h, *omega)
+    omega_reference = taylor_gyrostat(moments, (0, 0, 1), h, omega, times)
+    expected = moments * omega_reference + [0.0, 0.0, h]
+    size = np.linalg.norm(expected[0])
+    assert np.max(np.abs(expected - expected[0])) > 1e3 * 1e-6 * size  # it moved away
+    assert np.max(np.abs(gyrostat_momentum(constants, times) - expected)) < 1e-13 * size

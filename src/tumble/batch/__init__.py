@@ -22,8 +22,8 @@ from tumble.core._jit import FINITE
 from tumble.core.metrics import N_METRICS
 from tumble.errors import InputError, IntegrationError
 from tumble.integrators import Integrator, get_integrator
-from tumble.integrators.drivers import PROGRESS_CHUNK, whole_steps
-from tumble.massprops import PHYSICAL_TOLERANCE
+from tumble.integrators.drivers import PROGRESS_CHUNK, check_record_every, whole_steps
+from tumble.massprops import PHYSICAL_TOLERANCE, check_symmetric
 from tumble.parts import check_parts, value_columns
 from tumble.resources import check_memory
 from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
@@ -124,13 +124,22 @@ def step_batch(
         run.quaternion_history.append(batch.q.copy())
     kernel = integrator.kernel("batch", batch.torque)
     torque = batch.torque
-    # A closed form jumps to each recorded time (or to the end) in one call.
-    chunk = record_every or (n_steps if integrator.kind == "sampling" else PROGRESS_CHUNK)
+    # A closed form jumps to each recorded time (or to the end) in one call, and
+    # from the initial state: a restart from each rounded record would carry
+    # the round-off on, amplified near a separatrix.
+    sampling = integrator.kind == "sampling"
+    start = (batch.w.copy(), batch.q.copy()) if sampling and record_every is not None else None
+    chunk = record_every or (n_steps if sampling else PROGRESS_CHUNK)
     done = 0
     while done < n_steps:
         count = min(chunk, n_steps - done)
-        kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, done * dt, dt,
-               count, status)  # fmt: skip
+        if start is None:
+            kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, done * dt,
+                   dt, count, status)  # fmt: skip
+        else:
+            batch.w[:], batch.q[:] = start
+            kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, 0.0, dt,
+                   done + count, status)  # fmt: skip
         done += count
         if np.any(status != FINITE):
             break
@@ -243,7 +252,8 @@ def simulate_batch(
     Parameters
     ----------
     inertia : (N, 3) principal moments (the body axes are principal axes) or
-        (N, 3, 3) inertia tensors about the centres of mass, kg·m².
+        (N, 3, 3) inertia tensors about the centres of mass, kg·m², symmetric
+        as :class:`tumble.MassProperties` requires.
     omega0 : (N, 3) initial angular velocities in body coordinates, rad/s.
     attitude0 : None (identity) or (N, 4) quaternions ``[w, x, y, z]``, body → space.
     duration, dt : s, > 0; dt is shortened slightly so whole steps span duration.
@@ -251,15 +261,16 @@ def simulate_batch(
         (:func:`tumble.integrators.batch_integrators`): ``"rk4"`` (vectorised
         across bodies: the fastest per step), ``"splitting"`` or ``"strang"``
         (as in :func:`tumble.simulate`), or ``"exact"`` for torque-free
-        bodies (the closed form at each recorded time, O(1) a body whatever
-        the duration; ``dt`` then only sets the recorded times).
+        bodies (the closed form at each recorded time, from the initial state,
+        O(1) a body whatever the duration; ``dt`` then only sets the recorded
+        times).
     torque : a torque model that batches accept (its class's ``in_batches``:
         constant body and space torques and linear damping), each either one
         value for all bodies or one per body (``ConstantBodyTorque(array (N,
         3))``, ``LinearDamping(array (N,))``). Gravity needs a pivot, user
         functions a single body: use :func:`tumble.simulate` for those.
     record_every : None to keep only the final states (memory stays O(N)), or k
-        to also keep every k-th state.
+        (an integer >= 1) to also keep every k-th state, and the last.
     progress : None or ``progress(done, total)`` in steps.
     internal : Rotor and KaneDamper parts (:mod:`tumble.parts`) that every body
         carries, as in :func:`tumble.simulate`: ``inertia`` holds them as if
@@ -316,6 +327,8 @@ def simulate_batch(
     values = vector_to_si(
         inertia, "inertia", "inertia", (-1, 3) if np.ndim(inertia) == 2 else (-1, 3, 3)
     )
+    if values.ndim == 3:
+        check_symmetric(values)
     n = values.shape[0]
     omega = vector_to_si(omega0, "angular_velocity", "omega0", (n, 3))
     q0 = _attitudes(attitude0, n)
@@ -342,10 +355,7 @@ def simulate_batch(
                 f"Expected `torque` of models that batches accept ({accepted}), got {term!r} "
                 "(use simulate for it)."
             )
-    if record_every is not None and (isinstance(record_every, bool) or record_every < 1):
-        raise InputError(
-            f"Expected `record_every` to be None or an integer >= 1, got {record_every!r}."
-        )
+    record_every = check_record_every(record_every, optional=True)
     parts = check_parts(internal)
     n_steps = whole_steps(total_time, step)
     check_batch_memory(n, n_steps, record_every, len(value_columns(parts)))

@@ -38,6 +38,7 @@ __all__ = [
     "comparison_row",
     "comparison_table",
     "register_check",
+    "steady_state",
 ]
 
 Array = NDArray[np.float64]
@@ -124,11 +125,13 @@ class Setup:
 class Comparison:
     """The rows theory vs simulation (:func:`comparison_row`) and the panels to draw;
     ``runs``: trajectories the check simulated itself to compare with, by label
-    (e.g. the same body without its rotor), written beside the main one."""
+    (e.g. the same body without its rotor), written beside the main one;
+    ``notes``: sentences for the report, such as why nothing was compared."""
 
     rows: list[dict[str, Any]]
     panels: list[Panel]
     runs: Mapping[str, Trajectory] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
 
 
 class TheoryCheck:
@@ -292,6 +295,38 @@ def axis_angles(trajectory: Trajectory, axis: Array, vertical: Array) -> tuple[A
     e2 = np.cross(vertical, e1)
     azimuth = np.unwrap(np.arctan2(directions @ e2, directions @ e1))
     return tilt, azimuth - azimuth[0]
+
+
+#: ω counts as along a principal axis (a steady spin) when the part of I ω across
+#: ω is below this fraction of |I ω|: round-off of the principal decomposition.
+STEADY_TOLERANCE = 1e-12
+
+
+def steady_state(setup: Setup) -> str | None:
+    """Why a free rigid body's motion is steady, as a note for the report: at
+    rest, or spinning about a principal axis (I ω parallel to ω); None otherwise.
+
+    Euler's equations give ω̇ = 0 exactly there: the closed forms describe a
+    motion that does not change, and no rate or period can be measured."""
+    omega = np.asarray(setup.omega0, dtype=float)
+    scale = float(np.max(np.abs(omega)))
+    if scale == 0:
+        return (
+            "no theory comparison: the body is at rest (ω = 0), where the free-body solution "
+            "stays at rest; nothing to compare."
+        )
+    moments, axes = setup.mass_properties.principal()
+    along = axes.T @ (omega / scale)  # ω in principal axes, scaled: no overflow
+    momentum = moments * along
+    across = np.cross(momentum, along)
+    if np.linalg.norm(across) > STEADY_TOLERANCE * np.linalg.norm(momentum) * np.linalg.norm(along):
+        return None
+    k = int(np.argmax(np.abs(along)))
+    return (
+        f"no theory comparison: the body spins about a principal axis (I{k + 1} = "
+        f"{moments[k]:.3g} kg·m²), where the free-body solution is a steady spin; "
+        "nothing to compare."
+    )
 
 
 def periods(period: float, count: int, duration: float) -> float | None:

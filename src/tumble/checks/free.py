@@ -16,6 +16,7 @@ from tumble.checks.base import (
     TheoryCheck,
     axis_angles,
     comparison_row,
+    steady_state,
 )
 from tumble.errors import InputError
 
@@ -67,6 +68,9 @@ class FreeSymmetricTopCheck(TheoryCheck):
         ]
 
     def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
+        steady = steady_state(setup)
+        if steady is not None:  # no cone, no precession to measure
+            return Comparison([], [], notes=(steady,))
         result = theory.free_symmetric_top(setup.mass_properties, setup.omega0)
         rows = self.rows(trajectory, result)
         t = trajectory.t
@@ -165,7 +169,26 @@ class FlipPeriodCheck(TheoryCheck):
             expected = _expected_flips(flips.times[0], period, duration)
             rows.append(comparison_row("flips in the run", expected, float(flips.count), ""))
         panels = [Panel("Flips: ω along the principal axes", "ω (rad/s)", curves, name="flips")]
-        return Comparison(rows, panels)
+        notes: tuple[str, ...] = ()
+        if not rows:
+            notes = (_nothing_compared(setup, period, duration),)
+        return Comparison(rows, panels, notes=notes)
+
+
+def _nothing_compared(setup: Setup, period: float, duration: float) -> str:
+    """Why a free body's run gave no flip period to compare."""
+    steady = steady_state(setup)
+    if steady is not None:
+        return steady
+    if not math.isfinite(period):
+        return (
+            "no theory comparison: the flip period is infinite (ω starts on the separatrix, "
+            "or turns steadily in a plane of equal moments); nothing to compare."
+        )
+    return (
+        f"no theory comparison: the run ({duration:.3g} s) holds fewer than two flips (the "
+        f"flip period is {period:.3g} s); run longer to compare."
+    )
 
 
 def _expected_flips(first: float, period: float, duration: float) -> float:

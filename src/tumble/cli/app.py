@@ -82,7 +82,7 @@ def run_command(work: Any) -> None:
 
 def one_line(exc: BaseException) -> str:
     """The message of a user error on one line."""
-    from tumble.errors import InputError
+    from tumble.errors import QUOTED_PATH_LENGTH, InputError, quoted
 
     if isinstance(exc, MemoryError):
         return (
@@ -90,7 +90,7 @@ def one_line(exc: BaseException) -> str:
             "record fewer samples, or run a sweep, which streams its results to disk."
         )
     if isinstance(exc, OSError) and not isinstance(exc, InputError):
-        where = repr(exc.filename) if exc.filename else "the output"
+        where = quoted(exc.filename, QUOTED_PATH_LENGTH) if exc.filename else "the output"
         return f"Expected to read or write {where}, got: {exc.strerror or exc}."
     return str(exc)
 

@@ -37,12 +37,42 @@ def show_scenario(
     """Print a built-in scenario as TOML, to copy and edit."""
 
     def work() -> None:
+        from tumble.errors import InputError
         from tumble.scenario import builtin_names, builtin_text
         from tumble.sweep import builtin_sweeps, show_sweep
 
-        if name not in builtin_names() and name in builtin_sweeps():
+        scenarios, sweeps = builtin_names(), list(builtin_sweeps())
+        if name in scenarios:
+            typer.echo(builtin_text(name), nl=False)
+        elif name in sweeps:
             typer.echo(show_sweep(name), nl=False)
-            return
-        typer.echo(builtin_text(name), nl=False)
+        else:
+            raise InputError(_not_builtin(name, scenarios, sweeps))
 
     run_command(work)
+
+
+def _not_builtin(name: str, scenarios: list[str], sweeps: list[str]) -> str:
+    """The message for a name ``tumble show`` does not know, with the nearest name,
+    or, for a file of the user's, that only built-in files are shown."""
+    import difflib
+    from pathlib import Path
+
+    from tumble.errors import quoted
+
+    path = Path(name)
+    try:
+        own_file = path.is_file()
+    except OSError:  # a name too long for the system
+        own_file = False
+    nearest = difflib.get_close_matches(path.stem, [*scenarios, *sweeps], n=1)
+    if nearest and (path.suffix.lower() == ".toml" or not own_file):
+        hint = f". Did you mean {nearest[0]}?"
+    elif own_file:
+        hint = ", a file of your own: `tumble show` prints the files tumble ships."
+    else:
+        hint = "."
+    return (
+        f"Expected the name of a built-in scenario ({', '.join(scenarios)}) or sweep "
+        f"({', '.join(sweeps)}), got {quoted(name)}{hint}"
+    )

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import enum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -15,22 +14,6 @@ if TYPE_CHECKING:
     from tumble.identification.files import Recording
 
 __all__ = ["fit_recording", "parse_window"]
-
-
-class RateUnit(enum.StrEnum):
-    """The units ``--units`` accepts."""
-
-    RAD = "rad/s"
-    DEG = "deg/s"
-
-
-class Loss(enum.StrEnum):
-    """The losses ``--loss`` accepts (those of ``scipy.optimize.least_squares``)."""
-
-    LINEAR = "linear"
-    SOFT_L1 = "soft_l1"
-    HUBER = "huber"
-    CAUCHY = "cauchy"
 
 
 @app.command("fit")
@@ -56,9 +39,10 @@ def fit_recording(
         ),
     ] = None,
     units: Annotated[
-        RateUnit | None,
+        str | None,
         typer.Option(
             "--units",
+            metavar="rad/s|deg/s",
             help="Units of the rates when the header states none; default: rad/s, or deg/s "
             "for rates beyond 20 turns/s in rad/s.",
             show_default=False,
@@ -77,9 +61,14 @@ def fit_recording(
         bool, typer.Option("--no-bias", help="Fit no sensor bias (for a sensor without one).")
     ] = False,
     loss: Annotated[
-        Loss,
-        typer.Option("--loss", help="The fit's loss: a robust one for outliers."),
-    ] = Loss.LINEAR,
+        str,
+        typer.Option(
+            "--loss",
+            metavar="LOSS",
+            help="The fit's loss: linear (least squares), or a robust loss of scipy's "
+            "least_squares for outliers (soft_l1, huber, cauchy, arctan).",
+        ),
+    ] = "linear",
     output: Annotated[
         Path | None,
         typer.Option(
@@ -106,20 +95,26 @@ def fit_recording(
         span = parse_window(window) if window is not None else None
         with loading():
             from tumble.cli.runs import default_folder
-            from tumble.identification import noise_level
-            from tumble.identification.files import example_recording_path, read_recording
+            from tumble.identification.checks import check_loss
+            from tumble.identification.files import (
+                example_recording_path,
+                rate_unit,
+                read_recording,
+            )
             from tumble.identification.fit import identify
             from tumble.report.fit import fit_name, write_fit
 
+        # The library's own checks, before the recording is read: said at once.
+        check_loss(loss, "--loss")
+        rate_unit(units, "--units")
         path = Path(recording) if recording is not None else example_recording_path()
         source = str(path) if recording is not None else path.name
-        measured = read_recording(path, columns, units.value if units else None)
-        fit = identify(measured.t, measured.omega, window=span, bias=not no_bias, loss=loss.value)
-        noise = noise_level(measured.t, measured.omega)
+        measured = read_recording(path, columns, units)
+        fit = identify(measured.t, measured.omega, window=span, bias=not no_bias, loss=loss)
         folder = output if output is not None else default_folder(fit_name(source))
         write_fit(
-            fit, measured, folder, source=source, noise=noise, found=span is None,
-            loss=loss.value, figures=not no_figures, force=force,
+            fit, measured, folder, source=source, noise=fit.noise, found=span is None,
+            loss=loss, figures=not no_figures, force=force,
         )  # fmt: skip
         if quiet:
             return
@@ -129,7 +124,7 @@ def fit_recording(
                 "thrown spinning about its intermediate axis: synthetic_phone(0) of "
                 "tumble.identification)."
             )
-        print_fit(fit, measured, source, folder, noise, found=span is None)
+        print_fit(fit, measured, source, folder, fit.noise, found=span is None)
 
     run_command(work)
 
@@ -162,8 +157,9 @@ def print_fit(
         f"[bold]Fit of {source}[/bold]  ({len(t)} samples over {t[-1] - t[0]:.4g} s)",
         highlight=False,
     )
-    if measured.note:
-        console.print(f"note: {measured.note}", highlight=False, soft_wrap=True)
+    for note in (measured.note, fit.note):
+        if note:
+            console.print(f"note: {note}", highlight=False, soft_wrap=True)
     how = "found: the free flight" if found else "as given"
     console.print(
         f"Window fitted: {fit.window[0]:.6g}–{fit.window[1]:.6g} s, {len(fit.t)} samples ({how})",

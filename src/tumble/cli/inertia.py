@@ -161,8 +161,15 @@ def _build_body(
                 f"Expected {_option(missing[0])} for {shape_name} (it takes {accepted})."
             )
         return shape_name.replace("_", "-"), function(mass, **dimensions)
+    from tumble.errors import quoted
+    from tumble.mesh.step import STEP_SUFFIXES
+
     path = Path(body)
-    if path.suffix.lower() in MESH_SUFFIXES or path.exists():
+    try:
+        exists = path.exists()
+    except OSError:  # a name too long for the system: not a file, and not a shape
+        exists = False
+    if path.suffix.lower() in (*MESH_SUFFIXES, *STEP_SUFFIXES) or exists:
         from tumble.mesh import from_mesh  # numba and trimesh: only for meshes
 
         if dimensions:
@@ -179,7 +186,7 @@ def _build_body(
     hint = f" Did you mean {close[0].replace('_', '-')}?" if close else ""
     raise InputError(
         f"Expected a shape ({', '.join(s.replace('_', '-') for s in shapes.__all__)}) "
-        f"or a mesh file, got {body!r}.{hint}"
+        f"or a mesh file, got {quoted(body)}.{hint}"
     )
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import json
-from collections.abc import Iterator
+from collections.abc import Container, Iterator
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -16,6 +16,7 @@ from tumble.cli.progress import LazyProgress
 
 __all__ = [
     "figure_workers",
+    "new_run_folder",
     "run_scenario",
     "scenario_argument",
     "sweep",
@@ -65,20 +66,25 @@ def run_scenario(
     """Simulate a scenario, compare with theory, and write a run folder with a report."""
 
     def work() -> None:
+        from tumble.locks import OutputLock
         from tumble.report import check_folder
 
-        if output is not None:
-            check_folder(output, force)  # before anything else: say it at once
-        # Started first, so that importing matplotlib overlaps with the rest.
-        with figure_workers(not no_figures) as workers:
+        with contextlib.ExitStack() as claims:
+            if output is not None:  # before anything else: say it at once
+                claims.enter_context(OutputLock(output, "the run folder"))
+                check_folder(output, force)
+            # Started first, so that importing matplotlib overlaps with the rest.
+            workers = claims.enter_context(figure_workers(not no_figures))
             with loading():
                 from tumble.report import write_run
                 from tumble.scenario import load, run
 
                 loaded = load(scenario)
             loaded = without_outputs(loaded, figures=not no_figures, viewer=not no_viewer)
-            folder = output if output is not None else default_folder(loaded.name)
-            check_folder(folder, force)  # before simulating
+            folder = output
+            if folder is None:
+                folder = claims.enter_context(new_run_folder(loaded.name))
+                check_folder(folder, force)  # before simulating
             with LazyProgress(enabled=not quiet) as progress:
                 result = run(loaded, progress=progress.steps)
                 write_run(result, folder, force=force, progress=progress.stage,
@@ -204,19 +210,25 @@ def sweep(
 
     def work() -> None:
         from tumble.report import write_sweep_report
-        from tumble.sweep import run_sweep
+        from tumble.sweep import load_sweep, run_sweep
+        from tumble.sweep.engine import claim_folder, sweep_folder
 
-        with LazyProgress(enabled=not quiet) as progress:
-            progress.description = "chunks"
-            summary = run_sweep(
-                file,
-                output,
-                workers=workers,
-                scheduler=scheduler,
-                force=force,
-                progress=progress.chunks,
-            )
-        write_sweep_report(summary)
+        plan = load_sweep(file)
+        folder = sweep_folder(plan, output)
+        # Claimed until the report is written (run_sweep claims it too, and alone
+        # would let another sweep in before the report).
+        with claim_folder(folder):
+            with LazyProgress(enabled=not quiet) as progress:
+                progress.description = "chunks"
+                summary = run_sweep(
+                    plan,
+                    folder,
+                    workers=workers,
+                    scheduler=scheduler,
+                    force=force,
+                    progress=progress.chunks,
+                )
+            write_sweep_report(summary)
         if as_json:
             typer.echo(json.dumps(summary.to_dict(), indent=2, allow_nan=False, default=str))
         elif not quiet:
@@ -233,16 +245,42 @@ def sweep(
     run_command(work)
 
 
-def default_folder(name: str) -> Path:
-    """runs/NAME-YYYYmmdd-HHMMSS, with -2, -3, ... if that exists already."""
+def default_folder(name: str, passed: Container[Path] = ()) -> Path:
+    """runs/NAME-YYYYmmdd-HHMMSS, with -2, -3, ... if that exists already (or is
+    in ``passed``)."""
     import time
 
     base = Path("runs") / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
     folder, k = base, 1
-    while folder.exists():
+    while folder.exists() or folder in passed:
         k += 1
         folder = base.with_name(f"{base.name}-{k}")
     return folder
+
+
+@contextlib.contextmanager
+def new_run_folder(name: str) -> Iterator[Path]:
+    """A new default run folder (:func:`default_folder`), claimed for the block
+    (:class:`tumble.locks.OutputLock`): a name that another run started in the
+    same second has claimed, or has written meanwhile, is passed over."""
+    from tumble.locks import OutputInUseError, OutputLock
+
+    passed: set[Path] = set()
+    while True:
+        folder = default_folder(name, passed)
+        passed.add(folder)
+        claim = OutputLock(folder, "the run folder")
+        try:
+            claim.acquire()
+        except OutputInUseError:
+            continue
+        if not folder.exists():
+            break
+        claim.release()
+    try:
+        yield folder
+    finally:
+        claim.release()
 
 
 def print_run(result: Any, folder: Path) -> None:
@@ -277,6 +315,8 @@ def print_run(result: Any, folder: Path) -> None:
                 row.get("unit", ""),
             )
         console.print(table)
+    for note in result.notes:  # why nothing was compared, or what a reader should know
+        console.print(f"Note: {note}", highlight=False, soft_wrap=True)
     from tumble.body import label
 
     parts = [f"{label(key)} {value:.2e}" for key, value in result.drift.items()]

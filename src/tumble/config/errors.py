@@ -20,7 +20,7 @@ from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 from tumble.config.locate import key_lines, line_of
-from tumble.errors import InputError
+from tumble.errors import QUOTED_LENGTH, InputError, quoted
 
 if TYPE_CHECKING:
     # Imported where used: listing and showing built-in files needs no pydantic.
@@ -71,8 +71,10 @@ def unknown_key(key: str, known: Sequence[str]) -> PydanticCustomError:
 
 def key_text(key: str) -> str:
     """A key as messages write it: as it is, or with its line breaks and other
-    unprintable characters escaped (``a\\nb``), so that a message stays one line."""
-    return key if key.isprintable() else repr(key)[1:-1]
+    unprintable characters escaped (``a\\nb``), so that a message stays one line;
+    cut after :data:`~tumble.errors.QUOTED_LENGTH` characters."""
+    text = key if key.isprintable() else repr(key)[1:-1]
+    return text if len(text) <= QUOTED_LENGTH else f"{text[:QUOTED_LENGTH]}..."
 
 
 def key_error(key: str | tuple[str | int, ...], message: str) -> PydanticCustomError:
@@ -181,4 +183,4 @@ def shown(value: Any) -> str:
         return "a table"
     if isinstance(value, list):
         return "an array"
-    return repr(value)
+    return quoted(value)

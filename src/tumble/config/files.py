@@ -6,6 +6,10 @@ the name of one shipped with tumble (``tumble run gyroscope``, ``tumble sweep
 flip-map``); the rules for telling them apart and the messages for a missing
 file, an unreadable one, an unknown name and invalid TOML are the same for
 both, so they live here once.
+
+Files are read as people save them: a UTF-8 byte order mark (which Windows
+editors write, and TOML does not allow) is dropped, and a file nested deeper
+than Python's TOML parser can follow is one line that gives its depth.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from tumble.config.errors import ConfigError, first_error
+from tumble.errors import QUOTED_PATH_LENGTH, quoted
 
 if TYPE_CHECKING:
     from pydantic import BaseModel
@@ -27,6 +32,17 @@ if TYPE_CHECKING:
 __all__ = ["Builtins", "Source", "parse_toml", "read_source", "validate_toml"]
 
 Model = TypeVar("Model", bound="BaseModel")
+
+#: Every kind of built-in file by its ``kind``, as each is defined; a name unknown
+#: to one kind is looked up in the others, to say which command runs it.
+_KINDS: dict[str, Builtins] = {}
+
+#: The modules that define the kinds of built-in files, imported when a name is
+#: unknown (a command that reads scenarios has not imported the sweeps).
+_DEFINED_IN = ("tumble.scenario.files", "tumble.sweep.engine")
+
+#: The byte order mark some editors begin a UTF-8 file with.
+_BYTE_ORDER_MARK = "\ufeff"
 
 
 @dataclass(frozen=True)
@@ -42,6 +58,7 @@ class Builtins:
     order : the names listed first, in this order; the others follow sorted.
     describe : the keys of the ``[kind]`` table whose first non-empty value
         describes a file (its first line).
+    command : the command that runs a file of this kind; default ``tumble KIND``.
     """
 
     kind: str
@@ -50,6 +67,15 @@ class Builtins:
     error: type[ConfigError]
     order: tuple[str, ...] = ()
     describe: tuple[str, ...] = ("description",)
+    command: str = ""
+
+    def __post_init__(self) -> None:
+        _KINDS[self.kind] = self
+
+    @property
+    def runs_with(self) -> str:
+        """The command that runs a file of this kind (``tumble run``)."""
+        return self.command or f"tumble {self.kind}"
 
     def folder(self) -> Path:
         """The folder of the files (also where the files they name are looked up)."""
@@ -71,13 +97,34 @@ class Builtins:
         """
         names = self.names()
         if name not in names:
-            close = difflib.get_close_matches(name, names, n=1)
-            hint = f" Did you mean {close[0]}?" if close else ""
+            other = self._other_kind(name)
+            if other is not None:
+                hint = f", a built-in {other.kind}: run it with `{other.runs_with} {name}`."
+            else:
+                close = difflib.get_close_matches(name, names, n=1)
+                hint = "." + (f" Did you mean {close[0]}?" if close else "")
             raise self.error(
                 f"Expected a built-in {self.kind} ({', '.join(names)}) or a .toml file, "
-                f"got {name!r}.{hint}"
+                f"got {quoted(name)}{hint}"
             )
         return (self.folder() / f"{name}.toml").read_text(encoding="utf-8")
+
+    def _other_kind(self, name: str) -> Builtins | None:
+        """The other kind of built-in file that has one named ``name``, if any."""
+        import importlib
+
+        for module in _DEFINED_IN:
+            try:
+                importlib.import_module(module)
+            except ImportError:  # an optional part that is not installed
+                continue
+        for kind in _KINDS.values():
+            try:
+                if kind is not self and name in kind.names():
+                    return kind
+            except (ImportError, OSError):  # its package is gone (one made for a test)
+                continue
+        return None
 
     def description(self, name: str) -> str:
         """One line that describes the built-in file ``name`` (empty if it has none)."""
@@ -114,13 +161,22 @@ def read_source(given: str | os.PathLike[str], builtins: Builtins) -> Source:
     """
     name = str(given)
     path = Path(name)
-    if path.suffix.lower() == ".toml" or path.exists():
+    shown = quoted(name, QUOTED_PATH_LENGTH)
+    try:
+        exists = path.exists()
+    except OSError as exc:  # a name too long for the system, a folder that cannot be read
+        raise builtins.error(
+            f"Expected a {builtins.kind} file or a built-in name, got {quoted(name)}: "
+            f"{exc.strerror or exc}."
+        ) from None
+    if path.suffix.lower() == ".toml" or exists:
         if not path.is_file():
-            raise builtins.error(f"Expected a {builtins.kind} file, got {name!r} (no such file).")
+            why = "a folder" if path.is_dir() else "no such file"
+            raise builtins.error(f"Expected a {builtins.kind} file, got {shown} ({why}).")
         try:
             text = path.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as exc:
-            raise builtins.error(f"Expected a readable UTF-8 file, got {name!r}: {exc}.") from None
+            raise builtins.error(f"Expected a readable UTF-8 file, got {shown}: {exc}.") from None
         return Source(text, name, path.resolve().parent, path)
     return Source(builtins.text(name), f"builtin:{name}", builtins.folder(), None)
 
@@ -128,15 +184,65 @@ def read_source(given: str | os.PathLike[str], builtins: Builtins) -> Source:
 def parse_toml(text: str, source: str, error: type[ConfigError] = ConfigError) -> dict[str, Any]:
     """The data of TOML ``text``.
 
+    A byte order mark at the start is dropped.
+
     Raises
     ------
     ConfigError (``error``)
-        Invalid TOML, with tomllib's line and column.
+        Invalid TOML, with tomllib's line and column; arrays and inline tables
+        nested deeper than tomllib can follow (about 500 levels), with the depth.
     """
+    text = text.removeprefix(_BYTE_ORDER_MARK)
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{source}: Expected valid TOML, got an error: {exc}.") from None
+    except RecursionError:  # tomllib recurses once per level of nesting
+        raise error(
+            f"{source}: Expected arrays and inline tables nested at most a few hundred levels "
+            f"deep, got {_depth(text)} levels."
+        ) from None
+
+
+def _depth(text: str) -> int:
+    """The deepest nesting of arrays and inline tables in TOML ``text`` (brackets
+    outside strings and comments; a table header counts as one level)."""
+    deepest = depth = 0
+    position, end = 0, len(text)
+    while position < end:
+        char = text[position]
+        if char in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif char in "]}":
+            depth = max(depth - 1, 0)
+        elif char == "#":
+            newline = text.find("\n", position)
+            position = end if newline < 0 else newline
+            continue
+        elif char in "\"'":
+            position = _string_end(text, position)
+            continue
+        position += 1
+    return deepest
+
+
+def _string_end(text: str, start: int) -> int:
+    """The position after the TOML string that starts at ``start`` (basic or literal,
+    on one line or several; backslash escapes in basic strings)."""
+    quote = text[start]
+    delimiter = quote * 3 if text.startswith(quote * 3, start) else quote
+    position = start + len(delimiter)
+    while position < len(text):
+        if quote == '"' and text[position] == "\\":
+            position += 2
+            continue
+        if text.startswith(delimiter, position):
+            return position + len(delimiter)
+        if delimiter == quote and text[position] == "\n":  # unterminated: tomllib says so
+            return position
+        position += 1
+    return position
 
 
 def validate_toml(

@@ -15,7 +15,7 @@ import difflib
 from typing import Any
 
 from tumble.config.errors import key_error, unknown_key
-from tumble.errors import InputError
+from tumble.errors import InputError, quoted
 
 __all__ = ["actuator_choice", "method_choice", "theory_choice", "torque_entry", "torque_types"]
 
@@ -38,7 +38,9 @@ def method_choice(value: Any, *, batch: bool = False) -> str:
     if value not in names:
         close = difflib.get_close_matches(str(value), names, n=1)
         hint = f" Did you mean {close[0]!r}?" if close else ""
-        raise InputError(f"Expected `method` to be one of {', '.join(names)}, got {value!r}.{hint}")
+        raise InputError(
+            f"Expected `method` to be one of {', '.join(names)}, got {quoted(value)}.{hint}"
+        )
     return str(value)
 
 
@@ -57,7 +59,9 @@ def theory_choice(value: Any) -> str:
     if value not in names:
         close = difflib.get_close_matches(str(value), names, n=1)
         hint = f" Did you mean {close[0]!r}?" if close else ""
-        raise InputError(f"Expected `model` to be one of {', '.join(names)}, got {value!r}.{hint}")
+        raise InputError(
+            f"Expected `model` to be one of {', '.join(names)}, got {quoted(value)}.{hint}"
+        )
     return str(value)
 
 
@@ -73,7 +77,9 @@ def actuator_choice(value: Any) -> str:
 
     if value not in ACTUATORS:
         choices = ", ".join(repr(a) for a in ACTUATORS)
-        raise key_error("actuator", f"Expected `actuator` to be one of {choices}, got {value!r}.")
+        raise key_error(
+            "actuator", f"Expected `actuator` to be one of {choices}, got {quoted(value)}."
+        )
     return str(value)
 
 
@@ -105,7 +111,7 @@ def torque_entry(data: Any) -> Any:
         close = difflib.get_close_matches(str(kind), names, n=1)
         hint = f" Did you mean {close[0]!r}?" if close else ""
         raise key_error(
-            "type", f"Expected `type` to be one of {', '.join(names)}, got {kind!r}.{hint}"
+            "type", f"Expected `type` to be one of {', '.join(names)}, got {quoted(kind)}.{hint}"
         )
     model = TORQUES[kind]
     known = ["type", *(parameter.name for parameter in model.parameters)]

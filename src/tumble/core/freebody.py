@@ -62,6 +62,20 @@ def incomplete_first_kind(phi, m, mc):  # type: ignore[no-untyped-def]
     return sign * s * elliprf(c * c, c * c + mc * s * s, 1.0)
 
 
+@njit
+def incomplete_first_kind_of(sine, cosine, mc):  # type: ignore[no-untyped-def]
+    """F(φ | m) for −π ≤ φ ≤ π from sin φ and cos φ (sin² + cos² = 1) and
+    mc = 1 − m, as :func:`incomplete_first_kind`. Near φ = ±π/2 and m → 1,
+    where dF/dφ = 1/√(1 − m sin²φ) grows to 1/√mc, a small cos φ keeps digits
+    that φ itself, rounded near π/2, would lose."""
+    s = abs(sine)
+    c = abs(cosine)
+    value = s * elliprf(c * c, c * c + mc * s * s, 1.0)
+    if cosine < 0.0:  # F(π − φ) = 2K − F(φ)
+        value = 2.0 * ellipk_mc(mc) - value
+    return -value if sine < 0.0 else value
+
+
 @njit(inline="always")
 def _dd_difference_product(ia, ib, ic, id, wa, wb):  # type: ignore[no-untyped-def]
     """``Ia ωa² (Ia − Ib) + Ic ωb² (Ic − Id)`` in double-double (the energy

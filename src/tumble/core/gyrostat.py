@@ -15,8 +15,8 @@ as quadratics in z:
     x² = Q1(z) = x0² + b1 (z − z0) + c1 (z − z0)²,   c1 = I1 (I3 − I2) / (I3 (I2 − I1)),
     y² = Q2(z) = y0² + b2 (z − z0) + c2 (z − z0)²,   c2 = I2 (I1 − I3) / (I3 (I2 − I1)),
 
-with ``b1 = 2 I1 ((1 − I2/I3) z0 + h I2/I3) / (I2 − I1)`` and
-``b2 = 2 I2 ((I1/I3 − 1) z0 − h I1/I3) / (I2 − I1)`` (the derivatives at z0,
+with ``b1 = 2 I1 ((I3 − I2) ω3 + h) / (I2 − I1)`` and
+``b2 = −2 I2 ((I3 − I1) ω3 + h) / (I2 − I1)`` (the derivatives at z0,
 so no integral is formed by difference). Hence ``ż² = k² Q1(z) Q2(z)``: z
 oscillates between two adjacent real roots p < q of the quartic, and x (y)
 changes sign where z meets a root of Q1 (Q2). (Elipe & Lanchares solve the
@@ -50,10 +50,20 @@ the signs of x0, y0. z repeats after ``u`` advances by ``2K`` (``s = sn²``)
 or ``4K`` (``s = cn``).
 
 Accuracy: against an independent integration, 1e-11 of |H| away from a
-separatrix. At a distance ε (relative, in ω) from the unstable steady spin the
-roots, formed from the state, lose digits as ε shrinks: measured 9e-12 at
-ε = 1e-3 and 2e-6 at ε = 1e-6 over 30 s (the rigid body's solution carries
-these differences in double-double; this one does not).
+separatrix. Next to an unstable steady spin (ω ∥ H, at a distance ε in ω), the
+quantities that vanish there are formed without cancellation, as the rigid
+body's solution forms them (:mod:`tumble.core.freebody`): b1 and b2, which
+vanish at a steady spin about axis 2 or 1, from ω3 and h in double-double
+(``(I3 − I2) ω3 + h``, not from the rounded z0); 1 − m as mc itself; the
+initial phase from sn and cn (``1 − sn²`` as a ratio of differences of roots,
+never by subtraction), where F(φ | m) is steepest, 1/√mc; the products of
+differences of roots as products, not as differences of products; and the map
+near s = 1 from its values there, where its pole may lie close by. The
+solution then keeps the digits the state holds: at ε = 1e-6 rad/s, 30 s, within
+1e-10 rad/s of an integration at 30 digits (``tests/test_theory_gyrostats.py``),
+where the roots formed from the rounded state were off by 2e-6. A state near
+the separatrix but far from the steady spin (two close roots that are both far
+from z0) still loses the digits of their difference.
 """
 
 from __future__ import annotations
@@ -65,17 +75,19 @@ import numpy as np
 from tumble.core._jit import njit
 from tumble.core.elliptic import (
     dd_add,
+    dd_mul,
     ellipk_mc,
     jacobi_from_table,
     jacobi_table,
     two_prod,
+    two_sum,
 )
-from tumble.core.freebody import incomplete_first_kind
+from tumble.core.freebody import incomplete_first_kind_of
 
 __all__ = ["GYROSTAT_SIZE", "gyrostat_constants", "gyrostat_momentum", "gyrostat_period"]
 
 #: Entries of the constants array of :func:`gyrostat_constants`.
-GYROSTAT_SIZE = 18
+GYROSTAT_SIZE = 20
 
 _CN = 1.0  # mode: s = cn
 _TINY = float(np.finfo(np.float64).tiny)  # the smallest normal double
@@ -103,18 +115,31 @@ def _cyclic_key(root: float, top: float) -> tuple[int, float]:
     return (0, root) if root > top else (2, root)
 
 
-def gyrostat_constants(moments, h, x0, y0, z0):  # type: ignore[no-untyped-def]
+def _plus_product(a, b, w, h):  # type: ignore[no-untyped-def]
+    """``(a − b) w + h`` rounded once: the difference, the product and the sum
+    carried in double-double (it vanishes at a steady spin)."""
+    d_hi, d_lo = two_sum(a, -b)
+    p_hi, p_lo = dd_mul(d_hi, d_lo, w, 0.0)
+    s_hi, s_lo = dd_add(p_hi, p_lo, h, 0.0)
+    return s_hi + s_lo
+
+
+def gyrostat_constants(moments, h, w1, w2, w3):  # type: ignore[no-untyped-def]
     """The constants (:data:`GYROSTAT_SIZE`,) of the solution of the module
     docstring for the relabelled moments ``(I1, I2, I3)`` (kg·m², ``I1 ≠ I2``),
-    the rotors' momentum ``h`` along axis 3 and ``H0 = (x0, y0, z0)``
-    (kg·m²/s), for :func:`gyrostat_momentum`; None when H is constant in the
-    body (a steady rotation: ω parallel to H, the caller's case)."""
+    the rotors' momentum ``h`` along axis 3 (kg·m²/s) and ω0 = ``(w1, w2, w3)``
+    (rad/s; H0 = ``(I1 ω1, I2 ω2, I3 ω3 + h)``), for :func:`gyrostat_momentum`;
+    None when H is constant in the body (a steady rotation: ω parallel to H,
+    the caller's case)."""
     i1, i2, i3 = (float(v) for v in moments)
+    x0, y0 = i1 * w1, i2 * w2
+    z_hi, z_lo = two_prod(i3, w3)
+    z0 = sum(dd_add(z_hi, z_lo, h, 0.0))
     k = 1.0 / i2 - 1.0 / i1
     c1 = i1 * (i3 - i2) / (i3 * (i2 - i1))
     c2 = i2 * (i1 - i3) / (i3 * (i2 - i1))
-    b1 = 2.0 * i1 * ((1.0 - i2 / i3) * z0 + h * i2 / i3) / (i2 - i1)
-    b2 = 2.0 * i2 * ((i1 / i3 - 1.0) * z0 - h * i1 / i3) / (i2 - i1)
+    b1 = 2.0 * i1 * _plus_product(i3, i2, w3, h) / (i2 - i1)
+    b2 = -2.0 * i2 * _plus_product(i3, i1, w3, h) / (i2 - i1)
     roots1 = _quadratic_roots(c1, b1, x0 * x0)
     roots2 = _quadratic_roots(c2, b2, y0 * y0)
     # Roots of each quadratic in d = z − z0, tagged by their quadratic (0: x, 1: y);
@@ -139,10 +164,12 @@ def gyrostat_constants(moments, h, x0, y0, z0):  # type: ignore[no-untyped-def]
         rest.remove(next(item for item in rest if item[0].imag == 0.0 and item[0].real == end))
     out = np.zeros(GYROSTAT_SIZE)
     if all(r.imag == 0.0 for r, _ in rest):
-        out[:] = _real_roots(p, q, ends, [(r.real, t) for r, t in rest], c1, b1, x0, c2, b2, y0)
+        others = [(r.real, t) for r, t in rest]
+        values, initial, det, at_one = _real_roots(p, q, ends, others, c1, b1, x0, c2, b2, y0)
     else:
-        pair = rest[0][0]
-        out[:] = _complex_pair(p, q, pair, rest[0][1], c1, b1, x0, c2, b2, y0)
+        values, initial, det, at_one = _complex_pair(p, q, rest[0][0], rest[0][1], c1, c2)
+    out[:18] = values
+    out[18:] = at_one
     if out[10] <= 0.0:
         # On the separatrix to round-off (mc = 0: the asymptotic motion, an
         # infinite period). Which side the state lies on is below the round-off
@@ -153,11 +180,9 @@ def gyrostat_constants(moments, h, x0, y0, z0):  # type: ignore[no-untyped-def]
     out[9] = 1.0 - out[10]
     out[5] = z0
     _sign_amplitudes(out, x0, y0)
-    alpha, beta, gamma, delta = out[1:5]
-    det = alpha * delta - beta * gamma
     big_x, big_y = out[6], out[7]
     out[8] = k * big_x * big_y / (2.0 * det) if out[0] == _SN2 else -k * big_x * big_y / det
-    out[11] = _initial_phase(out, x0, y0)
+    out[11] = _initial_phase(out, x0, y0, *initial)
     return out
 
 
@@ -178,12 +203,22 @@ def _quadratic(c: float, b: float, a: float, d: float) -> float:
 
 
 def _real_roots(p, q, ends, others, c1, b1, x0, c2, b2, y0):  # type: ignore[no-untyped-def]
-    """Constants for four real roots: ``s = sn²`` (module docstring)."""
+    """Constants for four real roots: ``s = sn²`` (module docstring), the first
+    18 of :func:`gyrostat_constants`; sn² and cn² at d = 0 (``s0 = −β/α`` and
+    ``1 − s0``, each a ratio of products of differences of roots, without
+    cancellation where s0 nears 0 or 1); ``α δ − β γ``, as a product; and
+    ``α + β``, ``γ + δ``, the map's numerator and denominator at s = 1 (from
+    the roots: near s = 1, :func:`gyrostat_momentum` evaluates the map from them
+    and cn²)."""
     (r1, t1), (r2, t2) = sorted(others, key=lambda item: _cyclic_key(item[0], q))
     if math.isinf(r2):
         alpha, beta, gamma, delta = q - p, p, 0.0, 1.0
+        initial = (-p / (q - p), q / (q - p))
+        det, at_one = q - p, (q, 1.0)
     else:
         alpha, beta, gamma, delta = r2 * (q - p), -p * (q - r2), q - p, -(q - r2)
+        initial = (p * (q - r2) / (r2 * (q - p)), q * (r2 - p) / (r2 * (q - p)))
+        det, at_one = (q - p) * (q - r2) * (p - r2), (q * (r2 - p), r2 - p)
     # mc = 1 − 1/w(r1), w the inverse map, written as a product of differences.
     if math.isinf(r1):
         mc = (p - r2) / (q - r2)
@@ -209,48 +244,68 @@ def _real_roots(p, q, ends, others, c1, b1, x0, c2, b2, y0):  # type: ignore[no-
                 factor *= squares[j]
         amplitudes.append(math.sqrt(_quadratic(c, b, a, d) * (gamma * half + delta) ** 2 / factor))
     del t2  # the root at ∞'s image contributes no factor
-    return [_SN2, alpha, beta, gamma, delta, 0.0, *amplitudes, 0.0, m, mc, 0.0, *powers.ravel()]
+    constants = [_SN2, alpha, beta, gamma, delta, 0.0, *amplitudes, 0.0, m, mc, 0.0]
+    return [*constants, *powers.ravel()], initial, det, at_one
 
 
-def _complex_pair(p, q, pair, tag, c1, b1, x0, c2, b2, y0):  # type: ignore[no-untyped-def]
-    """Constants for two real roots and a complex pair: ``s = cn`` (Byrd & Friedman 259.00)."""
-    big_a = math.hypot(q - pair.real, pair.imag)
-    big_b = math.hypot(p - pair.real, pair.imag)
+def _complex_pair(p, q, pair, tag, c1, c2):  # type: ignore[no-untyped-def]
+    """Constants for two real roots and a complex pair: ``s = cn`` (Byrd &
+    Friedman 259.00); and, as :func:`_real_roots` gives them, sn and cn at
+    d = 0, ``α δ − β γ``, and ``α + β``, ``γ + δ`` (which this form does not
+    use: its denominator ``A (1 + c) + B (1 − c)`` never nears zero)."""
+    middle, height = pair.real, abs(pair.imag)
+    big_a = math.hypot(q - middle, height)
+    big_b = math.hypot(p - middle, height)
     # z − z0 = (q B (1 − c) + p A (1 + c)) / (B (1 − c) + A (1 + c)); c = cn: 1 ↦ p, −1 ↦ q.
     alpha, beta = p * big_a - q * big_b, q * big_b + p * big_a
     gamma, delta = big_a - big_b, big_a + big_b
     m = ((q - p) ** 2 - (big_a - big_b) ** 2) / (4.0 * big_a * big_b)
-    # mc = ((A + B)² − (q − p)²) / 4AB. Near the separatrix the pair nears the
-    # segment [p, q] (â → 0) and A + B − (q − p) cancels: there it is
-    # â² / (A + q − b̂) + â² / (B + b̂ − p), each term without cancellation.
-    if p < pair.real < q:
-        excess = pair.imag**2 * (1.0 / (big_a + q - pair.real) + 1.0 / (big_b + pair.real - p))
+    # Near the separatrix the pair nears the segment [p, q] (â → 0): A − (q − b̂)
+    # and B − (b̂ − p) vanish, and with them mc = ((A + B)² − (q − p)²) / 4AB,
+    # β (c = 0 at z0, close to the separatrix's hyperbolic point) and β − b̂ δ
+    # (the pair's variable there). Each is formed from â² / (A + q − b̂) and
+    # â² / (B + b̂ − p), without cancellation.
+    if p < middle < q:
+        short_a = height**2 / (big_a + q - middle)
+        short_b = height**2 / (big_b + middle - p)
+        beta = q * short_b + p * short_a + middle * (q - p)
+        lean = (q - middle) * short_b - (middle - p) * short_a
     else:
-        excess = big_a + big_b - (q - p)
-    mc = excess * (big_a + big_b + q - p) / (4.0 * big_a * big_b)
+        short_a, short_b = big_a - (q - middle), big_b - (middle - p)
+        lean = (q - middle) * big_b + (p - middle) * big_a
+    mc = (short_a + short_b) * (big_a + big_b + q - p) / (4.0 * big_a * big_b)
     powers = np.zeros((2, 3))
     powers[1 - tag, 0] = 1.0  # the real roots' variable: sn
     powers[tag, 2] = 1.0  # the complex pair's: dn
-    d = beta / delta  # c = 0
-    squares = (1.0, 0.0, 1.0 - m)  # sn², cn², dn² at c = 0
-    amplitudes = []
-    for which, (c, b, a) in enumerate(((c1, b1, x0 * x0), (c2, b2, y0 * y0))):
-        factor = squares[0] if powers[which, 0] else squares[2]
-        amplitudes.append(math.sqrt(_quadratic(c, b, a, d) * delta * delta / factor))
-    return [_CN, alpha, beta, gamma, delta, 0.0, *amplitudes, 0.0, m, mc, 0.0, *powers.ravel()]
+    # At c = 0 (d = β/δ), with sn = 1 and dn² = mc: the real roots' variable
+    # squared is c (d − p)(d − q) = −c A B (q − p)² / δ², the pair's
+    # c ((d − b̂)² + â²) = c ((β − b̂ δ)² + â² δ²) / δ² (β − b̂ δ as `lean`).
+    real, complex_ = (c2, c1) if tag == 0 else (c1, c2)
+    squares = [
+        -real * big_a * big_b * (q - p) ** 2,
+        complex_ * (lean**2 + (height * delta) ** 2) / mc,
+    ]
+    amplitudes = [math.sqrt(squares[1 if which == tag else 0]) for which in (0, 1)]
+    # sn² = (1 − cn)(1 + cn) = (2 p A / α)(−2 q B / α) at c = −β/α.
+    initial = (2.0 * math.sqrt(-p * q * big_a * big_b) / abs(alpha), -beta / alpha)
+    det, at_one = -2.0 * big_a * big_b * (q - p), (2.0 * p * big_a, 2.0 * big_a)
+    constants = [_CN, alpha, beta, gamma, delta, 0.0, *amplitudes, 0.0, m, mc, 0.0]
+    return [*constants, *powers.ravel()], initial, det, at_one
 
 
-def _initial_phase(constants, x0, y0):  # type: ignore[no-untyped-def]
-    """u0 = F(am u0 | m): the phase whose sn, cn, dn give z0 and the signs of x0, y0."""
+def _initial_phase(constants, x0, y0, first, second):  # type: ignore[no-untyped-def]
+    """u0 = F(am u0 | m): the phase whose sn, cn, dn give z0 and the signs of
+    x0, y0, from sn² and cn² at d = 0 (``s = sn²``) or sn and cn (``s = cn``),
+    as the normal forms give them: near a turning point of z, where F is
+    steepest, cn holds digits that the angle φ = am u0 would lose."""
     mode, alpha, beta, gamma, delta = constants[:5]
-    m, mc = constants[9], constants[10]
+    mc = constants[10]
     powers = constants[12:18].reshape(2, 3)
     signs = (math.copysign(1.0, x0), math.copysign(1.0, y0))
     s0 = -beta / alpha if alpha != 0.0 else 0.0  # d = 0
     denominator = math.copysign(1.0, gamma * s0 + delta)
     if mode == _SN2:
-        s0 = min(max(s0, 0.0), 1.0)
-        sn, cn = math.sqrt(s0), math.sqrt(1.0 - s0)
+        sn, cn = math.sqrt(min(max(first, 0.0), 1.0)), math.sqrt(min(max(second, 0.0), 1.0))
         # The variable holding sn fixes its sign; cn's sign comes from its own
         # variable, or (sn and cn in one variable) is free: u0 and u0 + 2K give one motion.
         for tag in (0, 1):
@@ -259,12 +314,11 @@ def _initial_phase(constants, x0, y0):  # type: ignore[no-untyped-def]
             elif powers[tag, 1]:
                 cn *= signs[tag] * denominator
     else:
-        cn = min(max(s0, -1.0), 1.0)
-        sn = math.sqrt(max(1.0 - cn * cn, 0.0))
+        sn, cn = min(first, 1.0), min(max(second, -1.0), 1.0)
         for tag in (0, 1):
             if powers[tag, 0]:
                 sn *= signs[tag]
-    return incomplete_first_kind(math.atan2(sn, cn), m, mc)
+    return incomplete_first_kind_of(sn, cn, mc)
 
 
 @njit
@@ -275,14 +329,23 @@ def gyrostat_momentum(constants, times):  # type: ignore[no-untyped-def]
     alpha, beta, gamma, delta = constants[1], constants[2], constants[3], constants[4]
     z0, big_x, big_y, rate = constants[5], constants[6], constants[7], constants[8]
     mc, phase = constants[10], constants[11]
+    top, bottom = constants[18], constants[19]  # α + β and γ + δ: the map at s = 1
     table = jacobi_table(mc, 0.0)
     out = np.empty((times.shape[0], 3))
     for n in range(times.shape[0]):
         u_hi, u_lo = two_prod(rate, times[n])
         u_hi, u_lo = dd_add(u_hi, u_lo, phase, 0.0)
         sn, cn, dn = jacobi_from_table(u_hi, table, u_lo)
-        s = sn * sn if mode == _SN2 else cn
-        denominator = gamma * s + delta
+        if mode == _SN2 and sn * sn > 0.5:
+            # Near s = 1 (z near q) γ s + δ may nearly vanish (the pole of the
+            # map next to 1/m, close to 1 near a separatrix): from s = 1 by cn².
+            c = cn * cn
+            numerator = top - alpha * c
+            denominator = bottom - gamma * c
+        else:
+            s = sn * sn if mode == _SN2 else cn
+            numerator = alpha * s + beta
+            denominator = gamma * s + delta
         values = (sn, cn, dn)
         fx = 1.0
         fy = 1.0
@@ -293,7 +356,7 @@ def gyrostat_momentum(constants, times):  # type: ignore[no-untyped-def]
                 fy *= values[j]
         out[n, 0] = big_x * fx / denominator
         out[n, 1] = big_y * fy / denominator
-        out[n, 2] = z0 + (alpha * s + beta) / denominator
+        out[n, 2] = z0 + numerator / denominator
     return out
 
 

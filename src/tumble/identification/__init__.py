@@ -11,6 +11,10 @@ tennis-racket experiment, a spacecraft's coasting telemetry).
   truth; :func:`example_recording_path` — the same, shipped as a phyphox CSV.
 * :func:`read_recording` — samples from a phyphox export, a CSV or a Parquet
   file, in rad/s.
+
+Rates no torque-free body shows (``|ω̇| > |ω|²/√3``, as rates in deg/s read as
+rad/s are) are refused; a recording sampled far faster than its motion needs is
+averaged to fewer samples first (:mod:`tumble.identification.decimation`).
 """
 
 from __future__ import annotations

@@ -3,14 +3,28 @@ and whether the motion in it can show a body at all."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
+from tumble.units import pint, vector_to_si
 
-__all__ = ["MIN_SAMPLES", "check_motion", "samples", "window_bounds"]
+__all__ = [
+    "FREE_BODY_BOUND",
+    "LOSSES",
+    "MIN_SAMPLES",
+    "breaks_free_body",
+    "check_free_body",
+    "check_loss",
+    "check_motion",
+    "flag",
+    "free_body_ratio",
+    "samples",
+    "window_bounds",
+]
 
 Array = NDArray[np.float64]
 
@@ -18,12 +32,48 @@ Array = NDArray[np.float64]
 #: residuals to say how good the fit is.
 MIN_SAMPLES = 30
 
+#: The losses of ``scipy.optimize.least_squares`` a fit takes.
+LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
+
+#: The most |dω/dt| / |ω|² of a torque-free body. Euler's equations give
+#: ``ω̇_i = (I_j − I_k) ω_j ω_k / I_i`` and the triangle inequality of the moments
+#: ``|I_j − I_k| ≤ I_i``, so ``ω̇_i² ≤ ω_j² ω_k²``; summed over i,
+#: ``|ω̇|² ≤ ω₁²ω₂² + ω₂²ω₃² + ω₃²ω₁² ≤ (ω₁² + ω₂² + ω₃²)² / 3`` (for a, b, c ≥ 0,
+#: ab + bc + ca ≤ (a + b + c)²/3, equal when a = b = c). A flat plate ever closer
+#: to a rod (I = ε, 1, 1 + ε with ε → 0: all three factors (I_j − I_k)/I_i tend
+#: to 1) spinning with ω's three components equal approaches it, so no smaller
+#: bound holds for every body.
+FREE_BODY_BOUND = 1.0 / math.sqrt(3.0)
+
+#: How far beyond :data:`FREE_BODY_BOUND` the measured ratio may go before the
+#: rates are refused: the derivative of smoothed noisy samples, and |ω|² of the
+#: samples with their bias, are estimates (the shipped recording reaches 0.85 of
+#: the bound), while rates in deg/s read as rad/s are 57 times too small.
+FREE_BODY_MARGIN = 2.0
+
+#: The share of a window's samples whose |dω/dt| / |ω|² is judged (a high
+#: percentile: a few samples spoilt by noise or an impact do not decide).
+FREE_BODY_PERCENTILE = 90.0
+
+
+def _as_array(value: Any, kind: str, name: str, shape: tuple[int, ...]) -> Array:
+    """``value`` as a float array in SI: plain numbers as they are (a recording
+    holds up to millions, which numpy reads at once), quantities and strings
+    converted by :func:`tumble.units.vector_to_si`."""
+    if not isinstance(value, str | pint.Quantity):
+        try:
+            return np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            pass  # quantities among the values, or no numbers at all: said below
+    return vector_to_si(value, kind, name, shape)
+
 
 def samples(t: Any, omega: Any) -> tuple[Array, Array]:
-    """``t`` (n,) and ``omega`` (n, 3) as float arrays, checked: shapes, enough
-    samples, finite values, increasing times."""
-    times = np.asarray(t, dtype=float)
-    rates = np.asarray(omega, dtype=float)
+    """``t`` (n,) s and ``omega`` (n, 3) rad/s as float arrays (numbers, or pint
+    quantities of any registry, converted), checked: shapes, enough samples,
+    finite values, increasing times."""
+    times = _as_array(t, "time", "t", (-1,))
+    rates = _as_array(omega, "angular_velocity", "omega", (-1, 3))
     if times.ndim != 1 or rates.shape != (times.size, 3):
         raise InputError(
             f"Expected t of shape (n,) and omega of shape (n, 3), got {times.shape} and "
@@ -34,18 +84,41 @@ def samples(t: Any, omega: Any) -> tuple[Array, Array]:
     bad = ~np.isfinite(times) | ~np.isfinite(rates).all(axis=1)
     if bad.any():
         k = int(np.argmax(bad))
+        count = int(bad.sum())
+        which = "1 sample that is not" if count == 1 else f"{count} samples that are not"
         raise InputError(
-            f"Expected finite times and rates, got {int(bad.sum())} samples that are not "
-            f"(the first is sample {k}: t = {times[k]!r}, omega = {rates[k].tolist()})."
+            f"Expected finite times and rates, got {which} (the first is sample {k}: "
+            f"t = {float(times[k])!r}, omega = {rates[k].tolist()})."
         )
     steps = np.diff(times)
     if np.any(steps <= 0):
         k = int(np.argmax(steps <= 0))
         raise InputError(
-            f"Expected increasing times, got t[{k + 1}] = {times[k + 1]!r} after "
-            f"t[{k}] = {times[k]!r}."
+            f"Expected increasing times, got t[{k + 1}] = {float(times[k + 1])!r} after "
+            f"t[{k}] = {float(times[k])!r}."
         )
     return times, rates
+
+
+def _shown(value: Any) -> str:
+    """``repr(value)`` cut to 60 characters and '...' for a message."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:60] + "..."
+
+
+def flag(value: Any, name: str) -> bool:
+    """``value`` as a bool: True or False only (numpy's too), not a truthy string
+    such as ``"no"``."""
+    if not isinstance(value, bool | np.bool_):
+        raise InputError(f"Expected `{name}` to be True or False, got {_shown(value)}.")
+    return bool(value)
+
+
+def check_loss(loss: Any, name: str = "`loss`") -> str:
+    """``loss``, one of :data:`LOSSES` (``name``: how the message calls it)."""
+    if not isinstance(loss, str) or loss not in LOSSES:
+        raise InputError(f"Expected {name} to be one of {', '.join(LOSSES)}, got {_shown(loss)}.")
+    return loss
 
 
 def window_bounds(window: Any, times: Array) -> tuple[float, float]:
@@ -73,4 +146,40 @@ def check_motion(rates: Array, noise: float) -> None:
             f"Expected the angular velocity to change in the window, got changes of at most "
             f"{spread:.3g} rad/s against noise of {noise:.3g} rad/s: a steady spin about one "
             "principal axis does not reveal the moment ratios."
+        )
+
+
+def free_body_ratio(smooth: Array, derivative: Array) -> float:
+    """|dω/dt| / |ω|² over a window, its :data:`FREE_BODY_PERCENTILE` th percentile,
+    from the smoothed rates ``smooth`` (n, 3) and their derivative
+    ``derivative`` (n, 3); 0 for a body at rest."""
+    speed = np.sum(smooth**2, axis=1)
+    moving = speed > 0.0
+    if not moving.any():
+        return 0.0
+    ratio = np.linalg.norm(derivative[moving], axis=1) / speed[moving]
+    return float(np.percentile(ratio, FREE_BODY_PERCENTILE))
+
+
+def breaks_free_body(ratio: float) -> bool:
+    """Whether a window's :func:`free_body_ratio` is beyond what any torque-free
+    body shows (:data:`FREE_BODY_BOUND`, with the margin :data:`FREE_BODY_MARGIN`)."""
+    return ratio > FREE_BODY_MARGIN * FREE_BODY_BOUND
+
+
+def check_free_body(ratio: float) -> None:
+    """Refuse the rates of a window that a torque-free body matched when their
+    :func:`free_body_ratio` breaks the bound every such body keeps: they are in
+    a unit larger than the one they are read in, so too small by its factor
+    (57.3 for deg/s read as rad/s), and break the bound by as much, while a fit
+    finds a body for them all the same (a large bias and a fast spin make up
+    the rest)."""
+    if breaks_free_body(ratio):
+        raise InputError(
+            f"Expected rates of a torque-free body, |dω/dt| ≤ |ω|²/√3 = {FREE_BODY_BOUND:.3f} "
+            f"|ω|², got |dω/dt| up to {ratio:.3g} |ω|² ({FREE_BODY_PERCENTILE:.0f}th "
+            f"percentile of the window): the rates look at least "
+            f"{ratio / FREE_BODY_BOUND:.0f} times too small: were they in deg/s read as "
+            "rad/s (57.3 times), or in turn/s (6.28 times)? (Give them in rad/s, or as "
+            "quantities with their unit.)"
         )

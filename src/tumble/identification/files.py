@@ -26,21 +26,28 @@ them, finite, increasing times) are :func:`tumble.identification.identify`'s.
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 import re
 import zipfile
-from collections.abc import Sequence
+import zlib
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
+from tumble.identification.tables import (
+    HEAD_BYTES,
+    check_samples,
+    cut,
+    table_columns,
+    table_layout,
+)
+from tumble.resources import format_bytes
 
 __all__ = [
     "EXAMPLE",
@@ -49,6 +56,7 @@ __all__ = [
     "Recording",
     "example_recording_path",
     "phyphox_csv",
+    "rate_unit",
     "read_recording",
 ]
 
@@ -90,6 +98,9 @@ DEGREES_ABOVE = 2.0 * math.pi * 20.0
 #: File names read as Parquet; other names are read as text tables (CSV) unless
 #: their first bytes say Parquet or zip.
 PARQUET_SUFFIXES = (".parquet", ".pq")
+
+#: The signatures a zip file starts with: a member, an empty archive, a spanned one.
+_ZIP_SIGNATURES = (b"PK\x03\x04", b"PK\x05\x06", b"PK\x07\x08")
 
 _TIME_NAME = re.compile(r"^\s*(t|time|timestamp)(?![a-z])", re.IGNORECASE)
 _UNIT_IN_NAME = re.compile(r"[(\[]\s*([^()\[\]]+?)\s*[)\]]\s*$")
@@ -163,6 +174,18 @@ def read_recording(
         are not there (the message lists those there), a cell that is not a
         number (its line and column), units that are not rates or times, or
         ``units`` that contradict the header.
+    tumble.errors.RequestTooLargeError
+        A recording of more samples than the memory budget
+        (:mod:`tumble.resources`) holds, told from the size of the file (the
+        size a zip file declares for its table) before it is read, and from the
+        samples read while it is.
+
+    Notes
+    -----
+    Only the four columns chosen are read into memory, as numbers: a text
+    table is read in blocks (by pyarrow's CSV reader, or line by line where that
+    one refuses a row, which then finds the row's line), a zip file's table
+    straight from the archive.
     """
     file = Path(path)
     shown = str(path)
@@ -172,159 +195,160 @@ def read_recording(
         )
     if file.is_dir():
         raise InputError(f"Expected a recording file (CSV or Parquet), got {shown!r}, a folder.")
+    unit = rate_unit(units)
+    notes: list[str] = []
     try:
-        data = file.read_bytes()
+        with file.open("rb") as stream:
+            start = stream.read(8)
+        if start.startswith(b"PAR1") or file.suffix.lower() in PARQUET_SUFFIXES:
+            chosen, values = _parquet_columns(file, shown, columns, notes)
+        elif start.startswith(_ZIP_SIGNATURES) or file.suffix.lower() == ".zip":
+            chosen, values, shown = _zip_columns(file, start, shown, columns, notes)
+        else:
+            size = file.stat().st_size
+            chosen, values = _csv_columns(lambda: file.open("rb"), size, shown, columns, notes)
     except OSError as exc:
         raise InputError(
             f"Expected a readable recording file, got {shown!r}: {exc.strerror or exc}."
         ) from None
-    rate_unit = _given_units(units)
-    if data.startswith(b"PAR1") or file.suffix.lower() in PARQUET_SUFFIXES:
-        names, table = _parquet_table(data, shown)
-        return _recording(names, table, None, columns, rate_unit, shown)
-    if data.startswith(b"PK\x03\x04"):
-        data, shown = _member_of_zip(data, shown)
-    text = _text(data, shown)
-    names, cells, lines = _csv_table(text, shown)
-    return _recording(names, cells, lines, columns, rate_unit, shown)
+    return _recording(chosen, values, unit, shown, notes)
 
 
 # ------------------------------------------------------------------ file kinds
-def _given_units(units: str | None) -> str | None:
+def rate_unit(units: str | None, name: str = "`units`") -> str | None:
+    """``"rad/s"`` or ``"deg/s"`` for ``units`` in any of their spellings
+    (``"°/s"``, ``"dps"``, ...); None for None (``name``: how the message calls it).
+
+    Raises
+    ------
+    InputError
+        For other units.
+    """
     if units is None:
         return None
     unit = _RATE_SPELLINGS.get(str(units).strip().lower().replace(" ", ""))
     if unit is None:
-        raise InputError(f"Expected `units` to be 'rad/s' or 'deg/s', got {units!r}.")
+        raise InputError(f"Expected {name} to be 'rad/s' or 'deg/s', got {cut(repr(units))}.")
     return unit
 
 
-def _parquet_table(data: bytes, shown: str) -> tuple[list[str], dict[str, Any]]:
-    """The column names of a Parquet file and its columns (pyarrow arrays) by name."""
+def _parquet_columns(
+    file: Path, shown: str, columns: str | Sequence[str | int] | None, notes: list[str]
+) -> tuple[list[str], list[Array]]:
+    """The four columns chosen of a Parquet file, as floats (only they are read)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
     try:
-        table = pq.read_table(pa.BufferReader(data))
+        with pq.ParquetFile(file) as parquet:
+            names = list(parquet.schema_arrow.names)
+            chosen = _choose(names, columns, shown, notes)
+            check_samples(parquet.metadata.num_rows, shown)
+            table = parquet.read(columns=list(dict.fromkeys(chosen)))
     except (pa.ArrowException, OSError) as exc:
         raise InputError(
-            f"Expected a CSV or Parquet file, got {shown!r}, which is not valid Parquet ({exc})."
+            f"Expected a CSV or Parquet file, got {shown!r}, which is not valid Parquet "
+            f"({cut(str(exc))})."
         ) from None
-    return list(table.column_names), {name: table.column(name) for name in table.column_names}
+    return chosen, [_arrow_numbers(table.column(name), name, shown) for name in chosen]
 
 
-def _member_of_zip(data: bytes, shown: str) -> tuple[bytes, str]:
-    """The one table of data in a zip file (phyphox exports one, with a ``meta/`` folder)."""
+def _zip_columns(
+    file: Path,
+    start: bytes,
+    shown: str,
+    columns: str | Sequence[str | int] | None,
+    notes: list[str],
+) -> tuple[list[str], list[Array], str]:
+    """The four columns chosen of the one table of data in a zip file (phyphox
+    exports one, with a ``meta/`` folder), read from the archive as it is
+    decompressed; and the name of the table, ``ZIP:MEMBER``."""
     try:
-        archive = zipfile.ZipFile(io.BytesIO(data))
-        names = archive.namelist()
+        archive = zipfile.ZipFile(file)
     except zipfile.BadZipFile:
-        raise InputError(
-            f"Expected a CSV or Parquet file, got {shown!r}, a damaged zip file."
-        ) from None
-    if "[Content_Types].xml" in names:
-        raise InputError(
-            f"Expected a CSV or Parquet file, got {shown!r}, a spreadsheet (export it as CSV)."
-        )
-    tables = [n for n in names if n.lower().endswith(".csv") and not n.startswith("meta/")]
-    if len(tables) > 1:
-        gyroscope = [n for n in tables if "gyro" in n.lower() or "raw data" in n.lower()]
-        tables = gyroscope if len(gyroscope) == 1 else tables
-    if len(tables) != 1:
-        raise InputError(
-            f"Expected a zip file with one CSV table of data (as phyphox exports), got {shown!r} "
-            f"with {len(tables)}: {', '.join(map(repr, tables)) or 'none'} (unzip it and "
-            "choose one)."
-        )
-    with archive:
-        return archive.read(tables[0]), f"{shown}:{tables[0]}"
-
-
-def _text(data: bytes, shown: str) -> str:
-    if b"\x00" in data[:4096]:
-        raise InputError(
-            f"Expected a CSV or Parquet file, got {shown!r}, which is neither (binary data)."
-        )
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        # Spreadsheets of some locales write Latin-1; every byte decodes.
-        return data.decode("latin-1")
-
-
-def _delimiter(line: str) -> str:
-    """The separator of a CSV line: a tab or a semicolon wherever one stands
-    outside quotes (files with decimal commas use them), else a comma."""
-    outside = re.sub(r'"[^"]*"', "", line)
-    for candidate in ("\t", ";"):
-        if candidate in outside:
-            return candidate
-    return ","
-
-
-def _csv_table(text: str, shown: str) -> tuple[list[str], dict[str, list[str]], list[int]]:
-    """The header (or the positions, ``"0"``, ``"1"``, … without one), the cells
-    by column, and the file's line of each row, of CSV text."""
-    lines = text.splitlines()
-    first = next((k for k, line in enumerate(lines) if line.strip()), None)
-    if first is None:
-        raise InputError(
-            f"Expected a header row and rows of samples in {shown!r}, got an empty file."
-        )
-    delimiter = _delimiter(lines[first])
-    reader = csv.reader(io.StringIO(text), delimiter=delimiter)
-    rows: list[list[str]] = []
-    numbers: list[int] = []
-    for row in reader:
-        if any(cell.strip() for cell in row):
-            rows.append([cell.strip() for cell in row])
-            numbers.append(reader.line_num)
-    decimal_comma = delimiter != ","
-    header = not all(_is_number(cell, decimal_comma) for cell in rows[0])
-    if header:
-        names, rows, numbers = rows[0], rows[1:], numbers[1:]
-    else:
-        names = [str(k) for k in range(len(rows[0]))]
-    if not rows:
-        raise InputError(f"Expected rows of samples after the header of {shown!r}, got none.")
-    for row, line in zip(rows, numbers, strict=True):
-        if len(row) < len(names):
+        if start.startswith(_ZIP_SIGNATURES):
             raise InputError(
-                f"Expected {len(names)} cells in each row of {shown!r} (as in its "
-                f"{'header' if header else 'first row'}), got {len(row)} in line {line}."
+                f"Expected a CSV or Parquet file, got {shown!r}, a damaged zip file."
+            ) from None
+        raise InputError(
+            f"Expected a zip file, as the name {shown!r} says, got a file that is not one "
+            "(a CSV table is read from a file named .csv)."
+        ) from None
+    with archive:
+        names = archive.namelist()
+        if "[Content_Types].xml" in names:
+            raise InputError(
+                f"Expected a CSV or Parquet file, got {shown!r}, a spreadsheet (export it as CSV)."
             )
-    cells = {name: [row[k] for row in rows] for k, name in enumerate(names)}
-    return names, cells, numbers
+        expected = "Expected a zip file with one CSV table of data (as phyphox exports), got"
+        if not names:
+            raise InputError(f"{expected} {shown!r}, an empty zip file.")
+        tables = [n for n in names if n.lower().endswith(".csv") and not n.startswith("meta/")]
+        if len(tables) > 1:
+            gyroscope = [n for n in tables if "gyro" in n.lower() or "raw data" in n.lower()]
+            tables = gyroscope if len(gyroscope) == 1 else tables
+        if not tables:
+            raise InputError(
+                f"{expected} {shown!r}, which holds none (it holds "
+                f"{cut(', '.join(map(repr, names)))})."
+            )
+        if len(tables) > 1:
+            raise InputError(
+                f"{expected} {shown!r} with {len(tables)}: {cut(', '.join(map(repr, tables)))} "
+                "(unzip it and choose one)."
+            )
+        member = archive.getinfo(tables[0])
+        table = f"{shown}:{tables[0]}"
+
+        def open_member() -> IO[bytes]:
+            try:
+                return archive.open(member)
+            except (RuntimeError, NotImplementedError) as exc:  # encrypted, or compressed unknown
+                raise InputError(
+                    f"Expected a zip file whose table can be read, got {table!r}: {exc}."
+                ) from None
+
+        try:
+            chosen, values = _csv_columns(
+                open_member, member.file_size, table, columns, notes, " (uncompressed)"
+            )
+        except (zipfile.BadZipFile, zlib.error, EOFError):
+            raise InputError(
+                f"Expected a CSV or Parquet file, got {shown!r}, a damaged zip file."
+            ) from None
+    return chosen, values, table
 
 
-def _is_number(cell: str, decimal_comma: bool) -> bool:
-    try:
-        float(cell.replace(",", ".") if decimal_comma else cell)
-    except ValueError:
-        return False
-    return True
+# ------------------------------------------------------------------ text tables
+def _csv_columns(
+    open_stream: Callable[[], IO[bytes]],
+    size: int,
+    shown: str,
+    columns: str | Sequence[str | int] | None,
+    notes: list[str],
+    sized: str = "",
+) -> tuple[list[str], list[Array]]:
+    """The four columns chosen of a text table of ``size`` bytes, as floats;
+    ``open_stream`` opens it, ``sized`` says how its size is known."""
+    with open_stream() as stream:
+        head = stream.read(HEAD_BYTES)
+    layout = table_layout(head, size, shown)
+    chosen = _choose(layout.names, columns, shown, notes)
+    # The last column of a name (a header naming two alike keeps the last).
+    positions = [len(layout.names) - 1 - layout.names[::-1].index(name) for name in chosen]
+    rows = max(size - layout.offset, 0) // layout.row_bytes
+    check_samples(rows, shown, f" of {format_bytes(size)}{sized}")
+    values = table_columns(open_stream, layout, positions, chosen, shown)
+    if values[0].size == 0:
+        raise InputError(f"Expected rows of samples after the header of {shown!r}, got none.")
+    return chosen, values
 
 
 # ------------------------------------------------------------------ columns
 def _recording(
-    names: list[str],
-    cells: dict[str, Any],
-    lines: list[int] | None,
-    columns: str | Sequence[str | int] | None,
-    units: str | None,
-    shown: str,
+    chosen: list[str], values: list[Array], units: str | None, shown: str, notes: list[str]
 ) -> Recording:
-    """The recording of a table's chosen columns (``lines``: each row's line in
-    a CSV file; None for Parquet)."""
-    notes: list[str] = []
-    chosen = _choose(names, columns, shown, notes)
-    csv_file = lines is not None
-    values = [
-        _numbers(cells[name], name, lines, shown)
-        if csv_file
-        else _arrow_numbers(cells[name], name, shown)
-        for name in chosen
-    ]
+    """The recording of the chosen columns ``chosen`` and their ``values``."""
     time_unit = _unit_of(chosen[0])
     scale = TIME_UNITS.get(time_unit.lower().replace(" ", "")) if time_unit else 1.0
     if scale is None:
@@ -333,9 +357,9 @@ def _recording(
             f"(unit {time_unit!r})."
         )
     omega = np.stack(values[1:], axis=1)
-    omega = omega * _rate_scale(chosen[1:], omega, units, shown, notes)
+    omega *= _rate_scale(chosen[1:], omega, units, shown, notes)
     return Recording(
-        t=values[0] * scale,
+        t=values[0] * scale if scale != 1.0 else values[0],
         omega=omega,
         note="; ".join(notes),
         columns=(chosen[0], chosen[1], chosen[2], chosen[3]),
@@ -451,27 +475,6 @@ def _rate_scale(
 
 
 # ------------------------------------------------------------------ numbers
-def _numbers(cells: list[str], name: str, lines: list[int] | None, shown: str) -> Array:
-    """A CSV column as floats (decimal commas read as points)."""
-    text = np.array(cells)
-    try:
-        return text.astype(np.float64)
-    except ValueError:
-        pass
-    try:
-        return np.char.replace(text, ",", ".").astype(np.float64)
-    except ValueError:
-        pass
-    for k, cell in enumerate(cells):
-        if not _is_number(cell, decimal_comma=True):
-            where = f"line {lines[k]}" if lines is not None else f"row {k}"
-            raise InputError(
-                f"Expected numbers in {shown!r}, got {cell!r} at {where}, column {name!r}."
-            )
-    # Every cell reads as a number to Python where numpy's parser balked.
-    return np.array([float(cell.replace(",", ".")) for cell in cells])
-
-
 def _arrow_numbers(column: Any, name: str, shown: str) -> Array:
     """A Parquet column as floats (missing values as NaN, which the fit refuses)."""
     import pyarrow as pa

@@ -7,30 +7,44 @@ has no integration error), of a body with moments ``(r1, r2, 1)`` (only their
 ratios show in ω(t)) and ω(t0) = ``omega0``; R the principal axes as columns in
 the sensor's axes; b the sensor's bias. The 11 parameters (8 without a bias) are
 fitted by nonlinear least squares (``scipy.optimize.least_squares``), from a
-start that needs no guess (:func:`_linear_start`), in the manner of the
-estimation of inertia ratios from coasting telemetry (Bergmann, Walker & Levy,
-J. Guid. Control Dyn. 10 (1987); Tanygin & Williams, J. Guid. Control Dyn. 20
-(1997)).
+start that needs no guess (:func:`~tumble.identification.start.linear_start`),
+in the manner of the estimation of inertia ratios from coasting telemetry
+(Bergmann, Walker & Levy, J. Guid. Control Dyn. 10 (1987); Tanygin & Williams,
+J. Guid. Control Dyn. 20 (1997)).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
-from scipy.signal import savgol_filter
 from scipy.spatial.transform import Rotation
 
 from tumble.core.freebody import free_omega
 from tumble.errors import InputError
-from tumble.identification.checks import MIN_SAMPLES, check_motion, samples, window_bounds
+from tumble.identification.checks import (
+    LOSSES,
+    MIN_SAMPLES,
+    breaks_free_body,
+    check_free_body,
+    check_loss,
+    check_motion,
+    flag,
+    free_body_ratio,
+    samples,
+    window_bounds,
+)
+from tumble.identification.decimation import MAX_SAMPLES, averaged
 from tumble.identification.flight import free_flight, noise_level
+from tumble.identification.start import linear_start, smoothed
+from tumble.resources import check_memory
 from tumble.theory import flip_period
 
-__all__ = ["BodyFit", "identify", "principal_rates"]
+__all__ = ["LOSSES", "MAX_SAMPLES", "BodyFit", "identify", "principal_rates"]
 
 Array = NDArray[np.float64]
 
@@ -54,8 +68,12 @@ RATIO_STARTS = ((0.3, 0.8), (0.5, 0.6), (0.45, 0.9), (0.7, 0.85), (0.15, 0.95), 
 #: Samples a start of the fit is tried on (:func:`_fit`).
 START_SAMPLES = 1000
 
-#: The losses of ``scipy.optimize.least_squares`` a fit takes.
-LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
+#: Bytes a fit takes for each sample fitted, with a margin: the Jacobian's 33
+#: numbers (three rates by 11 parameters) in several copies at once (the
+#: solver's, its scaled one, the SVD of the check of what it determines) and the
+#: residuals; the peak memory of fits of 10 000 and 20 000 samples grew by 1.9 kB
+#: a sample.
+FIT_BYTES = 2500
 
 #: Lags of the residuals' autocorrelation that tell a miss from noise (:func:`_fits`).
 LAGS = 10
@@ -84,7 +102,13 @@ class BodyFit:
         (:func:`tumble.theory.flip_period`): near the intermediate axis the body
         flips twice in it; ``inf`` on the separatrix.
     window : (start, end) of the samples fitted, s.
-    t, measured : the samples fitted, s and rad/s (sensor's axes).
+    t, measured : the samples fitted, s and rad/s (sensor's axes): block means
+        of the samples given when they were averaged (see ``note``).
+    noise : the noise σ of the samples fitted, rad/s per component (of the
+        samples given over √k when k were averaged at a time).
+    note : what was done to the samples before the fit, one sentence (a
+        recording sampled far faster than its motion needs is averaged to
+        fewer samples); "" when nothing was.
     """
 
     moment_ratios: Array
@@ -98,6 +122,8 @@ class BodyFit:
     window: tuple[float, float]
     t: Array
     measured: Array
+    noise: float = 0.0
+    note: str = ""
 
     def principal_rates(self, t: Any) -> Array:
         """(n, 3) the fitted body's ω at times ``t`` (s), principal axes, rad/s."""
@@ -210,49 +236,6 @@ def _canonical(moments: Array, axes: Array, omega0: Array) -> tuple[Array, Array
     return moments[order] / moments[order][2], axes, omega0
 
 
-def _linear_start(times: Array, measured: Array) -> tuple[Array, Array, Array]:
-    """Moments and axes without a guess, from two sets of equations linear in the
-    inertia tensor I (6 entries, up to scale):
-
-    * Euler's, ``I ω̇ + ω × (I ω) = 0`` at every sample, with ω̇ from a
-      Savitzky–Golay derivative of the samples put on an even grid over about a
-      quarter of a turn (noise in a plain difference would swamp ω̇);
-    * the conservation of energy, ``ωᵀ I ω`` equal at every sample to its mean
-      over the samples, which needs no derivative (alone it also admits I², as
-      |L|² is conserved too; with Euler's equations only I remains).
-
-    The tensor is the right singular vector of the least singular value, its
-    eigenvectors the axes; the smoothed rate at the first sample starts ω0. The
-    bias is ignored here; the fit takes it up."""
-    grid = np.linspace(times[0], times[-1], times.size)
-    even = np.stack([np.interp(grid, times, measured[:, k]) for k in range(3)], axis=1)
-    step = grid[1] - grid[0]
-    turn = 0.5 / max(float(np.linalg.norm(even, axis=1).max()), 1e-300)  # s, ~ a quarter turn
-    length = int(np.clip(2 * (turn / step // 2) + 1, 5, 2 * (times.size // 8) + 1))
-    smooth = savgol_filter(even, length, 3, axis=0)
-    rates = savgol_filter(even, length, 3, deriv=1, delta=step, axis=0)
-    euler, energy = [], []
-    for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)):
-        unit = np.zeros((3, 3))
-        unit[i, j] = unit[j, i] = 1.0
-        euler.append((rates @ unit + np.cross(smooth, smooth @ unit)).ravel())
-        form = np.einsum("ni,ij,nj->n", smooth, unit, smooth)
-        energy.append(form - form.mean())
-    a, b = np.stack(euler, axis=1), np.stack(energy, axis=1)
-    # Each block scaled to unit size, so neither outweighs the other by its units.
-    system = np.vstack([a / max(np.linalg.norm(a), 1e-300), b / max(np.linalg.norm(b), 1e-300)])
-    _, _, vt = np.linalg.svd(system, full_matrices=False)
-    p = vt[-1]
-    tensor = np.array([[p[0], p[3], p[4]], [p[3], p[1], p[5]], [p[4], p[5], p[2]]])
-    if np.trace(tensor) < 0:
-        tensor = -tensor
-    moments, axes = np.linalg.eigh(tensor)
-    moments = np.clip(moments, 1e-3 * moments[2], None)
-    if np.linalg.det(axes) < 0:
-        axes[:, 0] *= -1.0
-    return moments / moments[2], axes, smooth[0]
-
-
 # ------------------------------------------------------------------ the fit
 def identify(
     t: Any,
@@ -266,15 +249,18 @@ def identify(
 
     Parameters
     ----------
-    t : (n,) sample times, s, increasing (the spacing may vary).
+    t : (n,) sample times, s, increasing (the spacing may vary); or a pint
+        quantity of times (of any registry: ms, µs, ...).
     omega : (n, 3) measured angular velocity in the sensor's axes, rad/s (a
-        gyroscope fixed to the body; its axes need not be principal).
+        gyroscope fixed to the body; its axes need not be principal); or a
+        pint quantity of rates (deg/s, turn/s, rpm, ...).
     window : (start, end) in s, the free flight to fit; None to find it
         (:func:`tumble.identification.free_flight`).
-    bias : fit a constant sensor bias (3 more parameters).
+    bias : True or False: fit a constant sensor bias (3 more parameters).
     loss : ``"linear"`` (least squares) or a robust loss of
-        ``scipy.optimize.least_squares`` (``"soft_l1"``, ``"huber"``, ``"cauchy"``)
-        for recordings with outliers; the covariance then holds only roughly.
+        ``scipy.optimize.least_squares`` (``"soft_l1"``, ``"huber"``,
+        ``"cauchy"``, ``"arctan"``) for recordings with outliers; the covariance
+        then holds only roughly.
 
     Returns
     -------
@@ -287,9 +273,14 @@ def identify(
     ------
     InputError
         For too few samples, values that are not finite, times that do not
-        increase, a recording with no free flight, or one that does not
-        determine the ratios (a spin about one principal axis stays constant and
-        shows none).
+        increase, quantities that are not times or rates, a recording with no
+        free flight, rates no torque-free body shows (``|dω/dt| > |ω|²/√3``:
+        rates too small for their motion, as rates in deg/s read as rad/s are),
+        or one that does not determine the ratios (a spin about one principal
+        axis stays constant and shows none).
+    tumble.errors.RequestTooLargeError
+        For a window of more samples than the memory budget
+        (:mod:`tumble.resources`) can fit.
 
     Notes
     -----
@@ -297,24 +288,36 @@ def identify(
     is fitted, then narrowed to the samples the fitted motion matches within 5
     times the noise, and fitted again. The fit starts from Euler's equations
     solved for the tensor (no guess), and tries further starts when the residuals
-    do not look like the noise. A recording must show the motion the ratios shape:
+    do not look like the noise. A recording sampled far faster than its motion
+    needs (more than :data:`MAX_SAMPLES` samples to fit) is averaged in blocks of
+    consecutive samples first (:func:`tumble.identification.decimation.averaged`):
+    ``note`` says so. A recording must show the motion the ratios shape:
     within a hair of the separatrix (ω along the middle axis to 1e-3) a window
     holding a single flip can be matched about equally well by other bodies, and
     the fit may settle on one of them.
     """
-    if loss not in LOSSES:
-        raise InputError(f"Expected `loss` to be one of {', '.join(LOSSES)}, got {loss!r}.")
+    bias = flag(bias, "bias")
+    loss = check_loss(loss)
     times, rates = samples(t, omega)
     automatic = window is None
-    start, end = free_flight(times, rates) if automatic else window_bounds(window, times)
+    given = None if automatic else window_bounds(window, times)
+    noise = noise_level(times, rates)
+    times, rates, block, note = averaged(times, rates, given)
+    noise /= math.sqrt(block)  # white noise, averaged over blocks of that many samples
+    start, end = free_flight(times, rates) if given is None else given
     inside = (times >= start) & (times <= end)
-    if inside.sum() < MIN_SAMPLES:
+    count = int(inside.sum())
+    if count < MIN_SAMPLES:
         raise InputError(
             f"Expected at least {MIN_SAMPLES} samples in the window {start:.6g}–{end:.6g} s, "
-            f"got {int(inside.sum())}."
+            f"got {count}."
         )
-    noise = noise_level(times, rates)
-    fit = _fit(times[inside], rates[inside], noise, bias, loss)
+    check_memory(
+        count * FIT_BYTES,
+        f"a fit of {count} samples",
+        "Fit a shorter window (`window=(start, end)`, --window START,END).",
+    )
+    fit = _fit(times[inside], rates[inside], noise, bias, loss, note)
     if automatic:
         # The rule of free_flight can keep the last samples of a throw (a fast
         # spin-up ends with |ω|² above |ω̇|); the samples the fitted free motion
@@ -324,17 +327,22 @@ def identify(
         kept = np.flatnonzero(~misses)
         first, last = (kept[0], kept[-1]) if kept.size else (0, misses.size - 1)
         if (first > 0 or last < misses.size - 1) and last - first + 1 >= MIN_SAMPLES:
-            fit = _fit(fit.t[first : last + 1], fit.measured[first : last + 1], noise, bias, loss)
+            fit = _fit(
+                fit.t[first : last + 1], fit.measured[first : last + 1], noise, bias, loss, note
+            )
     return fit
 
 
-def _fit(times: Array, rates: Array, noise: float, bias: bool, loss: str) -> BodyFit:
+def _fit(
+    times: Array, rates: Array, noise: float, bias: bool, loss: str, note: str = ""
+) -> BodyFit:
     """The fit of the samples of one window (see :func:`tumble.identify`)."""
     start = float(times[0])
     relative = times - start
     check_motion(rates, noise)
 
-    moments, frame, first = _linear_start(relative, rates)
+    smooth, derivative = smoothed(relative, rates)
+    moments, frame, first = linear_start(smooth, derivative)
     # A second guess of the axes: those of the second moments of the samples
     # (a motion near the separatrix dwells along the middle axis).
     _, spread = np.linalg.eigh(rates.T @ rates)
@@ -350,13 +358,18 @@ def _fit(times: Array, rates: Array, noise: float, bias: bool, loss: str) -> Bod
     some_times, some_rates = relative[::every], rates[::every]
     spans = [n for n in (len(some_times) // 8, len(some_times) // 4, len(some_times) // 2)
              if n >= 3 * MIN_SAMPLES] + [len(some_times)]  # fmt: skip
+    # The starts are searched with soft_l1 where a robust loss is asked for: it
+    # resists outliers as well, and its trust region converges where a
+    # redescending loss (cauchy, arctan) crawls from a poor start (arctan took
+    # 36 s on the shipped recording); the chosen loss polishes the best.
+    search = "linear" if loss == "linear" else "soft_l1"
     best = None
     for ratios, axes in starts:
         x = np.concatenate(
             [np.log(ratios), np.zeros(3), axes.T @ first, np.zeros(3 if bias else 0)]
         )
         for n in spans:
-            result = _solve(x, axes, some_times[:n], some_rates[:n], bias, loss, False, noise)
+            result = _solve(x, axes, some_times[:n], some_rates[:n], bias, search, False, noise)
             x = result.x
         if best is None or result.cost < best.cost:
             best, frame = result, axes
@@ -376,11 +389,28 @@ def _fit(times: Array, rates: Array, noise: float, bias: bool, loss: str) -> Bod
     # The typical residual (median-based: a few outliers do not count).
     typical = 1.4826 * float(np.median(np.abs(final.fun)))
     if typical > MAX_MISS * noise and typical > 1e-9 * float(np.abs(rates).max()):
+        ratio = free_body_ratio(smooth, derivative)
+        also = (
+            f" (the rates break |dω/dt| ≤ |ω|²/√3 too, at {ratio:.3g} |ω|²: a hand's torque "
+            "does, and so do rates too small for their unit, as deg/s read as rad/s)"
+            if breaks_free_body(ratio)
+            else ""
+        )
         raise InputError(
             f"Expected the samples of {start:.6g}–{times[-1]:.6g} s to follow a torque-free "
             f"motion, got residuals of {typical:.3g} rad/s against noise of {noise:.3g} rad/s "
-            "for the best body found: is the window all free flight?"
+            f"for the best body found: is the window all free flight?{also}"
         )
+    # A torque-free body matched the samples: if they break the bound every such
+    # body keeps, their unit is wrong (the body found is no body). Judged on the
+    # samples with the outliers (impacts, glitches: residuals beyond 5 σ√3) put
+    # where the fitted motion has them, as a spike would spread over the smoothing.
+    misses = np.linalg.norm(final.fun.reshape(-1, 3), axis=1) > 5.0 * np.sqrt(3.0) * noise
+    if misses.any():
+        cleaned = rates.copy()
+        cleaned[misses] += final.fun.reshape(-1, 3)[misses]  # the fitted motion there
+        smooth, derivative = smoothed(relative, cleaned)
+    check_free_body(free_body_ratio(smooth, derivative))
     _check_determined(final.jac, bias)
     if moments[0] < MIN_RATIO:
         raise InputError(
@@ -426,6 +456,8 @@ def _fit(times: Array, rates: Array, noise: float, bias: bool, loss: str) -> Bod
         window=(start, float(times[-1])),
         t=times,
         measured=rates,
+        noise=noise,
+        note=note,
     )
 
 

@@ -4,9 +4,11 @@ A thrown phone is torque-free from the hand to the catch; before and after,
 the hand holds it. The rule that tells them apart comes from Euler's
 equations: in free flight ``ω̇_i = (I_j − I_k) ω_j ω_k / I_i``, and since every
 physical body has ``|I_j − I_k| ≤ I_i`` (the triangle inequality of its
-moments), ``|ω̇| ≤ |ω|²``. A hand turning the phone, a throw that spins it up and
-a catch all break that bound (the hand's torque), and so do impacts. The
-samples kept are those where
+moments), ``|ω̇| ≤ |ω|²`` (even ``|ω|²/√3``:
+:data:`~tumble.identification.checks.FREE_BODY_BOUND`; the rule keeps the
+rounder bound, a margin for the noise of a plain difference). A hand turning
+the phone, a throw that spins it up and a catch all break that bound (the
+hand's torque), and so do impacts. The samples kept are those where
 
 * ``|ω̇| ≤ 1.5 |ω|² + 6 σ̇``, with σ̇ the noise of ``ω̇`` from differences of
   the samples (so noise alone does not break the bound), and

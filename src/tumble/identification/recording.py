@@ -111,21 +111,21 @@ def synthetic_phone(
     start = axes @ omega0
     end = axes @ principal_rates(np.array([*ratios, 1.0]), omega0, np.array([flight]))[0]
     phases = generator.uniform(0, 2 * np.pi, 6)
-    for k in np.flatnonzero(~in_flight):
-        now = t[k]
-        # The hand turns the phone slowly (a few tenths of rad/s, about 1 Hz).
-        hand = 0.3 * np.sin(2 * np.pi * np.array([0.9, 1.3, 0.7]) * now + phases[:3])
-        if now < held:
-            omega[k] = hand
-        elif now < release:  # the throw: a steady spin-up, ending at the release
-            share = (now - held) / throw
-            omega[k] = (1 - share) * hand + share * start
-        elif now < landing + catch:  # the catch: spun down, with an impact
-            share = (now - landing) / catch
-            knock = 8.0 * np.exp(-(((now - landing - 0.01) / 0.004) ** 2))
-            omega[k] = (1 - share) * end + share * hand + knock * np.cos(phases[3:])
-        else:
-            omega[k] = hand
+    now = t[~in_flight, None]
+    # The hand turns the phone slowly (a few tenths of rad/s, about 1 Hz).
+    hand = 0.3 * np.sin(2 * np.pi * np.array([0.9, 1.3, 0.7]) * now + phases[:3])
+    # The throw: a steady spin-up, ending at the release.
+    spun_up = (now - held) / throw
+    thrown = (1 - spun_up) * hand + spun_up * start
+    # The catch: spun down, with an impact.
+    spun_down = (now - landing) / catch
+    knock = 8.0 * np.exp(-(((now - landing - 0.01) / 0.004) ** 2))
+    caught = (1 - spun_down) * end + spun_down * hand + knock * np.cos(phases[3:])
+    omega[~in_flight] = np.where(
+        now < held,
+        hand,
+        np.where(now < release, thrown, np.where(now < landing + catch, caught, hand)),
+    )
     offset = np.array(bias, dtype=float)
     measured = omega + offset + noise * generator.standard_normal(omega.shape)
     return PhoneRecording(

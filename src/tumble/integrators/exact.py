@@ -245,7 +245,7 @@ def gyrostat_solution(
         attitude = start * Rotation.from_rotvec(np.outer(times, w0))
     else:
         w, attitude = _gyrostat_motion(
-            gyrostat_constants(moments, h, *h0), moments, h0, rotor_momentum, start, times
+            gyrostat_constants(moments, h, *w0), moments, h0, rotor_momentum, start, times
         )
     omega = np.ldexp(w, rate_exponent) @ frame.T
     quaternion = (attitude * to_body.inv()).as_quat(scalar_first=True)

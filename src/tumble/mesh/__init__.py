@@ -2,8 +2,9 @@
 
 Files are read with trimesh (STL, OBJ, PLY, GLB/glTF, OFF, ...; STEP through
 cascadio, which tessellates it with OpenCASCADE in a child process that a crash
-of OpenCASCADE cannot take down with it (:mod:`tumble.mesh.step`) and converts
-its units to metres); the volume integrals are tumble's own compiled kernel,
+of OpenCASCADE cannot take down with it, bounded in time and memory
+(:mod:`tumble.mesh.step`), and converts its units to metres); the volume
+integrals are tumble's own compiled kernel,
 :func:`tumble.core.polyhedron.mesh_integrals`, which is exact for the polyhedron
 (Tonon 2004, via the divergence theorem).
 
@@ -31,6 +32,7 @@ does not bound a solid are meaningless rather than approximately right:
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 import warnings
 from pathlib import Path
@@ -40,7 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core.polyhedron import mesh_integrals
-from tumble.errors import InputError, MeshError
+from tumble.errors import QUOTED_PATH_LENGTH, InputError, MeshError, quoted
 from tumble.massprops import MassProperties
 from tumble.mesh.checks import (
     DEFAULT_MERGE_FRACTION,
@@ -110,12 +112,16 @@ def from_mesh(
     Raises
     ------
     InputError
-        Unreadable file (also a STEP file OpenCASCADE crashes on), both or
+        Unreadable file (also a STEP file OpenCASCADE crashes on, or does not
+        finish within its time limit, ``TUMBLE_STEP_TIME_LIMIT``), both or
         neither of density and mass, non-positive density or mass, a unit that
         is not a length, a mass or inertia beyond float range.
+    RequestTooLargeError
+        A STEP file whose tessellation reaches its memory limit (the memory
+        budget, ``TUMBLE_MEMORY_BUDGET``).
     MeshError
-        No triangles, non-finite vertices, a mesh wider than float range
-        (a diagonal over 1.8e308 m), holes (the message counts the
+        No triangles, non-finite vertices (or numbers in a STEP file), a mesh
+        wider than float range (a diagonal over 1.8e308 m), holes (the message counts the
         boundary edges, gives their length, and suggests the
         ``merge_tolerance`` that closes a seam), edges shared by more than two
         triangles that do not split the mesh into closed pieces, inconsistent
@@ -207,10 +213,14 @@ def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str |
 
     if isinstance(mesh, str | os.PathLike):
         path = Path(mesh)
-        label = f"mesh {str(path)!r}"
-        if not path.is_file():
-            why = "a directory" if path.is_dir() else "no such file"
-            raise InputError(f"Expected `mesh` to be a mesh file, got {str(path)!r} ({why}).")
+        shown = quoted(path, QUOTED_PATH_LENGTH)
+        label = f"mesh {shown}"
+        try:
+            why = None if path.is_file() else "a directory" if path.is_dir() else "no such file"
+        except OSError as exc:  # a name too long, a folder that cannot be read
+            why = exc.strerror or str(exc)
+        if why is not None:
+            raise InputError(f"Expected `mesh` to be a mesh file, got {shown} ({why}).")
         try:
             # process=False: keep the file's triangles as they are; merging and
             # the checks below are ours, so that errors can say what is wrong.
@@ -225,13 +235,10 @@ def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str |
             raise
         except ImportError as exc:
             raise InputError(
-                f"Reading {str(path)!r} needs a package that is not installed: {exc}."
+                f"Reading {shown} needs a package that is not installed: {exc}."
             ) from None
         except Exception as exc:  # trimesh raises many types for unreadable files
-            raise InputError(
-                f"Expected `mesh` to be a readable mesh file (STL, OBJ, PLY, GLB, STEP, ...), "
-                f"got {str(path)!r}: {exc}"
-            ) from None
+            raise _unreadable(path, label, exc) from None
     elif isinstance(mesh, trimesh.Scene):
         label, loaded = "mesh (scene)", mesh.to_mesh()
     elif isinstance(mesh, trimesh.Trimesh):
@@ -244,6 +251,42 @@ def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str |
     faces = np.ascontiguousarray(loaded.faces, dtype=np.int64)
     declared = getattr(loaded, "units", None)
     return label, vertices, faces, (str(declared) if declared else None)
+
+
+#: What a well-formed file of a text format holds, for the message about one that is not.
+_WELL_FORMED = {
+    ".stl": "each facet has 3 `vertex` lines of 3 numbers",
+    ".obj": "each `v` line has 3 numbers, each `f` line the numbers of its vertices",
+}
+
+# numpy's words for lines with too few or too many numbers, which trimesh's text
+# readers let through from numpy (and trimesh's own, for a facet of two vertices).
+_MALFORMED = re.compile(
+    r"cannot reshape|unmatched data|could not convert|invalid literal|incorrect number of vertices"
+)
+_OUT_OF_BOUNDS = re.compile(r"index (-?\d+) is out of bounds for axis \d+ with size (\d+)")
+
+
+def _unreadable(path: Path, label: str, exc: Exception) -> InputError:
+    """The error for a file trimesh could not read: what is wrong with it, in the
+    words of the format rather than numpy's where the cause is known."""
+    text = str(exc)
+    bounds = _OUT_OF_BOUNDS.search(text) if isinstance(exc, IndexError) else None
+    if bounds:  # a face with a vertex index beyond the vertices
+        return MeshError(
+            f"Expected {label} face indices in [0, {int(bounds[2]) - 1}], got index {bounds[1]}."
+        )
+    if isinstance(exc, IndexError | ValueError) and (_MALFORMED.search(text) or not text):
+        rule = _WELL_FORMED.get(path.suffix.lower())
+        return MeshError(
+            f"Expected {label} to be a well-formed {path.suffix.lstrip('.').upper()} file"
+            + (f" ({rule})" if rule else "")
+            + ", got one that is not."
+        )
+    return InputError(
+        f"Expected `mesh` to be a readable mesh file (STL, OBJ, PLY, GLB, STEP, ...), "
+        f"got {quoted(path, QUOTED_PATH_LENGTH)}: {text}"
+    )
 
 
 def mesh_mass_properties(

@@ -85,6 +85,14 @@ class InternalPart:
         """The part as JSON-ready SI values (with ``type``), to write beside a trajectory."""
         raise NotImplementedError
 
+    def internal_rate(self, platform_moment: float) -> float:
+        """The fastest rate of its own motion relative to the body, 1/s: the largest
+        |λ| of its linearised equations on a body whose smallest platform moment is
+        ``platform_moment`` (kg·m²). An explicit integrator's step h must keep
+        h |λ| within its stability interval (RK4: 2.78; Dormand–Prince: 3.3), or the
+        run diverges. 0 for a part with no stiffness or damping of its own."""
+        return 0.0
+
     @property
     def driven(self) -> bool:
         """True when a motor acts on it: the body's energy is then not conserved."""

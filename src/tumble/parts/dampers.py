@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -74,6 +75,12 @@ class KaneDamper(InternalPart):
     def dissipative(self) -> bool:
         return self.damping > 0
 
+    def internal_rate(self, platform_moment: float) -> float:
+        """D (1/I_s + 1/I_p): the rate at which the fluid brings the sphere (I_s) and
+        a platform of moment I_p about one axis to one spin; exact for the
+        linearised pair, largest for the smallest I_p."""
+        return float(self.damping * (1.0 / self.inertia + 1.0 / platform_moment))
+
     def spin_inertia(self) -> Array:
         return self.inertia * np.eye(3)
 
@@ -122,7 +129,10 @@ class SpringMassDamper(InternalPart):
     stiffness: Any
     damping: Any = 0.0
     displacement: Any = 0.0
-    geometry: Any = field(default=None, repr=False)
+    #: Set by :meth:`attached` (the reduced mass μ, kg, and the rest position d0
+    #: from the centre of mass of the rest of the body, m, body axes): what the
+    #: part knows of the body that carries it; None for a bare part.
+    geometry: Any = field(default=None, init=False, repr=False)
 
     kind = "spring-mass-damper"
     size = 2
@@ -130,8 +140,6 @@ class SpringMassDamper(InternalPart):
     value_unit = "m, m/s"
 
     def __post_init__(self) -> None:
-        if self.geometry is not None:  # attached: converted already
-            return
         owner = "SpringMassDamper"
         object.__setattr__(self, "mass", positive(self.mass, "mass", "mass", owner, "kg"))
         position = vector_to_si(self.position, "length", "position", (3,))
@@ -156,8 +164,9 @@ class SpringMassDamper(InternalPart):
         reduced = self.mass * (total - self.mass) / total
         rest = (total / (total - self.mass)) * (self.position - np.asarray(mp.center_of_mass))
         values = dict(self.__dict__)
-        values.pop("geometry")
-        copy = SpringMassDamper(**values, geometry=(reduced, rest))
+        values.pop("geometry", None)
+        copy = SpringMassDamper(**values)
+        object.__setattr__(copy, "geometry", (reduced, rest))
         return copy
 
     @property
@@ -169,6 +178,16 @@ class SpringMassDamper(InternalPart):
     @property
     def dissipative(self) -> bool:
         return self.damping > 0
+
+    def internal_rate(self, platform_moment: float) -> float:
+        """The largest |λ| of μ ẍ + c ẋ + k x = 0 (μ the reduced mass): (c + √(c² −
+        4 μ k)) / 2μ when overdamped, √(k/μ) otherwise; the body's rotation adds
+        only its own rate to it."""
+        reduced, _ = self._geometry
+        discriminant = self.damping**2 - 4.0 * reduced * self.stiffness
+        if discriminant > 0:
+            return float((self.damping + math.sqrt(discriminant)) / (2.0 * reduced))
+        return math.sqrt(self.stiffness / reduced)
 
     def coupling(self) -> Array:
         """g = μ d0 × n (kg·m, body axes)."""

@@ -33,8 +33,9 @@ class Rotor(InternalPart):
         pairs with increasing times, piecewise constant from each time to the
         next (zero before the first).
     max_torque : the largest motor torque it can give (N·m, > 0; default no limit).
-    max_speed : the largest relative speed it can reach (rad/s, > 0; default no
-        limit): the motor torque is cut when it would drive the rotor beyond.
+    max_speed : the largest relative speed it can reach (rad/s, > 0, at least
+        ``|speed|``; default no limit): the motor torque is cut when it would
+        drive the rotor beyond.
 
     The motor torque adds to the rotor's share of any torque model that acts
     through the rotors (``actuator="rotors"``, e.g. an attitude controller).
@@ -80,6 +81,13 @@ class Rotor(InternalPart):
         object.__setattr__(
             self, "max_speed", limit(self.max_speed, "angular_velocity", "max_speed", "rad/s")
         )
+        # The motor only stops pushing beyond the limit: a rotor started beyond it
+        # would keep its speed, not be brought back within.
+        if abs(self.speed) > self.max_speed:
+            raise InputError(
+                f"Expected `speed` of a Rotor within its `max_speed` ({self.max_speed!r} rad/s), "
+                f"got {self.speed!r} rad/s."
+            )
 
     @property
     def schedule(self) -> tuple[Array, Array]:
@@ -111,8 +119,10 @@ class Rotor(InternalPart):
         return self.momenta(omega, values) * self.axis
 
     def kinetic_energy(self, omega: Array, values: Array) -> Array:
-        h = self.momenta(omega, values)[..., 0]
-        return np.asarray(0.5 * h * h / self.inertia)
+        # ½ J s², s the rotor's rate in space: no square of h = J s, which
+        # overflows or underflows for a rotor of 1e±200 kg·m².
+        rate = np.asarray(omega, dtype=float) @ self.axis + values[..., 0]
+        return np.asarray(0.5 * self.inertia * rate * rate)
 
     def values_from(self, omega: Array, momenta: Array) -> Array:
         along = np.asarray(omega, dtype=float) @ self.axis

@@ -8,15 +8,15 @@
 
 Everything written is self-contained and works offline; every file is written
 to a temporary name and renamed, and a run folder is filled beside its final
-place and moved there whole, so a reader never sees half a run.
+place and moved there whole, so a reader never sees half a run. One writer
+at a time: a run folder is claimed (:class:`tumble.locks.OutputLock`) before
+it is checked and written.
 """
 
 from __future__ import annotations
 
 import json
 import os
-import shutil
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -144,34 +144,33 @@ def write_run(
     per extra run), ``summary.json``, ``report.html``, one PNG per figure and
     ``viewer.html`` (unless the scenario's ``[output]`` turns figures or the
     viewer off). It is filled under a temporary name beside ``folder`` and then
-    renamed; with ``force`` an existing folder is replaced whole. The figures
-    are drawn by ``figure_workers`` (:class:`~tumble.report.charts.FigureWorkers`)
-    while the other files are written, if given, else here.
+    renamed (:func:`tumble.locks.staged_folder`); with ``force`` an existing
+    folder is replaced whole. The folder is claimed first
+    (:class:`tumble.locks.OutputLock`): another process writing it is refused,
+    and what a killed writer left beside it is removed. The figures are drawn
+    by ``figure_workers`` (:class:`~tumble.report.charts.FigureWorkers`) while
+    the other files are written, if given, else here.
 
     Raises
     ------
     RunFolderExistsError
         If ``folder`` holds files and ``force`` is false.
+    tumble.locks.OutputInUseError
+        If another process (or thread) is writing ``folder``.
     tumble.errors.OutputError
         If the folder cannot be written (checked first), or the file system
         fails while writing (a full disk): no partial folder is left, and an
         existing folder is unchanged.
     """
-    from tumble.files import created_parents, output_error
+    from tumble.files import output_error
+    from tumble.locks import OutputLock, staged_folder
 
     target = Path(folder)
-    check_folder(target, force)
     try:
-        with created_parents(target):
-            staging = Path(
-                tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent)
-            )
-            try:
+        with OutputLock(target, "the run folder"):
+            check_folder(target, force)  # claimed: no other writer changes it now
+            with staged_folder(target) as staging:
                 _fill(result, staging, progress or (lambda _: None), figure_workers)
-                _replace(staging, target)
-            except BaseException:
-                shutil.rmtree(staging, ignore_errors=True)
-                raise
     except OSError as exc:
         raise output_error(exc, target, "the run folder") from exc
     except OutputError as exc:
@@ -188,10 +187,9 @@ def _fill(
     workers: FigureWorkers | None,
 ) -> None:
     """Write the run folder's files into ``staging``."""
-    from tumble.files import permissions, write_bytes, write_text
+    from tumble.files import write_bytes, write_text
     from tumble.report.html import report_html
 
-    os.chmod(staging, permissions(directory=True))
     spec = result.scenario.spec
     name = spec.scenario.name
     sheets = {}
@@ -242,23 +240,3 @@ def _fill(
     summary = result.summary()
     summary["files"] = sorted([*(p.name for p in staging.iterdir()), "summary.json"])
     write_text(staging / "summary.json", json.dumps(summary, indent=2, allow_nan=False) + "\n")
-
-
-def _replace(staging: Path, target: Path) -> None:
-    """Move the finished folder into place; an old one is moved aside first, then removed."""
-    if target.exists():
-        aside = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent))
-        try:
-            os.replace(target, aside / target.name)
-        except OSError:
-            aside.rmdir()
-            raise
-        try:
-            os.replace(staging, target)
-        except OSError:
-            os.replace(aside / target.name, target)  # the old folder back, unchanged
-            aside.rmdir()
-            raise
-        shutil.rmtree(aside, ignore_errors=True)
-    else:
-        os.replace(staging, target)

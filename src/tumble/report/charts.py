@@ -199,13 +199,51 @@ _WARM_UP = Sheet(
 )
 
 
-def _warm_up() -> None:
-    """A worker's start: matplotlib imported and its fonts loaded, and what that
-    made moved out of the cyclic collector's sight, so that its passes while
-    sheets are drawn do not search it again."""
+def _warm_up(parent: int) -> None:
+    """A worker's start: bound to end with its ``parent`` process, then
+    matplotlib imported and its fonts loaded, and what that made moved out of
+    the cyclic collector's sight, so that its passes while sheets are drawn do
+    not search it again."""
+    _end_with(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is for the parent to handle
     _png_of(_WARM_UP)
     gc.freeze()
+
+
+#: prctl's request for a signal when the parent ends (linux/prctl.h).
+_PR_SET_PDEATHSIG = 1
+
+
+def _end_with(parent: int) -> None:
+    """Make this worker end when its ``parent`` ends, however it ends: a parent
+    killed (SIGKILL) cannot stop its workers, and they would live on, orphans.
+    On Linux the kernel kills the worker when the thread that started it ends
+    (``prctl(PR_SET_PDEATHSIG)``; FigureWorkers are made and used by one
+    thread); elsewhere a thread of the worker watches for its parent to change
+    (the orphan's new parent), twice a second."""
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            if libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0:
+                if os.getppid() != parent:  # it ended before the request
+                    os._exit(1)
+                return
+        except (OSError, AttributeError):  # no prctl in this C library: watch instead
+            pass
+    import threading
+
+    threading.Thread(target=_watch, args=(parent,), name="watch-parent", daemon=True).start()
+
+
+def _watch(parent: int) -> None:
+    """End this process once its parent is no longer ``parent``."""
+    import time
+
+    while os.getppid() == parent:
+        time.sleep(0.5)
+    os._exit(1)
 
 
 class FigureWorkers:
@@ -220,6 +258,8 @@ class FigureWorkers:
     ``workers``: how many; by default the cores this process leaves, up to two
     (one on two cores: more would slow this process down more than they help).
     On Linux they are forked: create them before this process starts threads.
+    They end with this process, even when it is killed (SIGKILL): see
+    :func:`_end_with`.
     """
 
     def __init__(self, workers: int | None = None) -> None:
@@ -234,6 +274,7 @@ class FigureWorkers:
                 max_workers=workers,
                 mp_context=multiprocessing.get_context(method),
                 initializer=_warm_up,
+                initargs=(os.getpid(),),
             )
             for _ in range(workers):  # the pool starts its workers on demand
                 self._pool.submit(int)

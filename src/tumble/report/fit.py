@@ -20,7 +20,6 @@ import json
 import math
 import os
 import re
-import shutil
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -112,6 +111,7 @@ def fit_summary(
         "flip_period": period if math.isfinite(period) else None,
         "residual_rms": float(fit.residual_rms),
         "noise": float(noise),
+        "fit_note": fit.note,
         "parameters": list(PARAMETERS[: fit.covariance.shape[0]]),
         "covariance": fit.covariance.tolist(),
         "units": {"time": "s", "rates": "rad/s", "moment_ratios": "1", "rotation": "rad"},
@@ -302,12 +302,12 @@ def draw_fit_sheet(name: str, sheet: Sheet, window: tuple[float, float]) -> byte
 
 # ------------------------------------------------------------------ the folder
 def check_fit_folder(folder: str | os.PathLike[str], force: bool) -> None:
-    """Refuse, before any work, a fit folder that cannot be written, or that holds
-    files unless ``force``; with ``force``, one that holds files but no
-    ``fit.json`` (other work) too (:func:`tumble.report.check_folder`)."""
+    """Refuse, before any work, a fit folder that cannot be written (or replaced
+    whole), or that holds files unless ``force``; with ``force``, one that holds
+    files but no ``fit.json`` (other work) too (:func:`tumble.report.check_folder`)."""
     from tumble.report import check_folder
 
-    check_folder(folder, force, kind="fit", marker="fit.json", whole=False)
+    check_folder(folder, force, kind="fit", marker="fit.json")
 
 
 def write_fit(
@@ -324,21 +324,28 @@ def write_fit(
 ) -> Path:
     """Write the fit folder: ``fitted-scenario.toml``, the PNG figures (unless
     ``figures`` is false) and ``fit.json`` (last: a folder that holds it is
-    complete). Each file is written to a temporary name and renamed; with
-    ``force`` the files of an earlier fit there are replaced, and its figures
-    removed when none are drawn. ``source`` names the recording; ``noise``,
-    ``found`` and ``loss`` go into ``fit.json`` (:func:`fit_summary`).
+    complete). The folder is filled under a temporary name beside ``folder``
+    and renamed (:func:`tumble.locks.staged_folder`); with ``force`` an earlier
+    fit there is replaced whole. The folder is claimed first
+    (:class:`tumble.locks.OutputLock`): another process writing it is refused,
+    and what a killed writer left beside it is removed. ``source`` names the
+    recording; ``noise``, ``found`` and ``loss`` go into ``fit.json``
+    (:func:`fit_summary`).
 
     Raises
     ------
     tumble.report.RunFolderExistsError
         The folder holds files and ``force`` is false, or holds other files
         than a fit's.
+    tumble.locks.OutputInUseError
+        Another process (or thread) is writing ``folder``.
     tumble.errors.OutputError
         The folder cannot be written (checked first), or the file system fails
-        while writing.
+        while writing: an earlier fit there is then unchanged.
     """
-    from tumble.files import created_parents, output_error, write_bytes, write_text
+    from tumble.errors import OutputError
+    from tumble.files import output_error, write_bytes, write_text
+    from tumble.locks import OutputLock, staged_folder
 
     target = Path(folder)
     check_fit_folder(target, force)
@@ -350,23 +357,19 @@ def write_fit(
         if figures else {}
     )  # fmt: skip
     summary["files"] = sorted(["fitted-scenario.toml", "fit.json", *(f"{k}.png" for k in images)])
-    new = not target.exists()
     try:
-        with created_parents(target):
-            target.mkdir(exist_ok=True)
-            try:
-                write_text(target / "fitted-scenario.toml", fitted_scenario(fit, name, source))
-                for key in FIT_FIGURES:
-                    if key in images:
-                        write_bytes(target / f"{key}.png", images[key])
-                    else:  # an earlier fit's, replaced with force
-                        (target / f"{key}.png").unlink(missing_ok=True)
+        with OutputLock(target, "the fit folder"):
+            check_fit_folder(target, force)  # claimed: no other writer changes it now
+            with staged_folder(target) as staging:
+                write_text(staging / "fitted-scenario.toml", fitted_scenario(fit, name, source))
+                for key, image in images.items():
+                    write_bytes(staging / f"{key}.png", image)
                 text = json.dumps(summary, indent=2, allow_nan=False) + "\n"
-                write_text(target / "fit.json", text)
-            except BaseException:
-                if new:  # a failed write leaves no folder it made
-                    shutil.rmtree(target, ignore_errors=True)
-                raise
+                write_text(staging / "fit.json", text)
     except OSError as exc:
         raise output_error(exc, target, "the fit folder") from exc
+    except OutputError as exc:
+        if not isinstance(exc.cause, OSError):
+            raise
+        raise output_error(exc.cause, target, "the fit folder") from exc.cause
     return target

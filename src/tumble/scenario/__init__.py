@@ -78,7 +78,13 @@ def parse(
     from tumble.scenario.schema import Scenario, key_path
 
     spec = validate_toml(
-        Scenario, text, source, error=ScenarioError, key_path=key_path, count_others=True
+        Scenario,
+        text,
+        source,
+        error=ScenarioError,
+        key_path=key_path,
+        name_input=True,
+        count_others=True,
     )
     return LoadedScenario(spec, text, source, Path(folder) if folder is not None else Path.cwd())
 

@@ -24,7 +24,7 @@ from pydantic import (
 )
 
 from tumble.config import StrictModel, key_error
-from tumble.errors import InputError
+from tumble.errors import InputError, quoted
 from tumble.units import to_si, vector_to_si
 
 __all__ = [
@@ -225,7 +225,8 @@ class ShapeBody(_Placed):
             hint = f" Did you mean {close[0]!r}?" if close else ""
             raise key_error(
                 "shape",
-                f"Expected `shape` to be one of {', '.join(SHAPES)}, got {self.shape!r}.{hint}",
+                f"Expected `shape` to be one of {', '.join(SHAPES)}, "
+                f"got {quoted(self.shape)}.{hint}",
             )
         needed = SHAPES[name]
         every = {n for dims in SHAPES.values() for n in dims}

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.config import dotted
-from tumble.errors import InputError
+from tumble.errors import QUOTED_PATH_LENGTH, InputError, quoted
 from tumble.massprops import MassProperties
 from tumble.scenario.bodies import (
     Attitude,
@@ -76,9 +76,14 @@ def mesh_path(body: MeshBody, folder: Path) -> Path:
         for base in (folder, BUILTINS.folder()):
             if (base / path).is_file():
                 return base / path
-        raise InputError(f"Expected a mesh file, got {body.mesh!r} (not found in {folder}).")
+        raise InputError(
+            f"Expected a mesh file, got {quoted(body.mesh, QUOTED_PATH_LENGTH)} "
+            f"(not found in {quoted(folder, QUOTED_PATH_LENGTH)})."
+        )
     if not path.is_file():
-        raise InputError(f"Expected a mesh file, got {body.mesh!r} (no such file).")
+        raise InputError(
+            f"Expected a mesh file, got {quoted(body.mesh, QUOTED_PATH_LENGTH)} (no such file)."
+        )
     return path
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.checks import Comparison, Panel, Setup, choose_check
+from tumble.errors import InputError
 from tumble.scenario.build import (
     at_key,
     initial_state,
@@ -217,14 +218,40 @@ def _rigid_body(
         mp, state.omega, state.attitude, env.pivot, env.gravity, torque, options=options,
         internal=parts,
     )  # fmt: skip
+    model = spec.theory.model
     with at_key(loaded, "theory", "model"):
-        check = choose_check(spec.theory.model, setup)
-    comparison = Comparison([], [])
-    if check is not None:
-        with at_key(loaded, "theory"):
+        check = choose_check(model, setup)
+    if check is None:
+        comparison = Comparison([], [], notes=(_no_check(model),))
+    else:
+        try:
             comparison = check.compare(setup, traj)
+        except ScenarioError:
+            raise
+        except InputError as exc:
+            if model != "auto" or spec.theory.bearings is not None:  # asked for: say it
+                raise ScenarioError(
+                    f'{where(loaded, ("theory",))}: {exc} Set [theory] model = "none" to run '
+                    "it without a comparison."
+                ) from None
+            # The check chosen for the setup cannot measure this state of it (an
+            # upright top has no azimuth): the run stands, and says why.
+            note = f"no theory comparison: the {check.name} check cannot measure this run: {exc}"
+            comparison, check = Comparison([], [], notes=(note,)), None
     for row in comparison.rows:
         row.setdefault("run", "main")
     theory = None if check is None else check.name
     runs = {"main": traj, **comparison.runs}
-    return runs, comparison.rows, comparison.panels, theory, []
+    return runs, comparison.rows, comparison.panels, theory, list(comparison.notes)
+
+
+def _no_check(model: str) -> str:
+    """Why no check was chosen: ``[theory] model = "none"``, or none fits the setup."""
+    if model == "none":
+        return 'no theory comparison: [theory] model = "none".'
+    from tumble.checks import THEORY_CHECKS
+
+    return (
+        f"no theory comparison: none of the closed forms ({', '.join(THEORY_CHECKS)}) "
+        "describes this setup."
+    )

@@ -47,6 +47,7 @@ BUILTINS = config.Builtins(
         "reaction-wheel-slew",
     ),
     describe=("title", "description"),
+    command="tumble run",
 )
 
 

@@ -45,7 +45,7 @@ import numpy as np
 from pydantic import model_validator
 
 from tumble.config import StrictModel, key_error
-from tumble.errors import InputError
+from tumble.errors import InputError, quoted
 from tumble.scenario.bodies import (
     AngularVelocity,
     Length,
@@ -96,7 +96,8 @@ class InternalSpec(StrictModel):
             close = difflib.get_close_matches(self.type, kinds, n=1)
             hint = f" Did you mean {close[0]!r}?" if close else ""
             raise key_error(
-                "type", f"Expected `type` to be one of {', '.join(kinds)}, got {self.type!r}.{hint}"
+                "type",
+                f"Expected `type` to be one of {', '.join(kinds)}, got {quoted(self.type)}.{hint}",
             )
         given = {key for key in self.model_fields_set if key not in {"type", "position"}}
         spring = self.type == "spring-mass-damper"

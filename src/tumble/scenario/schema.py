@@ -22,6 +22,8 @@ from pydantic import BeforeValidator, Field, field_validator, model_validator
 
 from tumble.config import StrictModel, key_error
 from tumble.config.registries import method_choice, theory_choice, torque_entry
+from tumble.errors import quoted
+from tumble.resources import DEFAULT_MAX_STEPS, DEFAULT_MAX_STEPS_TEXT
 from tumble.scenario.bodies import (
     Angle,
     AngularVelocity,
@@ -53,10 +55,10 @@ __all__ = [
 ]
 
 
-#: The most steps a scenario may take (a few seconds of the compiled kernels); longer
-#: runs are for :func:`tumble.simulate`. ``MAX_STEPS_TEXT`` is how messages write it.
-MAX_STEPS = 50_000_000
-MAX_STEPS_TEXT = "5e7"
+#: The most steps a scenario may take: :func:`tumble.simulate`'s default limit
+#: (a few seconds of the compiled kernels). ``MAX_STEPS_TEXT`` is how messages write it.
+MAX_STEPS = DEFAULT_MAX_STEPS
+MAX_STEPS_TEXT = DEFAULT_MAX_STEPS_TEXT
 
 
 # ------------------------------------------------------------ the rest
@@ -73,7 +75,7 @@ class Info(StrictModel):
         if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}", value):
             raise ValueError(
                 "Expected `name` to be letters, digits, '-', '_' or '.' (at most 64, it names "
-                f"the run folder), got {value!r}."
+                f"the run folder), got {quoted(value)}."
             )
         return value
 

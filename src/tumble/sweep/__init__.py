@@ -10,7 +10,8 @@ computed here and drawn by :func:`tumble.report.write_sweep_report`.
 * :func:`run_sweep` — run (or resume) a sweep into a folder: a :class:`SweepSummary`.
 * :func:`load_sweep` — validate a sweep file or built-in into a :class:`Plan`.
 * :func:`builtin_sweeps`, :func:`show_sweep` — the sweeps shipped with tumble.
-* :func:`open_results` — the Zarr group of a finished sweep.
+* :func:`open_results` — the Zarr group of a sweep's results; an interrupted
+  sweep's warns (:class:`IncompleteSweepWarning`) and marks its bodies computed.
 """
 
 from __future__ import annotations
@@ -18,11 +19,12 @@ from __future__ import annotations
 from tumble.sweep.engine import SweepSummary, builtin_sweeps, load_sweep, run_sweep, show_sweep
 from tumble.sweep.plan import METRICS, PARAMETERS, Plan
 from tumble.sweep.schema import SweepError
-from tumble.sweep.store import open_results
+from tumble.sweep.store import IncompleteSweepWarning, open_results
 
 __all__ = [
     "METRICS",
     "PARAMETERS",
+    "IncompleteSweepWarning",
     "Plan",
     "SweepError",
     "SweepSummary",

@@ -28,7 +28,7 @@ from tumble.sweep.plan import (
     defaults,
     torque_parameters,
 )
-from tumble.sweep.schema import SweepError, SweepFile, Vary, check_address
+from tumble.sweep.schema import MAX_GRID_VALUES, SweepError, SweepFile, Vary, check_address
 
 __all__ = ["MAX_COUNT", "PlanBuilder", "parse_sweep"]
 
@@ -113,6 +113,7 @@ class PlanBuilder:
                     f"Expected `{name}` in [base] or in [vary], not both, got both.",
                 )
             fixed[name] = self.si(value, kind, ("base", name))
+        self.check_grid_size()  # before the grid's values are built
         grid: list[GridAxis] = []
         random: list[RandomAxis] = []
         for name, vary in spec.vary.items():
@@ -166,12 +167,6 @@ class PlanBuilder:
         if INTEGRATORS[base.method].kind != "sampling":  # a closed form takes no steps
             self.warn_coarse(ranges, duration / n_steps)
 
-        bodies = math.prod(len(axis.values) for axis in grid) * spec.sweep.samples
-        if bodies > MAX_COUNT:
-            raise self.fail(
-                ("sweep", "samples") if spec.sweep.samples > 1 else ("vary",),
-                f"Expected at most 2**53 bodies (grid points × samples), got {bodies:.3g}.",
-            )
         maps = self.maps(tuple(spec.vary), tuple(spec.outputs.metrics))
         scheduler = spec.dask.scheduler
         if scheduler is not None and spec.dask.workers is not None:
@@ -182,6 +177,11 @@ class PlanBuilder:
         if scheduler is not None:
             with self.at("dask", "scheduler"):
                 check_address(scheduler)
+        timeout = None
+        if spec.dask.timeout is not None:
+            timeout = self.si(spec.dask.timeout, "time", ("dask", "timeout"))
+            if not (math.isfinite(timeout) and timeout > 0):
+                raise self.fail(("dask", "timeout"), f"Expected `timeout` > 0 s, got {timeout!r}.")
         plan = Plan(
             name=spec.sweep.name,
             description=spec.sweep.description,
@@ -201,9 +201,68 @@ class PlanBuilder:
             maps=maps,
             scheduler=scheduler,
             workers=spec.dask.workers,
+            timeout=timeout,
             text=self.text,
         )
+        self.check_limits(plan)
         return plan
+
+    def check_grid_size(self) -> None:
+        """Refuse, from the file alone, a grid whose values sweep.json could not
+        list (:data:`~tumble.sweep.schema.MAX_GRID_VALUES`) or whose bodies could
+        not be counted exactly."""
+        spec = self.spec
+        counts = {}
+        for name, vary in spec.vary.items():
+            if vary.values is not None:
+                counts[name] = len(vary.values)
+            elif vary.num is not None and vary.distribution is None:
+                counts[name] = vary.num
+        total = sum(counts.values())
+        if total > MAX_GRID_VALUES:
+            listed = ", ".join(f"{name}: {count}" for name, count in counts.items())
+            raise self.fail(
+                ("vary",),
+                f"Expected at most {MAX_GRID_VALUES:.0e} grid values in all (sweep.json and "
+                f"the store list them), got {total:.3g} ({listed}): draw a parameter at "
+                "random (`distribution`, `min`, `max`) to sample it finely.",
+            )
+        bodies = math.prod(counts.values()) * spec.sweep.samples
+        if bodies > MAX_COUNT:
+            raise self.fail(
+                ("sweep", "samples") if spec.sweep.samples > 1 else ("vary",),
+                f"Expected at most 2**53 bodies (grid points × samples), got {bodies:.3g}.",
+            )
+
+    def check_limits(self, plan: Plan) -> None:
+        """Refuse a sweep whose work or results exceed its [limits], with the estimate."""
+        from tumble.resources import format_bytes
+        from tumble.sweep.metrics import body_bytes
+
+        limits = self.spec.limits
+        bodies = plan.n_bodies
+        stepping = INTEGRATORS[plan.method].kind != "sampling"  # a closed form: one a body
+        work = bodies * (plan.n_steps if stepping else 1)
+        if work > limits.max_body_steps:
+            each = f"{plan.n_steps:.6g} steps" if stepping else "1 evaluation of the closed form"
+            raise self.fail(
+                ("limits", "max_body_steps"),
+                f"Expected at most max_body_steps = {limits.max_body_steps:.6g} body-steps "
+                f"(bodies × steps per body), got {bodies:.6g} bodies × {each} = {work:.6g}: "
+                "raise `max_body_steps` in [limits] to run it, or ask for fewer bodies or steps.",
+            )
+        each_body = body_bytes(plan)
+        size = bodies * each_body
+        if size > limits.max_store_bytes:
+            most = limits.max_store_bytes
+            raise self.fail(
+                ("limits", "max_store_bytes"),
+                f"Expected results of at most max_store_bytes = {most:.6g} bytes "
+                f"({format_bytes(most)}), got {bodies:.6g} bodies × {each_body} bytes = "
+                f"{size:.3g} bytes ({format_bytes(size)}) uncompressed: raise "
+                "`max_store_bytes` in [limits] to run it (the disk must hold it), or ask for "
+                "fewer bodies or outputs.",
+            )
 
     def axis(self, name: str, vary: Vary) -> GridAxis | RandomAxis:
         kind = PARAMETERS[name][0]

@@ -12,6 +12,11 @@
   access to the output folder (a remote cluster shares no disk with it).
 * A local cluster listens on 127.0.0.1 only, its dashboard on a free port
   there too, and keeps its scratch files inside the output folder.
+* An existing scheduler is first greeted as Dask's client would greet it (its
+  handshake), with a timeout: distributed's own connection waits for the
+  handshake's answer without one, forever when the server at the address is
+  not a Dask scheduler. ``tls://`` needs Dask's TLS settings (its configuration's
+  ``distributed.comm.tls``).
 """
 
 from __future__ import annotations
@@ -30,14 +35,15 @@ from numpy.typing import NDArray
 from tumble.errors import InputError
 from tumble.sweep.plan import Plan
 
-__all__ = ["run_on_dask"]
+__all__ = ["check_scheduler", "run_on_dask"]
 
 #: Smallest work per task, body-steps: 2e7 is about 0.2–0.5 s on one core, so
 #: the scheduling overhead (~3 ms per task) stays near 1 %.
 TASK_BODY_STEPS = 20_000_000
 
-#: Seconds to wait for a scheduler to answer, and for it to have a worker.
-CONNECT_TIMEOUT = 20.0
+#: Seconds to wait for a scheduler to answer (the default of [dask] timeout: a
+#: scheduler on a network answers in milliseconds), and for it to have a worker.
+CONNECT_TIMEOUT = 10.0
 WORKER_TIMEOUT = 60.0
 
 Results = list[tuple[int, dict[str, NDArray[np.generic]]]]
@@ -64,6 +70,53 @@ def group_chunks(plan: Plan, pending: list[int], slots: int) -> list[list[int]]:
     return [pending[k : k + size] for k in range(0, len(pending), size)]
 
 
+def check_scheduler(address: str, timeout: float) -> None:
+    """Refuse, within ``timeout`` s, an ``address`` (checked by
+    :func:`~tumble.sweep.schema.check_address`) where no Dask scheduler answers
+    Dask's handshake: nothing listening, a server that stays silent or one of
+    another protocol; and ``tls://`` without Dask's TLS settings.
+
+    Raises
+    ------
+    InputError
+        Naming the address and what answered.
+    """
+    import asyncio
+    from concurrent.futures import ThreadPoolExecutor
+
+    from distributed.comm import connect
+    from distributed.security import Security
+
+    options: dict[str, Any] = {}
+    if address.startswith("tls://"):
+        options = Security().get_connection_args("client")
+        if options.get("ssl_context") is None:
+            raise InputError(
+                f"Expected Dask's TLS settings for the scheduler at {address} (its "
+                "distributed.comm.tls.ca-file, .client.cert and .client.key), got none: set "
+                "them in Dask's configuration, or use tcp://."
+            )
+
+    async def greet() -> None:
+        comm = await asyncio.wait_for(connect(address, timeout=timeout, **options), timeout)
+        await comm.close()
+
+    # In a thread of its own: the caller may be running an event loop (a notebook).
+    with ThreadPoolExecutor(1) as pool:
+        try:
+            pool.submit(asyncio.run, greet()).result()
+        except (OSError, TimeoutError):  # refused, unreachable, silent, or closed on us
+            raise InputError(
+                f"Expected a Dask scheduler at {address}, got no answer within {timeout:g} s: "
+                "is a Dask scheduler listening there? ([dask] timeout sets the wait.)"
+            ) from None
+        except Exception:  # what Dask's reader makes of another protocol's bytes
+            raise InputError(
+                f"Expected a Dask scheduler at {address}, got an answer in another protocol: "
+                "is a Dask scheduler listening there?"
+            ) from None
+
+
 def run_on_dask(
     plan: Plan,
     pending: list[int],
@@ -72,16 +125,22 @@ def run_on_dask(
     workers: int | None,
     scheduler: str | None,
     scratch: Path,
+    timeout: float | None = None,
 ) -> str:
     """Compute chunks ``pending`` on Dask; ``on_result(index, arrays)`` is called
-    on this thread for each, as they finish. Returns a description of the backend."""
+    on this thread for each, as they finish; ``timeout``: seconds the scheduler
+    has to answer (None: :data:`CONNECT_TIMEOUT`). Returns a description of the
+    backend."""
     try:
         import distributed
     except ImportError as exc:  # pragma: no cover - a dependency of tumble
         raise InputError(
             f"Expected dask.distributed to be installed for --workers or --scheduler, got {exc}."
         ) from None
-    with _Cluster(distributed, workers, scheduler, scratch) as (client, slots, threads, where):
+    cluster = _Cluster(
+        distributed, workers, scheduler, scratch, CONNECT_TIMEOUT if timeout is None else timeout
+    )
+    with cluster as (client, slots, threads, where):
         if not pending:
             return where
         shared = client.scatter(plan, broadcast=True, hash=False)
@@ -119,26 +178,33 @@ class _Cluster:
     """Context manager: (client, worker threads, numba threads per task, description)."""
 
     def __init__(
-        self, distributed: Any, workers: int | None, scheduler: str | None, scratch: Path
+        self,
+        distributed: Any,
+        workers: int | None,
+        scheduler: str | None,
+        scratch: Path,
+        timeout: float,
     ) -> None:
         self.distributed = distributed
         self.workers = workers
         self.scheduler = scheduler
         self.scratch = scratch
+        self.timeout = timeout
         self.cluster: Any = None
         self.client: Any = None
 
     def __enter__(self) -> tuple[Any, int, int | None, str]:
         distributed = self.distributed
         if self.scheduler is not None:
+            check_scheduler(self.scheduler, self.timeout)
             try:
                 self.client = distributed.Client(
-                    self.scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False
+                    self.scheduler, timeout=self.timeout, set_as_default=False
                 )
-            except (OSError, TimeoutError) as exc:
+            except (OSError, TimeoutError) as exc:  # it answered the greeting, then went
                 raise InputError(
                     f"Expected a Dask scheduler at {self.scheduler}, got no answer within "
-                    f"{CONNECT_TIMEOUT:g} s ({type(exc).__name__})."
+                    f"{self.timeout:g} s ({type(exc).__name__})."
                 ) from None
             try:
                 self.client.wait_for_workers(1, timeout=WORKER_TIMEOUT)

@@ -18,10 +18,12 @@ from numpy.typing import NDArray
 from tumble.config import Builtins, read_source
 from tumble.errors import InputError
 from tumble.files import write_text
+from tumble.locks import OutputLock
 from tumble.sweep.build import parse_sweep
+from tumble.sweep.metrics import body_bytes
 from tumble.sweep.plan import Plan
 from tumble.sweep.schema import SweepError, check_address
-from tumble.sweep.store import SweepStore, fingerprint
+from tumble.sweep.store import OWN, SweepStore, fingerprint
 from tumble.sweep.summary import MapData
 
 __all__ = [
@@ -177,13 +179,16 @@ def run_sweep(
     output_dir : the output folder; default ``sweep-NAME`` in the current
         directory. A folder holding the same sweep is resumed: finished chunks
         are kept, the others computed (the results are the same bits as an
-        uninterrupted run's).
+        uninterrupted run's). Until every chunk is done, :func:`open_results`
+        warns that the results are incomplete.
     workers : run on a Dask LocalCluster of this many worker processes
         (127.0.0.1 only, scratch files in the output folder).
     scheduler : run on the Dask cluster whose scheduler is at this address,
-        ``tcp://HOST:PORT``. Without ``workers`` and ``scheduler``, those of
-        the file's [dask] table; without any, the chunks run in this process
-        on all cores.
+        ``tcp://HOST:PORT`` (``tcp://[::1]:8786`` for IPv6; ``tls://`` with
+        Dask's TLS settings); it must answer within the file's [dask]
+        ``timeout`` (default 10 s). Without ``workers`` and ``scheduler``,
+        those of the file's [dask] table; without any, the chunks run in this
+        process on all cores.
     force : discard the results of a different sweep in ``output_dir``
         (only the files a sweep writes are removed).
     progress : None or ``progress(done, total)``, in chunks, called once at
@@ -199,8 +204,9 @@ def run_sweep(
     Raises
     ------
     SweepError, InputError
-        An invalid sweep, a folder holding a different sweep (or other
-        files), an unreachable scheduler, bad ``workers``.
+        An invalid sweep or one beyond its [limits] (refused when it is
+        loaded), a folder holding a different sweep (or other files), an
+        address where no Dask scheduler answers, bad ``workers``.
     tumble.simulation.IntegrationError
         A body's state became NaN or infinite (reduce dt).
     """
@@ -217,9 +223,38 @@ def run_sweep(
     if workers is None and scheduler is None:
         workers, scheduler = plan.workers, plan.scheduler
     if scheduler is not None:
+        from tumble.sweep import dask_backend
+
         scheduler = check_address(scheduler)
-    folder = Path(output_dir) if output_dir is not None else Path(f"sweep-{plan.name}")
+        timeout = plan.timeout if plan.timeout is not None else dask_backend.CONNECT_TIMEOUT
+        dask_backend.check_scheduler(scheduler, timeout)  # before the folder is written
+    folder = sweep_folder(plan, output_dir)
     check_chunk_memory(plan)
+    with claim_folder(folder):  # one writer at a time: a second is refused, naming the first
+        return _run_claimed(plan, folder, force, workers, scheduler, progress)
+
+
+def sweep_folder(plan: Plan, output_dir: str | os.PathLike[str] | None = None) -> Path:
+    """A sweep's output folder: ``output_dir``, or ``sweep-NAME`` in the current directory."""
+    return Path(output_dir) if output_dir is not None else Path(f"sweep-{plan.name}")
+
+
+def claim_folder(folder: Path) -> OutputLock:
+    """The claim on a sweep's output folder (:class:`tumble.locks.OutputLock`, its
+    lock file inside): :func:`run_sweep` takes it; hold it around the run and the
+    report's writing to keep the folder for both."""
+    return OutputLock(folder, "the sweep's output folder", inside=True, own=OWN)
+
+
+def _run_claimed(
+    plan: Plan,
+    folder: Path,
+    force: bool,
+    workers: int | None,
+    scheduler: str | None,
+    progress: Progress,
+) -> SweepSummary:
+    """:func:`run_sweep` once its output folder is claimed."""
     store = SweepStore.open(folder, plan, force=force)
     done = store.done()
     pending = [k for k in range(plan.n_chunks) if k not in done]
@@ -254,24 +289,16 @@ def run_sweep(
             workers=workers,
             scheduler=scheduler,
             scratch=folder / "dask-scratch",
+            timeout=plan.timeout,
         )
     seconds = time.perf_counter() - started
+    store.finish()
     return _finish(store, pending, backend, seconds)
 
 
 #: Memory a body of a chunk takes while it is computed, bytes, besides its
 #: outputs: its parameters, tensors, frames and state, with copies.
 CHUNK_BYTES_PER_BODY = 1000
-
-
-def _output_bytes(plan: Plan) -> int:
-    """Bytes of one body's outputs, uncompressed."""
-    from tumble.sweep.metrics import output_arrays
-
-    return sum(
-        int(np.prod(shape, dtype=np.int64)) * np.dtype(dtype).itemsize
-        for shape, dtype, _, _ in output_arrays(plan).values()
-    )
 
 
 def check_chunk_memory(plan: Plan) -> None:
@@ -287,7 +314,7 @@ def check_chunk_memory(plan: Plan) -> None:
     from tumble.resources import check_memory
 
     check_memory(
-        plan.chunk_size * (CHUNK_BYTES_PER_BODY + _output_bytes(plan)),
+        plan.chunk_size * (CHUNK_BYTES_PER_BODY + body_bytes(plan)),
         f"chunks of {plan.chunk_size} bodies",
         "Ask for a smaller chunk_size in [sweep]: the chunks stream to disk one by one.",
     )
@@ -302,7 +329,7 @@ def warn_if_short_of_room(plan: Plan, folder: Path, pending: int) -> None:
 
     from tumble.resources import format_bytes
 
-    needed = pending * plan.chunk_size * _output_bytes(plan)
+    needed = pending * plan.chunk_size * body_bytes(plan)
     free = shutil.disk_usage(folder).free
     if needed > free:
         warnings.warn(

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from tumble.sweep.plan import Plan
 
-__all__ = ["compute_chunk", "output_arrays"]
+__all__ = ["body_bytes", "compute_chunk", "output_arrays"]
 
 #: numba's default threading layer runs one parallel kernel at a time per
 #: process; a Dask worker with several threads must not start two at once.
@@ -46,6 +46,15 @@ def output_arrays(plan: Plan) -> dict[str, tuple[tuple[int, ...], str, str, str]
         unit, meaning = METRICS[name]
         arrays[f"metrics/{name}"] = ((), "int32" if name == "flips" else "float64", unit, meaning)
     return arrays
+
+
+def body_bytes(plan: Plan) -> int:
+    """Bytes a body takes in the store, uncompressed: its outputs
+    (:func:`output_arrays`) and its ``computed`` flag (one byte)."""
+    return 1 + sum(
+        int(np.prod(shape, dtype=np.int64)) * np.dtype(dtype).itemsize
+        for shape, dtype, _, _ in output_arrays(plan).values()
+    )
 
 
 def _unit(kind: str) -> str:

@@ -169,7 +169,9 @@ class MapSpec:
 
 @dataclass(frozen=True, eq=False)
 class Plan:
-    """A sweep in SI: fixed parameters, grid and random axes, the run, the outputs."""
+    """A sweep in SI: fixed parameters, grid and random axes, the run, the outputs,
+    where it runs (``timeout``: seconds a Dask scheduler has to answer; None: the
+    default, :data:`tumble.sweep.dask_backend.CONNECT_TIMEOUT`)."""
 
     name: str
     description: str
@@ -189,6 +191,7 @@ class Plan:
     maps: tuple[MapSpec, ...] = ()
     scheduler: str | None = None
     workers: int | None = None
+    timeout: float | None = None
     text: str = field(default="", repr=False)
 
     # ------------------------------------------------------------ sizes

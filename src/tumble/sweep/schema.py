@@ -14,7 +14,11 @@ A sweep file is TOML with the tables
 * ``[outputs]``: ``metrics`` (a list of :data:`~tumble.sweep.plan.METRICS`),
   ``final_state``, ``initial_state``;
 * ``[report]``: ``maps = [{x, y, metric, statistic, bins}]``;
-* ``[dask]``: ``scheduler = "tcp://HOST:PORT"`` or ``workers = N``.
+* ``[dask]``: ``scheduler = "tcp://HOST:PORT"`` or ``workers = N``, and
+  ``timeout`` for the scheduler's answer;
+* ``[limits]``: ``max_body_steps`` and ``max_store_bytes``, the largest sweep
+  accepted (a larger one is refused, with its estimate, before anything is built
+  or written).
 
 Pydantic checks the structure (types, required and unknown keys); the values
 are then converted to SI with :mod:`tumble.units` and checked together
@@ -33,6 +37,7 @@ from pydantic import (
     BeforeValidator,
     Field,
     StrictBool,
+    StrictFloat,
     StrictInt,
     StrictStr,
     model_validator,
@@ -54,11 +59,32 @@ from tumble.sweep.plan import (
     torque_parameters,
 )
 
-__all__ = ["SweepError", "SweepFile", "check_address"]
+__all__ = [
+    "MAX_BODY_STEPS",
+    "MAX_GRID_VALUES",
+    "MAX_STORE_BYTES",
+    "SweepError",
+    "SweepFile",
+    "check_address",
+]
 
 #: Chunk size when the file gives none: 65536 bodies (a few MB of state, 512
 #: blocks of the batch kernel, a fraction of a second to a few seconds of work).
 DEFAULT_CHUNK_SIZE = 1 << 16
+
+#: The most body-steps (bodies × steps per body; a closed form counts one a body)
+#: a sweep may take unless its [limits] says more: about half an hour of the RK4
+#: kernels on two cores (5e8 body-steps/s, bench/RESULTS.md).
+MAX_BODY_STEPS = 1e12
+
+#: The most bytes of results (uncompressed) a sweep may write unless its [limits]
+#: says more: 1e11, about 5e8 bodies with every output.
+MAX_STORE_BYTES = 1e11
+
+#: The most grid values of all [vary] tables together: sweep.json and the store's
+#: attributes list each one (1e6 take about 20 MB there). Finer sampling is what
+#: random draws are for.
+MAX_GRID_VALUES = 1_000_000
 
 
 class SweepError(ConfigError):
@@ -137,7 +163,7 @@ class Vary(StrictModel):
     values: list[Value] | None = None
     start: Value | None = None
     stop: Value | None = None
-    num: Annotated[StrictInt, Field(ge=1, le=10_000_000)] | None = None
+    num: Annotated[StrictInt, Field(ge=1, le=MAX_GRID_VALUES)] | None = None
     scale: Literal["linear", "log"] | None = None
     distribution: Literal["uniform", "loguniform", "spherical"] | None = None
     min: Value | None = None
@@ -177,10 +203,30 @@ class Report(StrictModel):
 
 
 class DaskTable(StrictModel):
-    """``[dask]``: where to run, unless the command line says otherwise."""
+    """``[dask]``: where to run, unless the command line says otherwise: a
+    scheduler's address ``tcp://HOST:PORT`` (an IPv6 address in brackets,
+    ``tcp://[::1]:8786``; ``tls://`` with Dask's TLS settings), or a local
+    cluster of ``workers``; ``timeout``, how long the scheduler has to answer
+    (default 10 s)."""
 
     scheduler: StrictStr | None = None
     workers: Annotated[StrictInt, Field(ge=1)] | None = None
+    timeout: Value | None = None
+
+
+#: A limit: a number >= 1 (1e12 or 1_000_000_000_000).
+Limit = Annotated[StrictFloat, Field(ge=1, allow_inf_nan=False)]
+
+
+class Limits(StrictModel):
+    """``[limits]``: the largest sweep accepted. A sweep estimated beyond either is
+    refused before anything is built or written, with the estimate; raise them
+    here for a sweep meant to be that large. ``max_body_steps``: bodies × steps
+    per body (the closed form, ``method = "exact"``, counts one a body);
+    ``max_store_bytes``: the results, uncompressed."""
+
+    max_body_steps: Limit = MAX_BODY_STEPS
+    max_store_bytes: Limit = MAX_STORE_BYTES
 
 
 class SweepFile(StrictModel):
@@ -192,6 +238,7 @@ class SweepFile(StrictModel):
     outputs: Outputs = Outputs()
     report: Report = Report()
     dask: DaskTable = DaskTable()
+    limits: Limits = Limits()
 
     @model_validator(mode="before")
     @classmethod
@@ -211,11 +258,39 @@ class SweepFile(StrictModel):
 
 
 def check_address(address: str) -> str:
-    """A Dask scheduler address ``tcp://HOST:PORT`` (or ``tls://``), checked."""
+    """A Dask scheduler address ``tcp://HOST:PORT`` or ``tls://HOST:PORT``, checked:
+    HOST a name or an IPv4 address, or an IPv6 address in brackets; PORT 1 to 65535.
+
+    Raises
+    ------
+    InputError
+        Naming what is wrong.
+    """
+    import ipaddress
     import re
 
-    if not re.fullmatch(r"(tcp|tls)://[^\s:/]+:\d{1,5}", address.strip()):
+    text = address.strip()
+    shown = repr(text) if len(text) <= 60 else f"{text[:60]!r}..."
+    found = re.fullmatch(r"(?:tcp|tls)://(\[[^\]]*\]|[A-Za-z0-9._-]+):([0-9]+)", text)
+    if found is None:
+        hint = ""
+        if re.fullmatch(r"(?:tcp|tls)://[0-9A-Fa-f:.]+:[0-9]+", text) and text.count(":") > 3:
+            hint = ": write an IPv6 address in brackets, as in 'tcp://[::1]:8786'"
         raise InputError(
-            f"Expected a Dask scheduler address such as 'tcp://127.0.0.1:8786', got {address!r}."
+            f"Expected a Dask scheduler address such as 'tcp://127.0.0.1:8786', got {shown}{hint}."
         )
-    return address.strip()
+    host, port = found.group(1), int(found.group(2))
+    if host.startswith("["):
+        try:
+            ipaddress.IPv6Address(host[1:-1])
+        except ValueError:
+            raise InputError(
+                "Expected an IPv6 address in the brackets of the Dask scheduler address "
+                f"{shown}, got {host[1:-1]!r}."
+            ) from None
+    if not 1 <= port <= 65535:
+        raise InputError(
+            f"Expected the port of the Dask scheduler address {shown} to be from 1 to 65535, "
+            f"got {port}."
+        )
+    return text
