@@ -76,6 +76,7 @@ bench: setup
 	$(BIN)/python bench/end_to_end.py
 	$(BIN)/python bench/spacecraft.py
 	$(BIN)/python bench/refusals.py
+	$(BIN)/python bench/hostile.py
 	$(BIN)/python bench/identify.py
 
 clean:

@@ -403,7 +403,7 @@ def test_a_permission_lost_while_writing_is_one_line_and_leaves_nothing(
     real = tempfile.mkdtemp
 
     def denied(*args: object, **kwargs: object) -> str:
-        if kwargs.get("suffix") == ".partial":  # the staging folder, not the check's probe
+        if kwargs.get("suffix") == ".tumble.partial":  # the staging folder, not the check's probe
             raise PermissionError(errno.EACCES, os.strerror(errno.EACCES))
         return real(*args, **kwargs)  # type: ignore[arg-type]
 

@@ -17,9 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from tumble.errors import OutputError
+from tumble.errors import OutputError, OutputInUseError
 from tumble.files import check_output, output_error, replaced, write_text
-from tumble.locks import OutputInUseError, OutputLock
+from tumble.locks import OutputLock
 
 
 def test_a_folder_that_is_a_file_and_a_file_that_is_a_folder_are_refused(tmp_path: Path) -> None:
@@ -311,26 +311,28 @@ def test_a_long_name_is_cut_in_the_refusal(tmp_path: Path) -> None:
             OutputLock(target, "the run folder").acquire()
     finally:
         holder.communicate("")
-    shown = str(target)[:160]
-    assert str(caught.value).startswith(f"Expected the run folder '{shown}...' to be free")
+    shown = str(target)[:200]  # tumble.errors.QUOTED_PATH_LENGTH
+    assert str(caught.value).startswith(f"Expected the run folder '{shown}'... to be free")
 
 
 def test_what_killed_writers_left_beside_an_output_is_removed(tmp_path: Path) -> None:
-    def staged(name: str, kind: str = "partial") -> Path:
+    def staged(name: str, kind: str = "tumble.partial") -> Path:
         folder = tmp_path / f".{name}.a1b2c3_4.{kind}"
         folder.mkdir()
         (folder / "summary.json").write_text("{}")
         return folder
 
-    left = [staged("dead"), staged("out"), staged("out", "old")]
+    left = [staged("dead"), staged("out"), staged("out", "tumble.old")]
     kept = [staged("unknown")]  # no lock file: nothing tells whether its writer lives
+    # Named as ours, but no folder of tumble's: a user's or another program's.
+    kept.append(staged("out", "partial"))
     dead, _ = hold(tmp_path / "dead")
     dead.kill()
     dead.wait()
     live, _ = hold(tmp_path / "live")
     kept.append(staged("live"))  # its writer lives
     try:
-        (tmp_path / ".out.a1b2c3_4.old" / "out").mkdir()  # a replaced run, moved aside
+        (tmp_path / ".out.a1b2c3_4.tumble.old" / "out").mkdir()  # a replaced run, moved aside
         (tmp_path / ".notes.txt.a1b2c3_4.partial").write_text("")  # a file being written
         with OutputLock(tmp_path / "out", "the run folder"):
             assert [p.name for p in left if p.exists()] == []
@@ -433,3 +435,37 @@ def test_a_lock_held_without_a_record_is_refused_saying_so(tmp_path: Path) -> No
         f"written by another process (its lock file {str(lock)!r} does not say which): wait "
         "for it to end, or write elsewhere."
     )
+
+
+def test_files_of_other_programs_beside_an_output_are_never_touched(tmp_path: Path) -> None:
+    # A lock file of another program's (held with lockf, which flock does not see,
+    # or not held at all), a user's hidden file named like a lock, and a folder
+    # named like a temporary one but not made by tumble: all kept as they are.
+    import fcntl
+
+    foreign = tmp_path / ".bar.lock"
+    foreign.write_text("12345\n")
+    notes = tmp_path / ".foo.lock"
+    notes.write_text("my notes")
+    folder = tmp_path / ".foo.20240101.partial"
+    folder.mkdir()
+    (folder / "data.csv").write_text("1,2,3")
+    with open(foreign, "r+") as held:
+        fcntl.lockf(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with OutputLock(tmp_path / "out", "the run folder"):
+            pass
+    assert foreign.read_text() == "12345\n"
+    assert notes.read_text() == "my notes"
+    assert (folder / "data.csv").read_text() == "1,2,3"
+
+
+def test_a_file_of_another_kind_where_the_lock_file_goes_is_refused(tmp_path: Path) -> None:
+    (tmp_path / ".out.lock").write_text("not a lock of tumble's")
+    with pytest.raises(
+        OutputError,
+        match=r"^Expected the lock file '.*/\.out\.lock' of the run folder '.*out' to be "
+        r"tumble's or absent, got a file of another kind \(move it away, or write elsewhere\)\.$",
+    ):
+        OutputLock(tmp_path / "out", "the run folder").acquire()
+    assert (tmp_path / ".out.lock").read_text() == "not a lock of tumble's"
+    assert not (tmp_path / "out").exists()

@@ -175,3 +175,13 @@ def test_shapes_refuse_moments_beyond_float64_without_numpy_warnings(call: objec
             r"for a mass of 1e\+300 kg: the body is too heavy or too large for SI in float64\.$",
         ):
             call()  # type: ignore[operator]
+
+
+def test_large_shapes_whose_moments_float64_holds_are_computed() -> None:
+    # 2 m r² / 5 of a ball: a hollow sphere whose hole is 1e-20 of its radius,
+    # and a capsule whose cylinder is 1e-103 of its radius, are balls to 1e-16.
+    # Neither may overflow on the way (r⁵ of 1e80 m would), nor raise.
+    hollow = shapes.hollow_sphere("1 kg", "1e60 m", "1e80 m")
+    assert hollow.inertia[0, 0] == pytest.approx(0.4e160, rel=1e-15)
+    capsule = shapes.capsule("1 kg", "1e103 m", "1 m")
+    assert capsule.principal()[0] == pytest.approx([0.4e206] * 3, rel=1e-15)

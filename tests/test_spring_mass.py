@@ -14,6 +14,7 @@ from scipy.spatial.transform import Rotation
 
 import tumble as tb
 from reference import attitude_error, spring_mass_reference
+from tumble.errors import IntegrationError
 
 AXES = Rotation.from_rotvec([0.2, 0.3, -0.1])
 HUB = tb.MassProperties(
@@ -194,14 +195,32 @@ def test_bad_bodies_with_a_spring_are_refused(kwargs, message: str) -> None:
 def test_the_internal_rate_is_the_largest_eigenvalue_of_the_slot_oscillator(
     stiffness: float, damping: float
 ) -> None:
-    # Oracle: the eigenvalues of the first-order system of μ ẍ + c ẋ + k x = 0.
-    part = tb.SpringMassDamper(1.0, [0.5, 0, 0], [1, 0, 0], stiffness, damping).attached(
-        tb.MassProperties(11.0, [0, 0, 0], np.diag([1.0, 1.2, 1.4]))
-    )
+    # Oracle: the eigenvalues of the first-order system of μ ẍ + c ẋ + k x = 0; the
+    # slot through the centres of mass (d0 ∥ n): no coupling to the platform.
+    body = tb.MassProperties(11.0, [0, 0, 0], np.diag([1.0, 1.2, 1.4]))
+    part = tb.SpringMassDamper(1.0, [0.5, 0, 0], [1, 0, 0], stiffness, damping).attached(body)
     reduced = 1.0 * 10.0 / 11.0
     system = np.array([[0.0, 1.0], [-stiffness / reduced, -damping / reduced]])
     largest = np.max(np.abs(np.linalg.eigvals(system)))
-    assert part.internal_rate(1.0) == pytest.approx(largest, rel=1e-12)
+    own, pull = part.internal_rates(body.inertia)
+    assert own == pytest.approx(largest, rel=1e-12)
+    assert pull == 0.0
+
+
+def test_a_spring_across_the_centre_of_mass_oscillates_at_its_internal_rate() -> None:
+    # Oracle: the oscillation measured in a simulation. A slot off the centre of
+    # mass (d0 not along n) makes the body rock as the mass moves: the spring moves
+    # less than μ, μ' = μ − gᵀ I_p⁻¹ g, and oscillates faster than √(k/μ) (14.96
+    # against 10.49 rad/s here). RK4 at 1 ms over 5 s and an amplitude of 0.1 mm
+    # (second-order terms ~1e-4 of the first): the frequency to 1e-6.
+    hub = tb.MassProperties(10.0, [0, 0, 0], np.diag([0.05, 0.06, 0.07]))
+    body = hub + tb.point_masses([1.0], [[0.1, 0.3, 0]])
+    part = tb.SpringMassDamper(1.0, [0.1, 0.3, 0], [1, 0, 0], stiffness=100.0, displacement=1e-4)
+    run = tb.simulate(body, [0, 0, 0], duration=5.0, dt=1e-3, method="rk4", internal=[part])
+    measured = tb.analysis.oscillation_frequency(run.t, run.internal_values[:, 0])
+    own, _ = part.attached(body).internal_rates(body.inertia)
+    assert own == pytest.approx(measured, rel=1e-6)
+    assert own > 1.4 * math.sqrt(100.0 / (1.0 * 10.0 / 11.0))
 
 
 def test_a_step_beyond_rk4s_stability_for_the_spring_is_refused_and_would_diverge(
@@ -232,21 +251,80 @@ def test_a_step_beyond_rk4s_stability_for_the_spring_is_refused_and_would_diverg
 
 
 def test_a_stiff_kane_damper_is_refused_before_any_step() -> None:
-    # D (1/I_s + 1/I_p) with D = 1e12 N·m·s and I_s = 1e-4 kg·m²: ~1e16 1/s, so
+    # D (1/J + 1/I_p) with D = 1e12 N·m·s and J = 1e-4 kg·m²: ~1e16 1/s, so
     # Dormand–Prince (stable to |h λ| = 3.3) needs ~3e15 steps for 1 s: refused
     # at once rather than stopped after 5e7 steps.
     box = tb.shapes.box(1.0, [0.1, 0.2, 0.3])
-    damper = tb.KaneDamper(1e-4, 1e12)
-    platform = np.linalg.eigvalsh(box.inertia - 1e-4 * np.eye(3))[0]
-    # Oracle: the platform and the sphere about one axis, coupled by D (ω − ω_s):
-    # the eigenvalues of d/dt (ω, ω_s) are 0 and the relaxation rate.
-    coupled = 1e12 * np.array([[-1 / platform, 1 / platform], [1e4, -1e4]])
-    largest = np.max(np.abs(np.linalg.eigvals(coupled)))
-    assert damper.internal_rate(platform) == pytest.approx(largest, rel=1e-12)
     with pytest.raises(
         tb.RequestTooLargeError,
         match=r"^Expected the adaptive integration to end within 5e\+07 steps \(max_steps\), got "
         r"at least 3\.1e\+15 steps: the KaneDamper's own rate \(1\.02e\+16 1/s\) holds an "
         r"explicit method's step under 3\.22e-16 s \(a stiff part\)",
     ):
-        tb.simulate(box, [0.1, 2, 0.1], duration=1, method="adaptive", internal=[damper])
+        tb.simulate(
+            box, [0.1, 2, 0.1], duration=1, method="adaptive", internal=[tb.KaneDamper(1e-4, 1e12)]
+        )
+
+
+@pytest.mark.parametrize("inertias", [(0.3,), (0.4, 0.4), (0.05, 0.2, 0.1)])
+def test_the_dampers_rate_bounds_the_coupled_system_and_is_exact_for_one(
+    inertias: tuple[float, ...],
+) -> None:
+    # Oracle: the eigenvalues of the platform (moment I_p about one axis) and the
+    # spheres coupled by D_i (ω − ω_i): d/dt (ω, ω_i) = M⁻¹ K with M = diag(I_p, J_i).
+    # The bound max D_i/J_i + Σ D_i/I_p holds for any number, and is the largest
+    # eigenvalue itself for one damper.
+    from tumble.parts import internal_rate
+
+    dampers = [tb.KaneDamper(j, 1.0 + k) for k, j in enumerate(inertias)]
+    locked = np.diag([1.0, 2.0, 3.0])
+    platform = locked - sum(j for j in inertias) * np.eye(3)
+    smallest = float(np.linalg.eigvalsh(platform)[0])
+    n = len(dampers)
+    coupling = np.zeros((n + 1, n + 1))
+    for k, damper in enumerate(dampers, start=1):
+        coupling[[0, k], [0, k]] += damper.damping
+        coupling[[0, k], [k, 0]] -= damper.damping
+    masses = np.diag([smallest, *inertias])
+    largest = np.max(np.abs(np.linalg.eigvals(np.linalg.solve(masses, coupling))))
+    rate, names = internal_rate(dampers, platform)
+    assert names == ["KaneDamper"] * n
+    if n == 1:
+        assert rate == pytest.approx(largest, rel=1e-12)
+    else:
+        assert largest <= rate < 2.0 * largest
+
+
+def test_two_dampers_beyond_rk4s_stability_together_are_refused() -> None:
+    # Each alone (D/J + D/I_p = 2.5 + 5 = 7.5 1/s) would allow dt = 0.3 s; together
+    # they pull the platform (I_p = 0.2 kg·m²) at 10 1/s, the bound 12.5 1/s: the
+    # coupled system's largest rate is 11.4 1/s, and dt × 11.4 = 3.4 diverges.
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    dampers = [tb.KaneDamper(0.4, 1.0), tb.KaneDamper(0.4, 1.0)]
+    with pytest.raises(
+        IntegrationError,
+        match=r"^Expected dt within the stability of the method for the KaneDamper's own rate "
+        r"\(12\.5 1/s\): dt × rate <= 2\.78, got dt = 0\.3 s",
+    ):
+        tb.simulate(body, [0.1, 0.2, 3.0], duration=3.0, dt=0.3, method="rk4", internal=dampers)
+
+
+def test_simulate_batch_refuses_a_step_beyond_the_dampers_stability() -> None:
+    # One damper: D/J + D/I_p = 100 + 1.01 1/s on the lightest platform (I_p = 0.99).
+    inertia = np.tile([1.0, 2.0, 3.0], (4, 1))
+    omega = np.tile([0.1, 1.0, 0.1], (4, 1))
+    damper = tb.KaneDamper(0.01, 1.0)
+    with pytest.raises(IntegrationError, match=r"KaneDamper's own rate \(101 1/s\)"):
+        tb.simulate_batch(inertia, omega, duration=1.0, dt=0.04, internal=[damper])
+    stable = tb.simulate_batch(inertia, omega, duration=1.0, dt=0.02, internal=[damper])
+    assert np.all(np.isfinite(stable.omega))
+
+
+def test_the_default_step_resolves_a_fast_damper() -> None:
+    # A body nearly at rest with a damper of rate 101 1/s: the default step is
+    # 1 / rate, not the rotation's, so the run is stable and keeps |L|.
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    run = tb.simulate(body, [1e-3, 0, 0], duration=1.0, method="rk4",
+                      internal=[tb.KaneDamper(0.01, 1.0)])  # fmt: skip
+    assert run.dt <= 1.0 / (1 / 0.01 + 1 / 0.99)
+    assert np.max(run.relative_change("angular_momentum_vector")) < 1e-12

@@ -43,7 +43,7 @@ def test_to_si_converts(value: object, kind: str, expected: float) -> None:
             "mass",
             r"Expected `x` to be a number or a quantity such as '250 g', got 'foo bar'",
         ),
-        ("nan", "mass", r"Expected `x` to be finite, got nan"),
+        ("nan", "mass", r"Expected `x` to be finite, got 'nan' \(nan\)"),
         (float("inf"), "mass", r"Expected `x` to be finite, got inf"),
         ([1, 2], "mass", r"Expected `x` to be a scalar, got \[1, 2\]"),
         (True, "mass", r"Expected `x` to be a scalar, got True"),
@@ -165,7 +165,16 @@ def test_to_si_refuses_what_it_would_misread(value: object, kind: str, message: 
         ),
         ("1,5 kg", "mass", r"which holds ','"),
         ("3..2 m", "length", r"with the numbers 3\. and \.2 side by side"),
-        ("3 4 m", "length", r"with the numbers 3 and 4 side by side"),
+        (
+            "3 4 m",
+            "length",
+            r"with the numbers 3 and 4 side by side \(pint would multiply them: write one "
+            r"number, or an operator between them\)\.$",
+        ),
+        ("3 m 4", "length", r"got '3 m 4', with the number 4 after 'm' \(pint would multiply"),
+        ("3 kg 2 m", "mass", r"with the number 2 after 'kg'"),
+        ("(2)3 kg", "mass", r"with the number 3 after '\)'"),
+        ("1e400 m", "length", r"^Expected `x` to be finite, got '1e400 m' \(inf\)\.$"),
         ("\b", "mass", r"which holds '\\x08'"),
         ("m" * 70, "mass", r"got 'm{60}'\.\.\. \("),
     ],
@@ -190,11 +199,16 @@ def test_to_si_refuses_what_pint_would_drop_or_multiply(
         ("2^3 g", "mass", 0.008),
         ("3 µg", "mass", 3e-9),
         ("90 °", "angle", math.pi / 2),
+        ("250\u00a0g", "mass", 0.25),  # a no-break space
+        ("250\u202fg", "mass", 0.25),  # a narrow no-break space: the SI brochure's own
+        ("1.5 kg*m^-2", "dimensionless", None),
     ],
 )
 def test_to_si_reads_typography_people_type(value: str, kind: str, expected: float | None) -> None:
-    if expected is None:  # area is not dimensionless: still a dimension error, not a parse error
-        with pytest.raises(tb.InputError, match=r"to be a dimensionless number, got 10 cm²"):
+    if expected is None:  # not dimensionless: read, then refused for its dimensions
+        with pytest.raises(
+            tb.InputError, match=r"to be a dimensionless number, got .* \(dimensions "
+        ):
             to_si(value, kind, "x")
     else:
         assert to_si(value, kind, "x") == pytest.approx(expected, rel=1e-15)

@@ -167,7 +167,7 @@ tumble("run", "toy-top.toml", "-o", "toy-top", "--no-figures", "--no-viewer", ex
 # host and start of the first (``error: Expected the run folder 'toy-top' to be free
 # to write, got one being written by pid 4242 on lab-pc since 2026-05-09 14:02:11
 # +0200: wait for it to end, or write elsewhere.``). What a killed command left
-# half-written (a ``.NAME.XXXXXXXX.partial`` folder beside its output) is removed
+# half-written (a ``.NAME.XXXXXXXX.tumble.partial`` folder beside its output) is removed
 # by the next one.
 
 # %%

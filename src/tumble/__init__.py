@@ -17,7 +17,13 @@ import importlib
 from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
-from tumble.errors import InputError, MeshError, OutputError, RequestTooLargeError
+from tumble.errors import (
+    InputError,
+    MeshError,
+    OutputError,
+    OutputInUseError,
+    RequestTooLargeError,
+)
 
 if TYPE_CHECKING:
     from tumble import analysis, models, shapes, theory, torques, units
@@ -73,6 +79,7 @@ __all__ = [
     "MeshOrientationWarning",
     "MeshRepairWarning",
     "OutputError",
+    "OutputInUseError",
     "RequestTooLargeError",
     "Rotor",
     "SpringMassDamper",

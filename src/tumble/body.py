@@ -422,14 +422,14 @@ class RigidBody:
             rate = largest_rate(moments, principal)
         return rate + self.pendulum_rate(weight)
 
-    def internal_rate(self) -> tuple[float, Any]:
-        """The fastest rate of the parts' own motion relative to the platform, 1/s,
-        and the part it belongs to (0 and None without such parts): what an
-        explicit step must keep within its stability interval
-        (:meth:`tumble.parts.InternalPart.internal_rate`, with the smallest
-        platform moment)."""
-        rates = [(part.internal_rate(float(self.moments[0])), part) for part in self.parts]
-        return max(rates, key=lambda pair: pair[0], default=(0.0, None))
+    def internal_rate(self) -> tuple[float, list[str]]:
+        """An upper bound of the fastest rate of the parts' own motion relative to
+        the platform, 1/s, and the kinds of parts it comes from (0 and none
+        without such parts): what an explicit step must keep within its
+        stability interval (:func:`tumble.parts.internal_rate`)."""
+        from tumble.parts import internal_rate
+
+        return internal_rate(self.parts, self.platform_inertia)
 
     def pendulum_rate(self, weight: float) -> float:
         """√(m g l / I1), rad/s: an upper estimate of the rate of the swing that a

@@ -9,12 +9,16 @@ from __future__ import annotations
 import os
 
 __all__ = [
+    "QUOTED_LENGTH",
+    "QUOTED_PATH_LENGTH",
     "CoarseStepWarning",
     "InputError",
     "IntegrationError",
     "MeshError",
     "OutputError",
+    "OutputInUseError",
     "RequestTooLargeError",
+    "cut",
     "quoted",
 ]
 
@@ -71,6 +75,11 @@ class OutputError(InputError):
         self.cause = cause
 
 
+class OutputInUseError(OutputError):
+    """Another process (or another thread of this one) is writing the same output:
+    the message names it (pid, host, since when). Nothing was written."""
+
+
 class RequestTooLargeError(InputError):
     """A request whose output cannot fit in the memory budget (see
     :mod:`tumble.resources`): refused before any work, with the estimate and
@@ -81,6 +90,12 @@ class CoarseStepWarning(UserWarning):
     """The time step is too coarse for the fastest rotation of the body."""
 
 
+def cut(text: str, limit: int = QUOTED_LENGTH) -> str:
+    """``text`` as a message shows it, unquoted: cut after ``limit`` characters
+    with ``...``."""
+    return text if len(text) <= limit else f"{text[:limit]}..."
+
+
 def quoted(value: object, limit: int = QUOTED_LENGTH) -> str:
     """``value`` as a message shows a value it echoes: its ``repr`` (a path as its
     text, quoted), cut after ``limit`` characters with ``...`` (a 5000-character
@@ -89,5 +104,4 @@ def quoted(value: object, limit: int = QUOTED_LENGTH) -> str:
         value = os.fspath(value)
     if isinstance(value, str):
         return repr(value) if len(value) <= limit else f"{value[:limit]!r}..."
-    text = repr(value)
-    return text if len(text) <= limit else f"{text[:limit]}..."
+    return cut(repr(value), limit)

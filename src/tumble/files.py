@@ -207,6 +207,3 @@ def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
 def write_text(path: str | os.PathLike[str], text: str) -> Path:
     """Write UTF-8 ``text`` to ``path`` atomically (errors as :func:`replaced`)."""
     return write_bytes(path, text.encode("utf-8"))
-
-
-# ------------------------------------------------------------ one writer at a time

@@ -30,24 +30,30 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from tumble.errors import OutputError
+from tumble.errors import QUOTED_PATH_LENGTH, OutputError, OutputInUseError, cut, quoted
 from tumble.files import check_output, output_error, path_exists, permissions
 
-__all__ = ["LOCK_INSIDE", "OutputInUseError", "OutputLock", "staged_folder"]
+__all__ = ["LOCK_INSIDE", "OutputLock", "staged_folder"]
 
 #: The lock file of a folder written into (a sweep's), inside it.
 LOCK_INSIDE = ".tumble.lock"
 
 #: The temporary folders beside an output, as :func:`staged_folder` names them:
-#: ``.NAME.XXXXXXXX.partial`` (being filled) and ``.NAME.XXXXXXXX.old`` (the
-#: folder it replaces, moved aside), XXXXXXXX as :func:`tempfile.mkdtemp` draws it.
-_STAGED = re.compile(r"\.(?P<name>.+)\.[a-z0-9_]{8}\.(?P<kind>partial|old)", re.DOTALL)
+#: ``.NAME.XXXXXXXX.tumble.partial`` (being filled) and ``.NAME.XXXXXXXX.tumble.old``
+#: (the folder it replaces, moved aside), XXXXXXXX as :func:`tempfile.mkdtemp`
+#: draws it. "tumble" in the name: only such a folder is ever removed as a dead
+#: writer's leftover, never a folder of another program's or a user's.
+_PARTIAL, _OLD = ".tumble.partial", ".tumble.old"
+_STAGED = re.compile(r"\.(?P<name>.+)\.[a-z0-9_]{8}\.tumble\.(?P<kind>partial|old)", re.DOTALL)
 #: The lock file beside an output called NAME.
 _LOCK_BESIDE = re.compile(r"\.(?P<name>.+)\.lock", re.DOTALL)
+#: The keys a lock file's record holds at least (it has "since" and "command"
+#: too): only a file holding them is taken as a lock of tumble's.
+_RECORD_KEYS = frozenset({"pid", "host"})
 
 
-class OutputInUseError(OutputError):
-    """Another process (or another thread of this one) is writing the same output."""
+class _Foreign(Exception):
+    """The lock file's name holds a file that is not a lock of tumble's."""
 
 
 class _Busy(Exception):
@@ -142,6 +148,9 @@ class OutputLock:
         self.inside = inside
         self.own = tuple(own)
         self.file = self.target / LOCK_INSIDE if inside else _beside_lock(self.target)
+        # As messages show them: quoted, a long path cut.
+        self._named = quoted(self.shown, QUOTED_PATH_LENGTH)
+        self._file_named = quoted(str(self.file), QUOTED_PATH_LENGTH)
         self._made: list[Path] = []
         self._held = False
 
@@ -172,6 +181,14 @@ class OutputLock:
         except _Busy as busy:
             self._remove_made()
             raise self._in_use(busy.record) from None
+        except _Foreign:
+            self._remove_made()
+            raise OutputError(
+                f"Expected the lock file {self._file_named} of {self.what} "
+                f"{self._named} to be tumble's or absent, got a file of another kind "
+                "(move it away, or write elsewhere).",
+                self.shown,
+            ) from None
         except OSError as exc:
             self._remove_made()
             raise output_error(exc, self.shown, self.what) from exc
@@ -180,7 +197,7 @@ class OutputLock:
         self._held = True
         if previous is not None and previous.get("host") != socket.gethostname():
             warnings.warn(
-                f"Took over the lock of {self.what} {_cut(self.shown)!r} that pid "
+                f"Took over the lock of {self.what} {self._named} that pid "
                 f"{previous.get('pid')} on {previous.get('host')} left (since "
                 f"{previous.get('since')}): no process holds it any more.",
                 UserWarning,
@@ -220,13 +237,13 @@ class OutputLock:
 
     def _in_use(self, record: dict[str, Any] | None) -> OutputInUseError:
         if record is None:
-            who = f"another process (its lock file {_cut(str(self.file))!r} does not say which)"
+            who = f"another process (its lock file {self._file_named} does not say which)"
         elif record.get("pid") == os.getpid():
             who = f"another thread of this process (pid {os.getpid()})"
         else:
             who = f"pid {record.get('pid')} on {record.get('host')} since {record.get('since')}"
         return OutputInUseError(
-            f"Expected {self.what} {_cut(self.shown)!r} to be free to write, got one being "
+            f"Expected {self.what} {self._named} to be free to write, got one being "
             f"written by {who}: wait for it to end, or write elsewhere.",
             self.shown,
         )
@@ -245,7 +262,7 @@ class OutputLock:
             elif staged is None and (lock := _LOCK_BESIDE.fullmatch(entry.name)) is not None:
                 others.add(lock["name"])
         others.discard(self.target.name)
-        for name in sorted(others):
+        for name in sorted(n for n in others if _holds_record(_beside_lock(folder / n))):
             with _free(folder / name) as free:
                 if free:  # listed again: a writer killed since the first look left its own
                     for entry in _entries(folder):
@@ -274,15 +291,6 @@ def _beside_lock(target: Path) -> Path:
     return target.parent / f".{target.name}.lock"
 
 
-#: The longest path a message echoes whole (a path, not a name: room for a deep one).
-_SHOWN = 160
-
-
-def _cut(text: str, limit: int = _SHOWN) -> str:
-    """``text``, cut to ``limit`` characters and "..." when longer (for messages)."""
-    return text if len(text) <= limit else text[:limit] + "..."
-
-
 def _entries(folder: Path) -> list[os.DirEntry[str]]:
     """The entries of ``folder``; none where it cannot be read."""
     try:
@@ -306,7 +314,7 @@ def _remove_staged(entry: Path, target: Path) -> None:
     if not entry.is_dir() or entry.is_symlink():
         return  # not a folder of staged_folder: a file written beside, say
     old = entry / target.name
-    if entry.name.endswith(".old") and old.is_dir() and not os.path.lexists(target):
+    if entry.name.endswith(_OLD) and old.is_dir() and not os.path.lexists(target):
         with suppress(OSError):
             os.replace(old, target)
     shutil.rmtree(entry, ignore_errors=True)
@@ -322,13 +330,24 @@ def _free(target: Path) -> Iterator[bool]:
         return
     try:
         descriptor, _ = _take(file, create=False)
-    except (_Busy, OSError):
+    except (_Busy, _Foreign, OSError):
         yield False
         return
     try:
         yield True
     finally:
         _drop(descriptor, file)
+
+
+def _holds_record(file: Path) -> bool:
+    """Whether ``file`` holds a lock record of tumble's (read only: a file of
+    another program's is never written)."""
+    try:
+        with open(file, "rb") as stream:
+            record = json.loads(stream.read(4096).decode("utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(record, dict) and record.keys() >= _RECORD_KEYS
 
 
 def _take(file: Path, *, create: bool = True) -> tuple[int, dict[str, Any] | None]:
@@ -363,12 +382,14 @@ def _take(file: Path, *, create: bool = True) -> tuple[int, dict[str, Any] | Non
                     raise FileNotFoundError(errno.ENOENT, os.strerror(errno.ENOENT), str(file))
                 os.close(descriptor)
                 continue
+            if os.fstat(descriptor).st_size and not _holds_record(file):
+                raise _Foreign()
             previous = _read(descriptor)
             record = {
                 "pid": os.getpid(),
                 "host": socket.gethostname(),
                 "since": time.strftime("%Y-%m-%d %H:%M:%S %z"),
-                "command": _cut(" ".join(sys.argv), 200),
+                "command": cut(" ".join(sys.argv), QUOTED_PATH_LENGTH),
             }
             os.ftruncate(descriptor, 0)
             os.lseek(descriptor, 0, os.SEEK_SET)
@@ -446,7 +467,7 @@ def _drop(descriptor: int, file: Path) -> None:
 
 @contextmanager
 def staged_folder(path: str | os.PathLike[str]) -> Iterator[Path]:
-    """A new, empty folder beside ``path`` to fill, named ``.NAME.XXXXXXXX.partial``:
+    """A new, empty folder beside ``path`` to fill, named ``.NAME.XXXXXXXX.tumble.partial``:
     it replaces ``path`` whole when the block ends normally (a folder there is
     moved aside first, then removed; should the move fail, it is put back),
     and is removed when the block raises. Hold the output's
@@ -459,9 +480,7 @@ def staged_folder(path: str | os.PathLike[str]) -> Iterator[Path]:
         An error of the file system while making, filling or moving the folder.
     """
     target = Path(path)
-    staging = Path(
-        tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent)
-    )
+    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=_PARTIAL, dir=target.parent))
     try:
         os.chmod(staging, permissions(directory=True))
         yield staging
@@ -474,17 +493,17 @@ def staged_folder(path: str | os.PathLike[str]) -> Iterator[Path]:
 def _replace_folder(staging: Path, target: Path) -> None:
     """Move the finished folder into place; an old one is moved aside first, then removed."""
     if target.exists():
-        aside = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent))
+        aside = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=_OLD, dir=target.parent))
         try:
             os.replace(target, aside / target.name)
         except OSError:
-            aside.rmdir()
+            shutil.rmtree(aside, ignore_errors=True)
             raise
         try:
             os.replace(staging, target)
         except OSError:
             os.replace(aside / target.name, target)  # the old folder back, unchanged
-            aside.rmdir()
+            shutil.rmtree(aside, ignore_errors=True)
             raise
         shutil.rmtree(aside, ignore_errors=True)
     else:

@@ -31,12 +31,12 @@ from tumble.core import gimbal
 from tumble.errors import InputError
 from tumble.integrators.drivers import (
     Schedule,
-    check_record_every,
     step_in_chunks,
     time_step,
     warn_if_coarse,
     whole_steps,
 )
+from tumble.integrators.limits import check_record_every
 from tumble.massprops import MassProperties, as_mass_properties, axisymmetric_moments, readonly
 from tumble.simulation import check_recording
 from tumble.trajectory import Trajectory

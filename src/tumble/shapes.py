@@ -188,9 +188,10 @@ def hollow_sphere(mass: Any, inner_radius: Any, outer_radius: Any) -> MassProper
     r2 = _positive_length(outer_radius, "outer_radius")
     if not 0 <= r1 <= r2:
         raise InputError(f"Expected 0 <= `inner_radius` <= `outer_radius` = {r2!r} m, got {r1!r}.")
-    quintic = r2**4 + r2**3 * r1 + r2**2 * r1**2 + r2 * r1**3 + r1**4
-    cubic = r2**2 + r2 * r1 + r1**2
-    moment = 2 * m * quintic / (5 * cubic)
+    # (r2⁵ − r1⁵) / (r2³ − r1³) without the cancellation of a thin shell, and in
+    # the ratio t = r1 / r2 so that no power leaves float64's range on the way.
+    t = r1 / r2
+    moment = 2 * m * r2 * r2 * (1 + t + t * t + t**3 + t**4) / (5 * (1 + t + t * t))
     return _body(m, moment, moment, moment)
 
 
@@ -301,9 +302,9 @@ def capsule(mass: Any, radius: Any, cylinder_height: Any) -> MassProperties:
     h = to_si(cylinder_height, "length", "cylinder_height")
     if h < 0:
         raise InputError(f"Expected `cylinder_height` >= 0 m, got {h!r}.")
-    cylinder_volume = math.pi * r * r * h
-    caps_volume = 4 * math.pi * r**3 / 3
-    m_cylinder = m * cylinder_volume / (cylinder_volume + caps_volume)
+    # The masses in proportion to the volumes π r² h and 4 π r³ / 3, divided by
+    # π r² first: no power of r leaves float64's range on the way.
+    m_cylinder = m * h / (h + 4 * r / 3)
     m_caps = m - m_cylinder
     axial = m_cylinder * r * r / 2 + 2 * m_caps * r * r / 5
     transverse = m_cylinder * (3 * r * r + h * h) / 12 + m_caps * (

@@ -29,12 +29,12 @@ from tumble.integrators.drivers import (
     MIN_STEPS_PER_TURN,
     Problem,
     Schedule,
-    check_record_every,
     recorded_samples,
     time_step,
     warn_if_coarse,
     whole_steps,
 )
+from tumble.integrators.limits import check_internal_stability, check_record_every
 from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties, as_mass_properties
 from tumble.parts import check_parts, value_columns
@@ -226,6 +226,11 @@ def simulate(
     weight = mp.mass * math.hypot(*g)
     fastest = setup.fastest_rate()
     step = time_step(dt, fastest, total_time)
+    internal, names = body.internal_rate()
+    if dt is None and integrator.kind == "stepping" and internal > 0:
+        # The default step resolves the parts' own motion too: one step per 1/rate,
+        # well within the stability interval (2.78 for RK4).
+        step = min(step, 1.0 / internal)
     check_recording(total_time, step, record_every, len(value_columns(body.parts)))
     most = _most_steps(max_steps)
     schedule = Schedule.build(total_time, step, record_every, rtol=rtol, atol=atol, most_steps=most)
@@ -235,7 +240,7 @@ def simulate(
             f"{total_time:.6g} s / {schedule.step:.3g} s = {schedule.n_steps} steps: use a "
             "larger dt or a shorter duration, or raise `max_steps=`."
         )
-    check_internal_stability(body, integrator.kind, schedule.step, total_time, most)
+    check_internal_stability(internal, names, integrator.kind, schedule.step, total_time, most)
     if dt is not None and integrator.kind == "stepping":
         if integrator.exact_free_motion:  # only the torque needs resolving
             warn_if_coarse(schedule.step, body.pendulum_rate(weight), "the pendulum swing")
@@ -259,50 +264,6 @@ def simulate(
         internal=body.parts,
         internal_values=samples.values,
     )
-
-
-#: The stability intervals of the explicit methods on the negative real axis,
-#: |h λ| (Hairer & Wanner, *Solving ODEs II*, §IV.2): RK4 2.785, Dormand–Prince
-#: 5(4) 3.3. A part's motion faster than this for the step diverges.
-_STABILITY = {"stepping": 2.78, "adaptive": 3.3}
-
-
-def check_internal_stability(
-    body: RigidBody, kind: str, step: float, duration: float, most_steps: float
-) -> None:
-    """Refuse, before any work, a run whose parts move too fast for an explicit
-    method: a fixed step beyond the stability interval of the fastest part's
-    rate (the run would diverge), or an adaptive run that would need more than
-    ``most_steps`` steps to stay within it (a stiff damper).
-
-    Raises
-    ------
-    IntegrationError
-        A fixed step the part's rate makes unstable.
-    RequestTooLargeError
-        An adaptive run needing more than ``most_steps`` steps.
-    """
-    rate, part = body.internal_rate()
-    limit = _STABILITY.get(kind)
-    if not rate > 0 or limit is None:
-        return
-    name = type(part).__name__
-    if kind == "stepping" and step * rate > limit:
-        raise IntegrationError(
-            f"Expected dt within the stability of the method for the {name}'s own rate "
-            f"({rate:.3g} 1/s): dt × rate <= {limit}, got dt = {step:.3g} s, dt × rate = "
-            f"{step * rate:.3g} (the run would diverge); use dt <= {limit / rate:.3g} s, or "
-            "less damping or stiffness."
-        )
-    needed = duration * rate / limit
-    if kind == "adaptive" and needed > most_steps:
-        raise RequestTooLargeError(
-            f"Expected the adaptive integration to end within {most_steps:.3g} steps "
-            f"(max_steps), got at least {needed:.3g} steps: the {name}'s own rate "
-            f"({rate:.3g} 1/s) holds an explicit method's step under {limit / rate:.3g} s "
-            "(a stiff part); ask for a shorter duration, less damping or stiffness, or raise "
-            "`max_steps=`."
-        )
 
 
 def _most_steps(max_steps: Any) -> float:

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import QUOTED_LENGTH, InputError, quoted
+from tumble.errors import InputError, cut, quoted
 
 
 def _import_pint() -> ModuleType:
@@ -106,16 +106,20 @@ _EXPRESSION = frozenset("0123456789.+-*/^() _\t°⁰¹²³⁴⁵⁶⁷⁸⁹⁻"
 
 
 def _checked_text(text: str, name: str) -> str:
-    """``text`` with typographic signs made plain, refused where pint would read
-    it otherwise than it is written: characters outside numbers and unit names,
-    and two numbers side by side ("3 4 m", "3..2 m"), which pint multiplies.
+    """``text`` with typographic signs made plain (every kind of space a space),
+    refused where pint would read it otherwise than it is written: characters
+    outside numbers and unit names, and a number that follows another, a unit
+    or a closing parenthesis with no operator between ("3 4 m", "3..2 m",
+    "3 m 4"), which pint multiplies.
 
     Raises
     ------
     InputError
-        Naming the value and the character or numbers that cannot be read.
+        Naming the value and the character or number that cannot be read.
     """
-    plain = text.translate(_TYPOGRAPHY)
+    # No-break and narrow no-break spaces separate numbers from units in typeset
+    # text (the SI brochure's own choice): read as spaces.
+    plain = "".join(" " if c.isspace() else c for c in text.translate(_TYPOGRAPHY))
     prepared = plain
     for preprocess in ureg.preprocessors:  # "%" and "‰" to names
         prepared = preprocess(prepared)
@@ -131,15 +135,20 @@ def _checked_text(text: str, name: str) -> str:
             f"Expected `{name}` to be a number or a quantity such as '250 g', got "
             f"{quoted(text)}, which holds {shown}: not part of a number or a unit{hint}."
         )
-    numbers = [token for token in _tokens(prepared) if token.type == tokenize.NUMBER]
-    for first, second in itertools.pairwise(numbers):
-        between = prepared[first.end[1] : second.start[1]]
-        if not between.strip():
-            raise InputError(
-                f"Expected `{name}` to be a number or a quantity such as '250 g', got "
-                f"{quoted(text)}, with the numbers {first.string} and {second.string} side by "
-                "side (write one number, or an operator between them)."
-            )
+    tokens = [token for token in _tokens(prepared) if token.string.strip()]
+    for before, token in itertools.pairwise(tokens):
+        if token.type != tokenize.NUMBER or (before.type == tokenize.OP and before.string != ")"):
+            continue
+        where = (
+            f"the numbers {before.string} and {token.string} side by side"
+            if before.type == tokenize.NUMBER
+            else f"the number {token.string} after {before.string!r}"
+        )
+        raise InputError(
+            f"Expected `{name}` to be a number or a quantity such as '250 g', got "
+            f"{quoted(text)}, with {where} (pint would multiply them: write one number, or "
+            "an operator between them)."
+        )
     return plain
 
 
@@ -227,13 +236,13 @@ def _quantity_to_si(value: Any, kind: str, name: str) -> Any:
     if kind == "angular_velocity" and "hertz" in str(value.units):
         # pint takes Hz as 1/s, which would read 1 Hz as 1 rad/s: off by 2π.
         raise InputError(
-            f"Expected `{name}` in rad/s, rpm or turn/s, got {_brief(value)} (hertz is "
+            f"Expected `{name}` in rad/s, rpm or turn/s, got {cut(str(value))} (hertz is "
             "ambiguous for "
             "an angular velocity: write '1 turn/s' for 2π rad/s, or 'rad/s')."
         )
     expected = ureg.Quantity(1, si_unit) if si_unit else ureg.Quantity(1)
     if value.dimensionality != expected.dimensionality:
-        shown = f"{value:~P}" if np.ndim(value.magnitude) == 0 else _brief(value)
+        shown = f"{value:~P}" if np.ndim(value.magnitude) == 0 else cut(str(value))
         what = "dimensionless number" if kind == "dimensionless" else kind.replace("_", " ")
         unit = f" in {si_unit}" if si_unit else ""
         raise InputError(
@@ -241,12 +250,6 @@ def _quantity_to_si(value: Any, kind: str, name: str) -> Any:
             f"(dimensions {value.dimensionality or 'dimensionless'})."
         )
     return value.to(si_unit).magnitude if si_unit else value.to("").magnitude
-
-
-def _brief(value: Any) -> str:
-    """A quantity or array as a message shows it: whole when short, else cut."""
-    text = str(value)
-    return text if len(text) <= QUOTED_LENGTH else f"{text[:QUOTED_LENGTH]}..."
 
 
 def _not_finite(array: NDArray[np.float64]) -> str:
@@ -295,6 +298,7 @@ def to_si(value: Any, kind: str, name: str) -> float:
         ...
     tumble.errors.InputError: Expected `radius` to be a length in m, got 3 kg (dimensions [mass]).
     """
+    typed = value
     value = _parse(value, name)
     if isinstance(value, pint.Quantity):
         value = _quantity_to_si(value, kind, name)
@@ -318,7 +322,8 @@ def to_si(value: Any, kind: str, name: str) -> float:
             f"Expected `{name}` to be within float range (|x| < 1.8e308), got {given}."
         ) from None
     if not math.isfinite(result):
-        raise InputError(f"Expected `{name}` to be finite, got {result}.")
+        shown = f"{quoted(typed)} ({result})" if isinstance(typed, str) else f"{result}"
+        raise InputError(f"Expected `{name}` to be finite, got {shown}.")
     return result
 
 

@@ -9,6 +9,7 @@ measures taken while stepping (:mod:`tumble.core.metrics`). Both
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -22,9 +23,13 @@ from tumble.core._jit import FINITE
 from tumble.core.metrics import N_METRICS
 from tumble.errors import InputError, IntegrationError
 from tumble.integrators import Integrator, get_integrator
-from tumble.integrators.drivers import PROGRESS_CHUNK, check_record_every, whole_steps
+from tumble.integrators.drivers import (
+    PROGRESS_CHUNK,
+    whole_steps,
+)
+from tumble.integrators.limits import check_internal_stability, check_record_every
 from tumble.massprops import PHYSICAL_TOLERANCE, check_symmetric
-from tumble.parts import check_parts, value_columns
+from tumble.parts import check_parts, internal_rate, value_columns
 from tumble.resources import check_memory
 from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
 from tumble.units import to_si, vector_to_si
@@ -362,6 +367,10 @@ def simulate_batch(
     step = total_time / n_steps
     if parts:
         with_parts = PartsBatch.build(values, omega, q0, parts, rotor_speed, method)
+        # The dampers' rates are fastest on the body of the smallest platform moment.
+        lightest = with_parts.bodies.moments[int(np.argmin(with_parts.bodies.moments[:, 0]))]
+        rate, names = internal_rate(parts, np.diag(lightest))
+        check_internal_stability(rate, names, integrator.kind, step, total_time, math.inf)
         return with_parts.run(integrator, torque, step, n_steps, record_every, progress)
     if rotor_speed is not None:
         raise InputError("Expected `rotor_speed` with Rotor parts in `internal`, got no parts.")

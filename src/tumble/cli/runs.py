@@ -263,7 +263,8 @@ def new_run_folder(name: str) -> Iterator[Path]:
     """A new default run folder (:func:`default_folder`), claimed for the block
     (:class:`tumble.locks.OutputLock`): a name that another run started in the
     same second has claimed, or has written meanwhile, is passed over."""
-    from tumble.locks import OutputInUseError, OutputLock
+    from tumble.errors import OutputInUseError
+    from tumble.locks import OutputLock
 
     passed: set[Path] = set()
     while True:

@@ -61,7 +61,7 @@ differences of roots as products, not as differences of products; and the map
 near s = 1 from its values there, where its pole may lie close by. The
 solution then keeps the digits the state holds: at ε = 1e-6 rad/s, 30 s, within
 1e-10 rad/s of an integration at 30 digits (``tests/test_theory_gyrostats.py``),
-where the roots formed from the rounded state were off by 2e-6. A state near
+where roots formed by subtraction from the rounded state are off by 2e-6. A state near
 the separatrix but far from the steady spin (two close roots that are both far
 from z0) still loses the digits of their difference.
 """

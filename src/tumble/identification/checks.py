@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
+from tumble.errors import InputError, quoted
 from tumble.units import pint, vector_to_si
 
 __all__ = [
@@ -17,7 +17,7 @@ __all__ = [
     "LOSSES",
     "MIN_SAMPLES",
     "breaks_free_body",
-    "check_free_body",
+    "check_bias",
     "check_loss",
     "check_motion",
     "flag",
@@ -45,10 +45,11 @@ LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
 #: bound holds for every body.
 FREE_BODY_BOUND = 1.0 / math.sqrt(3.0)
 
-#: How far beyond :data:`FREE_BODY_BOUND` the measured ratio may go before the
-#: rates are refused: the derivative of smoothed noisy samples, and |ω|² of the
-#: samples with their bias, are estimates (the shipped recording reaches 0.85 of
-#: the bound), while rates in deg/s read as rad/s are 57 times too small.
+#: How far beyond :data:`FREE_BODY_BOUND` the measured ratio may go before a
+#: refusal of a window that no body fits says the bound is broken too: the
+#: derivative of smoothed noisy samples, and |ω|² of the samples with their
+#: bias, are estimates (the shipped recording reaches 0.85 of the bound), while
+#: rates in deg/s read as rad/s are 57 times too small.
 FREE_BODY_MARGIN = 2.0
 
 #: The share of a window's samples whose |dω/dt| / |ω|² is judged (a high
@@ -100,24 +101,18 @@ def samples(t: Any, omega: Any) -> tuple[Array, Array]:
     return times, rates
 
 
-def _shown(value: Any) -> str:
-    """``repr(value)`` cut to 60 characters and '...' for a message."""
-    text = repr(value)
-    return text if len(text) <= 60 else text[:60] + "..."
-
-
 def flag(value: Any, name: str) -> bool:
     """``value`` as a bool: True or False only (numpy's too), not a truthy string
     such as ``"no"``."""
     if not isinstance(value, bool | np.bool_):
-        raise InputError(f"Expected `{name}` to be True or False, got {_shown(value)}.")
+        raise InputError(f"Expected `{name}` to be True or False, got {quoted(value)}.")
     return bool(value)
 
 
 def check_loss(loss: Any, name: str = "`loss`") -> str:
     """``loss``, one of :data:`LOSSES` (``name``: how the message calls it)."""
     if not isinstance(loss, str) or loss not in LOSSES:
-        raise InputError(f"Expected {name} to be one of {', '.join(LOSSES)}, got {_shown(loss)}.")
+        raise InputError(f"Expected {name} to be one of {', '.join(LOSSES)}, got {quoted(loss)}.")
     return loss
 
 
@@ -167,19 +162,23 @@ def breaks_free_body(ratio: float) -> bool:
     return ratio > FREE_BODY_MARGIN * FREE_BODY_BOUND
 
 
-def check_free_body(ratio: float) -> None:
-    """Refuse the rates of a window that a torque-free body matched when their
-    :func:`free_body_ratio` breaks the bound every such body keeps: they are in
-    a unit larger than the one they are read in, so too small by its factor
-    (57.3 for deg/s read as rad/s), and break the bound by as much, while a fit
-    finds a body for them all the same (a large bias and a fast spin make up
-    the rest)."""
-    if breaks_free_body(ratio):
+def check_bias(bias: Array, rates: Array) -> None:
+    """Refuse a fit whose sensor bias (rad/s, sensor axes) is larger than the rates
+    measured (``rates`` (n, 3), their median length). No gyroscope reads mostly its
+    own offset in flight; a fit does so when the rates are in a unit larger than
+    they are read in, so too small by its factor (57.3 for deg/s read as rad/s):
+    the rates then break |dω/dt| ≤ |ω|²/√3, which every torque-free body keeps,
+    and the fit makes up the difference with a fast spin hidden in the bias
+    (the shipped recording in deg/s read as rad/s: a bias of 7.4 rad/s against
+    rates of 0.21 rad/s; in rad/s, 0.027 against 12)."""
+    offset = float(np.linalg.norm(bias))
+    typical = float(np.median(np.linalg.norm(rates, axis=1)))
+    if offset > typical:
         raise InputError(
-            f"Expected rates of a torque-free body, |dω/dt| ≤ |ω|²/√3 = {FREE_BODY_BOUND:.3f} "
-            f"|ω|², got |dω/dt| up to {ratio:.3g} |ω|² ({FREE_BODY_PERCENTILE:.0f}th "
-            f"percentile of the window): the rates look at least "
-            f"{ratio / FREE_BODY_BOUND:.0f} times too small: were they in deg/s read as "
-            "rad/s (57.3 times), or in turn/s (6.28 times)? (Give them in rad/s, or as "
+            f"Expected a sensor bias smaller than the rates measured, got a fit whose bias "
+            f"({offset:.3g} rad/s) exceeds the rates' median ({typical:.3g} rad/s): the rates "
+            "look too small for their unit (they break |dω/dt| ≤ |ω|²/√3, which every "
+            "torque-free body keeps, and the bias makes up the rest): were they in deg/s read "
+            "as rad/s (57.3 times), or in turn/s (6.28 times)? (Give them in rad/s, or as "
             "quantities with their unit.)"
         )

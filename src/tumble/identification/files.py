@@ -39,11 +39,10 @@ from typing import IO, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
+from tumble.errors import InputError, cut
 from tumble.identification.tables import (
     HEAD_BYTES,
     check_samples,
-    cut,
     table_columns,
     table_layout,
 )

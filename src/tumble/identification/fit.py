@@ -30,7 +30,7 @@ from tumble.identification.checks import (
     LOSSES,
     MIN_SAMPLES,
     breaks_free_body,
-    check_free_body,
+    check_bias,
     check_loss,
     check_motion,
     flag,
@@ -289,9 +289,9 @@ def identify(
     times the noise, and fitted again. The fit starts from Euler's equations
     solved for the tensor (no guess), and tries further starts when the residuals
     do not look like the noise. A recording sampled far faster than its motion
-    needs (more than :data:`MAX_SAMPLES` samples to fit) is averaged in blocks of
-    consecutive samples first (:func:`tumble.identification.decimation.averaged`):
-    ``note`` says so. A recording must show the motion the ratios shape:
+    needs (more than 20,000 samples to fit) is averaged in blocks of consecutive
+    samples first, each block turning by at most 0.01 rad: ``note`` says so. A
+    recording must show the motion the ratios shape:
     within a hair of the separatrix (ω along the middle axis to 1e-3) a window
     holding a single flip can be matched about equally well by other bodies, and
     the fit may settle on one of them.
@@ -360,8 +360,8 @@ def _fit(
              if n >= 3 * MIN_SAMPLES] + [len(some_times)]  # fmt: skip
     # The starts are searched with soft_l1 where a robust loss is asked for: it
     # resists outliers as well, and its trust region converges where a
-    # redescending loss (cauchy, arctan) crawls from a poor start (arctan took
-    # 36 s on the shipped recording); the chosen loss polishes the best.
+    # redescending loss (cauchy, arctan) crawls from a poor start, for minutes,
+    # to a body off by several of its errors; the chosen loss polishes the best.
     search = "linear" if loss == "linear" else "soft_l1"
     best = None
     for ratios, axes in starts:
@@ -401,16 +401,6 @@ def _fit(
             f"motion, got residuals of {typical:.3g} rad/s against noise of {noise:.3g} rad/s "
             f"for the best body found: is the window all free flight?{also}"
         )
-    # A torque-free body matched the samples: if they break the bound every such
-    # body keeps, their unit is wrong (the body found is no body). Judged on the
-    # samples with the outliers (impacts, glitches: residuals beyond 5 σ√3) put
-    # where the fitted motion has them, as a spike would spread over the smoothing.
-    misses = np.linalg.norm(final.fun.reshape(-1, 3), axis=1) > 5.0 * np.sqrt(3.0) * noise
-    if misses.any():
-        cleaned = rates.copy()
-        cleaned[misses] += final.fun.reshape(-1, 3)[misses]  # the fitted motion there
-        smooth, derivative = smoothed(relative, cleaned)
-    check_free_body(free_body_ratio(smooth, derivative))
     _check_determined(final.jac, bias)
     if moments[0] < MIN_RATIO:
         raise InputError(
@@ -434,6 +424,9 @@ def _fit(
             "too little of the body (a longer free flight, or a throw further from a "
             "principal axis, would)."
         )
+    # A torque-free body matched the samples and determines the ratios, but no
+    # sensor reads mostly its own offset: a bias beyond the rates is a unit error.
+    check_bias(offset, rates)
     if bias and _symmetric(moments[:2], covariance):
         raise InputError(
             "Expected a recording that determines the moment ratios, got a body symmetric "

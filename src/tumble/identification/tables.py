@@ -24,7 +24,7 @@ from typing import IO
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
+from tumble.errors import InputError, cut
 from tumble.resources import check_memory, format_bytes, memory_budget
 
 __all__ = [
@@ -49,11 +49,6 @@ HEAD_BYTES = 1 << 16
 #: it. Measured: its peak memory grew by 210 bytes a sample over the example's
 #: for a CSV file of 1.3 million samples (60 MB); twice that, for a margin.
 SAMPLE_BYTES = 420
-
-
-def cut(text: str) -> str:
-    """``text`` cut to 60 characters and '...' where it is longer."""
-    return text if len(text) <= 60 else text[:60] + "..."
 
 
 def check_samples(count: int, shown: str, detail: str = "") -> None:

@@ -15,7 +15,7 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Literal, overload
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,7 +42,6 @@ __all__ = [
     "Problem",
     "Samples",
     "Schedule",
-    "check_record_every",
     "recorded_samples",
     "run_adaptive",
     "run_exact",
@@ -156,34 +155,6 @@ def recorded_samples(duration: float, step: float, record_every: int) -> float:
     """How many samples :meth:`Schedule.build` would record (an upper bound,
     as a float so that it never overflows)."""
     return duration / step / record_every + 2
-
-
-@overload
-def check_record_every(record_every: Any, *, optional: Literal[False] = False) -> int: ...
-@overload
-def check_record_every(record_every: Any, *, optional: bool) -> int | None: ...
-def check_record_every(record_every: Any, *, optional: bool = False) -> int | None:
-    """``record_every``, the number of steps between recorded states: an integer
-    >= 1 (a numpy integer too), or None where ``optional`` (only the final
-    state is kept). Returns it as an int (or None).
-
-    Raises
-    ------
-    InputError
-        Anything else: a fraction of a step, a string, a bool, a number < 1.
-    """
-    if record_every is None and optional:
-        return None
-    if (
-        isinstance(record_every, bool)
-        or not isinstance(record_every, int | np.integer)
-        or record_every < 1
-    ):
-        shown = repr(record_every)
-        shown = shown if len(shown) <= 60 else f"{shown[:60]}..."
-        what = "None or an integer" if optional else "an integer"
-        raise InputError(f"Expected `record_every` to be {what} >= 1, got {shown}.")
-    return int(record_every)
 
 
 def step_in_chunks(

@@ -28,7 +28,7 @@ The equations of motion are in :mod:`tumble.core.parts`.
 
 from __future__ import annotations
 
-from tumble.parts.base import InternalPart
+from tumble.parts.base import InternalPart, internal_rate
 from tumble.parts.dampers import KaneDamper, SpringMassDamper
 from tumble.parts.packing import (
     PART_TYPES,
@@ -49,6 +49,7 @@ __all__ = [
     "SpringMassDamper",
     "check_parts",
     "from_description",
+    "internal_rate",
     "layout_of",
     "pack_parts",
     "switch_times",

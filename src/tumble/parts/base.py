@@ -13,7 +13,7 @@ from tumble.units import to_si
 
 Array = NDArray[np.float64]
 
-__all__ = ["InternalPart", "limit", "positive"]
+__all__ = ["InternalPart", "internal_rate", "limit", "positive"]
 
 
 def positive(value: Any, kind: str, name: str, owner: str, unit: str, strict: bool = True) -> float:
@@ -85,13 +85,13 @@ class InternalPart:
         """The part as JSON-ready SI values (with ``type``), to write beside a trajectory."""
         raise NotImplementedError
 
-    def internal_rate(self, platform_moment: float) -> float:
-        """The fastest rate of its own motion relative to the body, 1/s: the largest
-        |λ| of its linearised equations on a body whose smallest platform moment is
-        ``platform_moment`` (kg·m²). An explicit integrator's step h must keep
-        h |λ| within its stability interval (RK4: 2.78; Dormand–Prince: 3.3), or the
-        run diverges. 0 for a part with no stiffness or damping of its own."""
-        return 0.0
+    def internal_rates(self, platform_inertia: Array) -> tuple[float, float]:
+        """How fast its own motion relative to the body goes, 1/s, on a body whose
+        platform inertia is ``platform_inertia`` ((3, 3), kg·m², body axes): the
+        rate at which it relaxes or oscillates by itself, and the rate at which it
+        pulls the platform along. (0, 0) for a part with no stiffness or damping
+        of its own. :func:`internal_rate` combines the parts' rates."""
+        return 0.0, 0.0
 
     @property
     def driven(self) -> bool:
@@ -102,3 +102,23 @@ class InternalPart:
     def dissipative(self) -> bool:
         """True when it turns kinetic energy into heat."""
         return False
+
+
+def internal_rate(parts: Any, platform_inertia: Array) -> tuple[float, list[str]]:
+    """An upper bound of the fastest rate of the parts' own motion, 1/s, on a
+    platform of inertia ``platform_inertia`` ((3, 3), kg·m², body axes), and
+    the names of the kinds of parts it comes from.
+
+    The largest rate a part has by itself plus the sum of the rates at which
+    they pull the platform (:meth:`InternalPart.internal_rates`): for Kane
+    dampers of inertias J_i and couplings D_i on a platform of moment I_p, the
+    coupled system's largest rate is at most max_i D_i / J_i + Σ_i D_i / I_p
+    (by (a − b)² <= (1 + t) a² + (1 + 1/t) b² in its quadratic form, t chosen
+    at the ratio of the two terms), and equal to it for one damper. An explicit
+    step h must keep h times this rate within its stability interval.
+    """
+    rates = [(part.internal_rates(platform_inertia), type(part).__name__) for part in parts]
+    own = max((rate[0] for rate, _ in rates), default=0.0)
+    pull = sum(rate[1] for rate, _ in rates)
+    names = [name for rate, name in rates if rate[0] > 0 or rate[1] > 0]
+    return own + pull, names

@@ -75,11 +75,12 @@ class KaneDamper(InternalPart):
     def dissipative(self) -> bool:
         return self.damping > 0
 
-    def internal_rate(self, platform_moment: float) -> float:
-        """D (1/I_s + 1/I_p): the rate at which the fluid brings the sphere (I_s) and
-        a platform of moment I_p about one axis to one spin; exact for the
-        linearised pair, largest for the smallest I_p."""
-        return float(self.damping * (1.0 / self.inertia + 1.0 / platform_moment))
+    def internal_rates(self, platform_inertia: Array) -> tuple[float, float]:
+        """D / J and D / I_p (I_p the platform's smallest principal moment): the
+        fluid brings the sphere and a platform turning about one axis to one
+        spin at their sum, D (1/J + 1/I_p)."""
+        smallest = float(np.linalg.eigvalsh(platform_inertia)[0])
+        return float(self.damping / self.inertia), float(self.damping / smallest)
 
     def spin_inertia(self) -> Array:
         return self.inertia * np.eye(3)
@@ -179,15 +180,21 @@ class SpringMassDamper(InternalPart):
     def dissipative(self) -> bool:
         return self.damping > 0
 
-    def internal_rate(self, platform_moment: float) -> float:
-        """The largest |λ| of μ ẍ + c ẋ + k x = 0 (μ the reduced mass): (c + √(c² −
-        4 μ k)) / 2μ when overdamped, √(k/μ) otherwise; the body's rotation adds
-        only its own rate to it."""
+    def internal_rates(self, platform_inertia: Array) -> tuple[float, float]:
+        """The largest |λ| of μ' ẍ + c ẋ + k x = 0, and 0 (its pull on the platform
+        is in μ'): (c + √(c² − 4 μ' k)) / 2μ' overdamped, √(k/μ') otherwise.
+        μ' = μ − gᵀ I_p⁻¹ g, the reduced mass less what the platform's turning
+        takes of it (ω and ẋ share the momenta: (I_p ω + g ẋ, g·ω + μ ẋ)), is the
+        mass the spring moves when the body's momentum is held; the body's
+        rotation adds only rates of its own size."""
         reduced, _ = self._geometry
-        discriminant = self.damping**2 - 4.0 * reduced * self.stiffness
+        coupling = self.coupling()
+        moved = reduced - float(coupling @ np.linalg.solve(platform_inertia, coupling))
+        moved = max(moved, 1e-12 * reduced)  # positive for any body: its energy is
+        discriminant = self.damping**2 - 4.0 * moved * self.stiffness
         if discriminant > 0:
-            return float((self.damping + math.sqrt(discriminant)) / (2.0 * reduced))
-        return math.sqrt(self.stiffness / reduced)
+            return float((self.damping + math.sqrt(discriminant)) / (2.0 * moved)), 0.0
+        return math.sqrt(self.stiffness / moved), 0.0
 
     def coupling(self) -> Array:
         """g = μ d0 × n (kg·m, body axes)."""

@@ -155,7 +155,7 @@ def write_run(
     ------
     RunFolderExistsError
         If ``folder`` holds files and ``force`` is false.
-    tumble.locks.OutputInUseError
+    tumble.OutputInUseError
         If another process (or thread) is writing ``folder``.
     tumble.errors.OutputError
         If the folder cannot be written (checked first), or the file system

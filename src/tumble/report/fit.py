@@ -337,7 +337,7 @@ def write_fit(
     tumble.report.RunFolderExistsError
         The folder holds files and ``force`` is false, or holds other files
         than a fit's.
-    tumble.locks.OutputInUseError
+    tumble.OutputInUseError
         Another process (or thread) is writing ``folder``.
     tumble.errors.OutputError
         The folder cannot be written (checked first), or the file system fails

@@ -31,9 +31,11 @@ __all__ = [
     "SweepSummary",
     "builtin_sweeps",
     "check_chunk_memory",
+    "claim_folder",
     "load_sweep",
     "run_sweep",
     "show_sweep",
+    "sweep_folder",
     "warn_if_short_of_room",
 ]
 

@@ -53,7 +53,7 @@ from tumble.config import (
     unknown_key,
 )
 from tumble.config.registries import method_choice
-from tumble.errors import InputError
+from tumble.errors import InputError, quoted
 from tumble.sweep.plan import (
     PARAMETERS,
     torque_parameters,
@@ -270,7 +270,7 @@ def check_address(address: str) -> str:
     import re
 
     text = address.strip()
-    shown = repr(text) if len(text) <= 60 else f"{text[:60]!r}..."
+    shown = quoted(text)
     found = re.fullmatch(r"(?:tcp|tls)://(\[[^\]]*\]|[A-Za-z0-9._-]+):([0-9]+)", text)
     if found is None:
         hint = ""
