@@ -194,16 +194,21 @@ def test_a_missing_folder_for_an_atomic_file_is_one_error(tmp_path: Path) -> Non
 
 # ------------------------------------------------------------ one writer at a time
 #: A process that claims an output, says so, and holds it until its stdin closes;
-#: with "fork", it first forks a child that sleeps (and says its pid).
+#: with "fork", it first forks a child that sleeps (and says its pid) once the
+#: child is running (its fork handlers, which close the lock file, have run).
 HOLDER = """
 import os, sys, time
 from tumble.locks import OutputLock
 claim = OutputLock(sys.argv[1], "the run folder", inside=sys.argv[2] == "inside")
 claim.acquire()
+running, started = os.pipe()
 child = os.fork() if sys.argv[3] == "fork" else None
 if child == 0:
+    os.write(started, b"1")
     time.sleep(600)
     os._exit(0)
+if child:
+    os.read(running, 1)
 print("held", child, flush=True)
 sys.stdin.read()
 claim.release()

@@ -542,7 +542,7 @@ def test_a_step_reader_that_crashes_is_refused(
     """OpenCASCADE ended the process with a segmentation fault on a STEP file with
     bytes inserted in an entity's name; it now reads in a child process. The
     crash is simulated: whether a damaged file crashes depends on its version."""
-    monkeypatch.setattr(step, "_CHILD", "import os, signal; os.kill(os.getpid(), signal.SIGSEGV)")
+    monkeypatch.setattr(step, "_CONVERSION", "import signal\nos.kill(os.getpid(), signal.SIGSEGV)\n")
     path = tmp_path / "part.step"
     path.write_bytes(STEP.read_bytes())
     with pytest.raises(
@@ -598,7 +598,7 @@ def test_a_key_with_a_line_break_is_shown_on_one_line() -> None:
         parse_sweep(text, "sweep.toml")
     assert str(caught.value) == (
         "sweep.toml, `a\\nb`: Expected one of `sweep`, `base`, `vary`, `outputs`, `report`, "
-        "`dask`, got the unknown key `a\\nb`."
+        "`dask`, `limits`, got the unknown key `a\\nb`."
     )
 
 

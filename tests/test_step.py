@@ -200,8 +200,7 @@ def test_a_conversion_over_its_memory_limit_is_stopped_with_the_limit_named(
         RequestTooLargeError,
         match=r"^Expected OpenCASCADE to read '.*bracket_with_hole.step' within its memory "
         r"limit of 47.7 MiB \(TUMBLE_MEMORY_BUDGET = 50 MB\), got a conversion that reached "
-        r"it \(\d+(\.\d+)? MiB in use\): set TUMBLE_MEMORY_BUDGET to a larger amount to let it "
-        r"finish\.$",
+        r"it: set TUMBLE_MEMORY_BUDGET to a larger amount to let it finish\.$",
     ):
         tb.from_mesh(STEP, density=2700.0)
 
@@ -210,7 +209,7 @@ def test_the_memory_limit_is_an_argument_too(tmp_path: Path) -> None:
     with pytest.raises(
         RequestTooLargeError,
         match=r"memory limit of 47.7 MiB \(the `memory_limit` argument\), got a conversion that "
-        r"reached it \(.* in use\): give a larger `memory_limit` to let it finish\.$",
+        r"reached it: give a larger `memory_limit` to let it finish\.$",
     ):
         tessellate_step(STEP, tmp_path / "out.glb", memory_limit=50e6)
 

@@ -211,8 +211,8 @@ def tessellate_step(
     if code == _OUT_OF_MEMORY or (code not in (0, _REFUSED) and peak >= _AT_THE_LIMIT * memory):
         raise RequestTooLargeError(
             f"Expected OpenCASCADE to read {name} within its memory limit of "
-            f"{format_bytes(memory)} ({memory_source}), got a conversion that reached it "
-            f"({format_bytes(peak)} in use): {more_memory} to let it finish."
+            f"{format_bytes(memory)} ({memory_source}), got a conversion that reached it: "
+            f"{more_memory} to let it finish."
         )
     if code in (0, _REFUSED):
         why = "OpenCASCADE could not read it"
