@@ -542,7 +542,9 @@ def test_a_step_reader_that_crashes_is_refused(
     """OpenCASCADE ended the process with a segmentation fault on a STEP file with
     bytes inserted in an entity's name; it now reads in a child process. The
     crash is simulated: whether a damaged file crashes depends on its version."""
-    monkeypatch.setattr(step, "_CONVERSION", "import signal\nos.kill(os.getpid(), signal.SIGSEGV)\n")
+    monkeypatch.setattr(
+        step, "_CONVERSION", "import signal\nos.kill(os.getpid(), signal.SIGSEGV)\n"
+    )
     path = tmp_path / "part.step"
     path.write_bytes(STEP.read_bytes())
     with pytest.raises(
