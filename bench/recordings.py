@@ -10,7 +10,8 @@ for the working tree and, with ``--other SRC``, for another tree's ``src``
 
 Run from the repository root::
 
-    .venv/bin/python bench/recordings.py [--rate 300000] [--repeat 3] [--other /path/src]
+    .venv/bin/python bench/recordings.py [--rate 300000] [--repeat 3] \
+        [--other /path/src] [--patience 120]
 """
 
 from __future__ import annotations
@@ -34,8 +35,12 @@ READ = (
 FIT = "from tumble.cli import main; main()"
 
 
-def measured(command: list[str], source: str | None) -> tuple[float, float, int]:
-    """Wall seconds, peak resident MiB and the exit code of a fresh process."""
+def measured(command: list[str], source: str | None, patience: float) -> tuple[float, float, int]:
+    """Wall seconds, peak resident MiB and the exit code of a fresh process.
+
+    A process still running after ``patience`` seconds is killed: its exit
+    code is then -9 and its time the patience.
+    """
     environment = dict(os.environ, MPLBACKEND="Agg")
     if source:
         environment["PYTHONPATH"] = source
@@ -43,7 +48,15 @@ def measured(command: list[str], source: str | None) -> tuple[float, float, int]
     process = subprocess.Popen(
         command, env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
     )
-    _, status, usage = os.wait4(process.pid, 0)
+    while True:
+        pid, status, usage = os.wait4(process.pid, os.WNOHANG)
+        if pid:
+            break
+        if time.perf_counter() - start > patience:
+            process.kill()
+            _, status, usage = os.wait4(process.pid, 0)
+            break
+        time.sleep(0.05)
     seconds = time.perf_counter() - start
     return seconds, usage.ru_maxrss / 1024, os.waitstatus_to_exitcode(status)
 
@@ -53,6 +66,9 @@ def main() -> None:
     parser.add_argument("--rate", type=float, default=300_000.0, help="Samples a second.")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--other", help="Another tree's src folder, measured alongside.")
+    parser.add_argument(
+        "--patience", type=float, default=120.0, help="Seconds before a job is killed."
+    )
     args = parser.parse_args()
     print(describe({}))
     from tumble.identification import synthetic_phone
@@ -84,7 +100,7 @@ def main() -> None:
             results: dict[str, list[tuple[float, float, int]]] = {tree: [] for tree in trees}
             for _ in range(args.repeat):
                 for tree, source in trees.items():  # alternated: the host's phases hit both
-                    results[tree].append(measured(command, source))
+                    results[tree].append(measured(command, source, args.patience))
             for tree, runs in results.items():
                 seconds = statistics.median(r[0] for r in runs)
                 peak = statistics.median(r[1] for r in runs)
