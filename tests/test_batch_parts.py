@@ -109,7 +109,7 @@ def test_a_batch_with_a_damper_keeps_each_body_s_momentum_and_loses_energy() -> 
     [
         (
             {"internal": [SpringMassDamper(0.1, [0, 0, 0.2], [1, 0, 0], 1.0, 0.1)]},
-            r"^Expected Rotor and KaneDamper parts in simulate_batch, got a SpringMassDamper "
+            r"^Expected parts that simulate_batch takes, got a SpringMassDamper "
             r"\(its mass moves each body's centre of mass: use simulate\)\.$",
         ),
         (

@@ -614,11 +614,11 @@ def test_bad_parts_are_refused_with_a_clear_message(make, message) -> None:
         ),
         (
             {"internal": "wheel"},
-            r"Expected `internal` to be a list of Rotor, KaneDamper and SpringMassDamper parts, got str",
+            r"Expected `internal` to be a list of parts \(KaneDamper, SpringMassDamper, Rotor\), got str",
         ),
         (
             {"internal": [Rotor([0, 0, 1], 0.1), 3]},
-            r"Expected `internal\[1\]` to be a Rotor, a KaneDamper or a SpringMassDamper, got int",
+            r"Expected `internal\[1\]` to be a part \(KaneDamper, SpringMassDamper, Rotor\), got int",
         ),
         (
             {"torque": tb.torques.ConstantBodyTorque([0, 0, 1], actuator="rotors")},

@@ -158,7 +158,7 @@ thickness = "6 cm"''',
         (
             'type = "rotor"',
             'type = "roter"',
-            r"d\.toml, line 25, `internal\[0\]\.type`: Expected `type` to be one of rotor, kane-damper, spring-mass-damper, got 'roter'\. Did you mean 'rotor'\?",
+            r"d\.toml, line 25, `internal\[0\]\.type`: Expected `type` to be one of kane-damper, spring-mass-damper, rotor, got 'roter'\. Did you mean 'rotor'\?",
         ),
         (
             "axis = [0, 1, 0]",
@@ -213,7 +213,7 @@ thickness = "6 cm"''',
         (
             'speed = "100 rpm"',
             'speed = "100 rpm"\nmax_speed = "-5 rpm"',
-            r"`internal\[0\]`: Expected `max_speed` of a Rotor > 0 rad/s",
+            r"`internal\[0\]\.max_speed`: Expected `max_speed` > 0 rad/s",
         ),
         (
             'speed = "100 rpm"',
@@ -236,7 +236,8 @@ def test_a_damper_needs_its_damping_and_takes_no_axis() -> None:
     base = builtin_text("explorer-1")
     with pytest.raises(
         ScenarioError,
-        match=r"`internal\[0\]\.damping`: Expected `damping` \(N·m·s\), which is missing\.",
+        match=r"`internal\[0\]\.damping`: Expected `damping` \(the fluid's viscous coupling D, "
+        r"N·m·s\), which is missing\.",
     ):
         parse(edited('damping = "3.5e-3 N*m*s"\n', "", base))
     with pytest.raises(
@@ -248,7 +249,7 @@ def test_a_damper_needs_its_damping_and_takes_no_axis() -> None:
         )
     with pytest.raises(
         ScenarioError,
-        match=r"`internal\[0\]`: Expected `damping` of a KaneDamper >= 0 N·m·s, got -1\.0\.",
+        match=r"`internal\[0\]\.damping`: Expected `damping` >= 0 N·m·s, got -1\.0\.",
     ):
         run(parse(edited('damping = "3.5e-3 N*m*s"', "damping = -1", base)))
 
@@ -355,12 +356,12 @@ def test_a_spring_mass_damper_in_a_file_is_the_library_s() -> None:
         (
             'stiffness = "6 N/m"',
             'stiffness = "6 kg"',
-            r"`internal\[0\]`: Expected `stiffness` to be a stiffness in N/m",
+            r"`internal\[0\]\.stiffness`: Expected `stiffness` to be a stiffness in N/m",
         ),
         (
             'damping = "1 N*s/m"',
             'damping = "-1 N*s/m"',
-            r"`internal\[0\]`: Expected `damping` of a SpringMassDamper >= 0 N·s/m, got -1\.0\.",
+            r"`internal\[0\]\.damping`: Expected `damping` >= 0 N·s/m, got -1\.0\.",
         ),
     ],
 )

@@ -153,6 +153,7 @@ def scenario_keys() -> str:
     """The page of every key of scenario and sweep files."""
     from tumble.checks import THEORY_CHECKS
     from tumble.integrators import INTEGRATORS
+    from tumble.parts import PARTS
     from tumble.scenario import bodies, internal, schema
     from tumble.sweep import schema as sweep_schema
     from tumble.torques import TORQUES
@@ -198,25 +199,17 @@ def scenario_keys() -> str:
     ):
         lines += [f"**{title}**", "", *_table("", model)]
     lines += ["``[[internal]]``", "----------------", ""]
-    lines += _table("", internal.InternalSpec)
+    lines += [inspect.cleandoc(internal.__doc__ or ""), ""]
+    for name, part in PARTS.items():
+        lines += [f'``type = "{name}"``: {part.summary}', ""]
+        lines += _parameter_table(part.keys_in_files())
     lines += ["``[[torques]]``", "---------------", ""]
     lines += [inspect.cleandoc(schema.Torque.__doc__ or ""), ""]
     for name, model in TORQUES.items():
         if not model.in_files:
             continue
         lines += [f'``type = "{name}"``: {model.summary}', ""]
-        if model.parameters:
-            lines += [".. list-table::", "   :header-rows: 1", "   :widths: 20 20 60", ""]
-            lines += ["   * - key", "     - value", "     - meaning"]
-            for parameter in model.parameters:
-                unit = _unit_of(parameter.kind)
-                shape = "vector" if parameter.shape else "number"
-                lines += [
-                    f"   * - ``{parameter.name}``",
-                    f"     - {shape} ({unit})" if unit else f"     - {shape}",
-                    f"     - {parameter.description}",
-                ]
-            lines.append("")
+        lines += _parameter_table(model.parameters)
     lines += ["Sweep files", "***********", "", ".. currentmodule:: tumble.sweep", ""]
     lines += [inspect.cleandoc(sweep_schema.__doc__ or ""), ""]
     for key, model in (
@@ -231,6 +224,23 @@ def scenario_keys() -> str:
     ):
         lines += _table(f"``{key}``", model)
     return "\n".join(lines) + "\n"
+
+
+def _parameter_table(parameters: Any) -> list[str]:
+    """The keys of a plugin's table in files (a torque model's, a part's)."""
+    if not parameters:
+        return []
+    lines = [".. list-table::", "   :header-rows: 1", "   :widths: 20 20 60", ""]
+    lines += ["   * - key", "     - value", "     - meaning"]
+    for parameter in parameters:
+        unit = _unit_of(parameter.kind)
+        shape = "vector" if parameter.shape else "number" if parameter.kind else "as written"
+        lines += [
+            f"   * - ``{parameter.name}``",
+            f"     - {shape} ({unit})" if unit else f"     - {shape}",
+            f"     - {parameter.description}",
+        ]
+    return [*lines, ""]
 
 
 def _unit_of(kind: str) -> str:

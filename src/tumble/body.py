@@ -40,7 +40,7 @@ from tumble.invariants import (
     reduce_invariants,
 )
 from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, principal_decomposition
-from tumble.parts import InternalPart, KaneDamper, Rotor, SpringMassDamper
+from tumble.parts import InternalPart, kernel_layout, pack_parts
 
 __all__ = [
     "FREE_BODY_INVARIANTS",
@@ -71,8 +71,7 @@ class RigidBody:
     mass_properties : the body, its parts included as if locked (its inertia about
         the centre of mass, body axes).
     pivot : None, or (3,) body coordinates of the fixed point, m.
-    parts : the parts it carries (:class:`tumble.parts.Rotor`,
-        :class:`tumble.parts.KaneDamper`), in the order given.
+    parts : the parts it carries (:mod:`tumble.parts`), in the order given.
 
     Raises
     ------
@@ -89,11 +88,12 @@ class RigidBody:
         if self.parts:
             attached = tuple(part.attached(self.mass_properties) for part in self.parts)
             object.__setattr__(self, "parts", attached)
-            if self.pivot is not None and any(isinstance(p, SpringMassDamper) for p in attached):
-                raise InputError(
-                    "Expected a free body for a SpringMassDamper (its mass moves the centre "
-                    "of mass the body turns about), got a pivot."
-                )
+            for part in attached:
+                if self.pivot is not None and part.free_body_only is not None:
+                    raise InputError(
+                        f"Expected a free body for a {type(part).__name__} "
+                        f"({part.free_body_only}), got a pivot."
+                    )
             moments = np.linalg.eigvalsh(0.5 * (self.platform_inertia + self.platform_inertia.T))
             if not moments[0] > ZERO_MOMENT * max(float(moments[2]), 0.0):
                 locked = np.linalg.eigvalsh(self.inertia)
@@ -195,20 +195,27 @@ class RigidBody:
         return compose(quaternions, self.principal_rotation.inv())
 
     # ------------------------------------------------------------ parts
-    @property
-    def state_size(self) -> int:
-        """Entries of the parts' values (and of their momenta in the kernels' state)."""
-        return sum(part.size for part in self.parts)
+    @cached_property
+    def layout(self) -> Any:
+        """The kernels' layout of its parts (:func:`tumble.parts.kernel_layout`)."""
+        return kernel_layout(self, self.parts)
+
+    @cached_property
+    def packed_parts(self) -> Array:
+        """(rows, 1) its parts packed for the kernels (:func:`tumble.parts.pack_parts`)."""
+        packed = pack_parts(self, self.parts)
+        packed.flags.writeable = False
+        return packed
 
     def initial_values(self, omega0: Array) -> Array:
-        """(..., state_size) the parts' values at t = 0 for the body's ω0 (..., 3)
+        """(..., m) the parts' values at t = 0 for the body's ω0 (..., 3)
         (:meth:`tumble.parts.InternalPart.initial_values`)."""
         omega0 = np.asarray(omega0, dtype=float)
         pieces = [part.initial_values(omega0) for part in self.parts]
         return np.concatenate(pieces, axis=-1) if pieces else np.zeros((*omega0.shape[:-1], 0))
 
     def split_values(self, values: Array | None, omega: Array | None = None) -> list[Array]:
-        """The parts' values (..., state_size), cut per part; None: their initial
+        """The parts' values (..., m), cut per part; None: their initial
         values for ω (..., 3) (a damper turning with the body)."""
         if values is None:
             start = np.zeros(3) if omega is None else omega
@@ -217,14 +224,13 @@ class RigidBody:
         return [values[..., a:b] for a, b in itertools.pairwise(cuts)]
 
     def kernel_state(self, omega0: Array, attitude0: Array) -> Array:
-        """(7 + state_size,) the state the parts' kernels integrate
-        (:mod:`tumble.core.parts`): H, q (principal-platform frame), then the parts'
-        momenta, from ω0 (rad/s, body axes) and the attitude (body → space)."""
+        """(7 + m,) the state the parts' kernels integrate (:mod:`tumble.core.parts`):
+        H, q (principal-platform frame), then the parts' momenta, from ω0 (rad/s,
+        body axes) and the attitude (body → space)."""
         omega0 = np.asarray(omega0, dtype=float)
-        momenta = [part.momenta(omega0, part.initial_values(omega0)) for part in self.parts]
         pieces = [
-            self.to_principal(m) if isinstance(part, KaneDamper) else m
-            for part, m in zip(self.parts, momenta, strict=True)
+            part.to_kernel(part.momenta(omega0, part.initial_values(omega0)), self)
+            for part in self.parts
         ]
         momentum = self.to_principal(self.angular_momentum(omega0))
         return np.concatenate(
@@ -233,55 +239,28 @@ class RigidBody:
 
     def from_kernel_state(self, states: Array) -> tuple[Array, Array, Array]:
         """ω (n, 3) and the attitude (n, 4), body axes, and the parts' values
-        (n, state_size), from kernel states (n, 7 + state_size)."""
+        (n, m), from kernel states (n, 7 + m): ω as the kernels solve for it
+        (:func:`tumble.core.parts.velocities`)."""
+        from tumble.core.parts import velocities
+
         states = np.asarray(states, dtype=float)
-        inside = states[:, :3].copy()
-        k = 7
-        momenta = []
-        spring = None
+        moments = np.ascontiguousarray(self.moments[:, None])
+        principal = velocities(self.layout)(np.ascontiguousarray(states.T), moments,
+                                            np.ascontiguousarray(self.packed_parts))  # fmt: skip
+        omega = self.from_principal(principal)
+        values, k = [], 7
         for part in self.parts:
-            block = states[:, k : k + part.size]
-            if isinstance(part, Rotor):  # its axial momentum h, along its axis
-                inside -= block * self.to_principal(part.axis)
-            elif isinstance(part, SpringMassDamper):  # (x, p): in the solve below
-                spring = (part, block)
-            else:  # a damper sphere's momentum vector
-                inside -= block
-                block = self.from_principal(block)
-            momenta.append(block)
+            momenta = part.from_kernel(states[:, k : k + part.size], self)
+            values.append(part.values_from(omega, momenta))
             k += part.size
-        if spring is None:
-            omega = self.from_principal(inside / self.moments)
-        else:
-            omega = self._omega_with_spring(inside, *spring)
-        values = [part.values_from(omega, m) for part, m in zip(self.parts, momenta, strict=True)]
         parts = np.concatenate(values, axis=1) if values else np.zeros((len(states), 0))
         return omega, self.attitude_from_principal(states[:, 3:7]), parts
-
-    def _omega_with_spring(self, inside: Array, part: SpringMassDamper, block: Array) -> Array:
-        """ω (n, 3), body axes, of a body with a spring–mass damper: the solution of
-        ``(I_p + Δ(x)) ω + g ẋ = inside``, ``g·ω + μ ẋ = p`` (:mod:`tumble.core.parts`;
-        ``inside`` the momentum H less the other parts', principal axes)."""
-        reduced, _ = part.geometry
-        x, p = block[:, 0], block[:, 1]
-        basis = np.eye(3)
-        # The matrix of ω ↦ I_p ω + Δ(x) ω − g (g·ω)/μ, column by column, body axes.
-        coupling = part.coupling()
-        columns = [
-            basis[j] @ self.platform_inertia.T
-            + part.momentum(np.broadcast_to(basis[j], (len(x), 3)), np.column_stack([x, 0 * x]))
-            - coupling * coupling[j] / reduced
-            for j in range(3)
-        ]
-        matrix = np.stack(columns, axis=-1)  # (n, 3, 3)
-        rhs = self.from_principal(inside) - np.outer(p / reduced, coupling)
-        return np.asarray(np.linalg.solve(matrix, rhs[..., None])[..., 0])
 
     # ------------------------------------------------------------ physics
     def angular_momentum(self, omega: Array, values: Array | None = None) -> Array:
         """Angular momentum about the reference point, body axes, kg·m²/s, for ω
         (..., 3) rad/s: ``I ω`` without parts; with parts ``I_p ω`` plus each
-        part's own (``values`` (..., state_size) the parts' values, None: their
+        part's own (``values`` (..., m) the parts' values, None: their
         initial values, a damper turning with the body)."""
         omega = np.asarray(omega, dtype=float)
         momentum = omega @ self.platform_inertia.T
@@ -304,11 +283,12 @@ class RigidBody:
         (a gyrostat whose rotor momentum is constant along a principal axis: its
         free motion is in closed form, :mod:`tumble.core.gyrostat`); None for
         any other body."""
-        rotors = [part for part in self.parts if isinstance(part, Rotor) and not part.driven]
-        if not rotors or len(rotors) < len(self.parts):
+        axes = [part.gyrostatic_axis for part in self.parts]
+        if not axes or any(a is None for a in axes):
             return None
-        axis = rotors[0].axis
-        if any(abs(abs(float(rotor.axis @ axis)) - 1.0) > 1e-12 for rotor in rotors):
+        axis = axes[0]
+        assert axis is not None
+        if any(abs(abs(float(a @ axis)) - 1.0) > 1e-12 for a in axes if a is not None):
             return None
         turned = self.platform_inertia @ axis
         off = turned - float(axis @ turned) * axis
@@ -329,9 +309,8 @@ class RigidBody:
         else:
             return None
         for part in self.parts:
-            if not isinstance(part, Rotor) or part.driven:
-                return None
-            if abs(abs(float(self.to_principal(part.axis)[axis])) - 1.0) > 1e-12:
+            along = part.gyrostatic_axis
+            if along is None or abs(abs(float(self.to_principal(along)[axis])) - 1.0) > 1e-12:
                 return None
         return axis
 

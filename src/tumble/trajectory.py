@@ -25,7 +25,7 @@ from tumble.body import INVARIANTS, RigidBody, label
 from tumble.errors import InputError
 from tumble.files import replaced
 from tumble.massprops import MassProperties
-from tumble.parts import InternalPart, Rotor, from_description, value_columns
+from tumble.parts import InternalPart, from_description, spin_columns, value_columns
 from tumble.torques import Gravity
 
 __all__ = ["Trajectory"]
@@ -133,13 +133,9 @@ class Trajectory:
     @cached_property
     def rotor_speed(self) -> Array:
         """(n, k) the spin rates of the rotors relative to the body, rad/s, in the
-        order given (``(n, 0)`` without rotors)."""
-        columns, k = [], 0
-        for part in self.internal:
-            if isinstance(part, Rotor):
-                columns.append(k)
-            k += part.size
-        return np.asarray(self._part_values[:, columns])
+        order given (``(n, 0)`` without rotors): the values of the parts that spin
+        (:attr:`tumble.parts.InternalPart.spin`)."""
+        return np.asarray(self._part_values[:, list(spin_columns(self.internal))])
 
     @cached_property
     def rotation(self) -> Any:

@@ -11,12 +11,23 @@ from numpy.testing import assert_allclose
 
 from tumble.core import parts
 from tumble.core._jit import FINITE
-from tumble.core.parts import DAMPER, ROTOR
+from tumble.core.dampers import DAMPER_EQUATIONS
+from tumble.core.parts import part_model
+from tumble.core.rotor import ROTOR_EQUATIONS
 from tumble.core.torques import combine, constant_body_torque
 
 FREE = combine(())
 #: A body torque in rows 0-2, acting on the body or asked of the rotors.
 PUSH = combine([(constant_body_torque, 0)])
+
+
+#: A Kane damper in a layout: its equations, 3 state entries, 2 rows.
+DAMPER = (DAMPER_EQUATIONS, 3, 2)
+
+
+def rotor(n_schedule=1):  # type: ignore[no-untyped-def]
+    """A rotor in a layout: its equations, 1 state entry, 9 + 2 n rows."""
+    return (ROTOR_EQUATIONS, 1, 9 + 2 * n_schedule)
 
 
 def rotor_rows(axis, inertia, times=(0.0,), torques=(0.0,), max_torque=math.inf,
@@ -28,7 +39,8 @@ def rates(layout, y, moments, packed, torque=FREE, drive=FREE, params=None, t=0.
     params = np.zeros((3, 1)) if params is None else params
     system = (moments, 1.0 / moments, packed, 0, params, 0, 0.0)
     dy = np.empty_like(y)
-    parts.part_rates(torque, drive, layout, t, t, y, dy, system)
+    model = part_model(layout)
+    parts.part_rates(torque, drive, model.velocity, model.rates, t, t, y, dy, system)
     return dy
 
 
@@ -36,12 +48,12 @@ def test_rates_of_a_rotor_and_a_damper_worked_by_hand() -> None:
     # Platform moments (1, 2, 3); a rotor along 3 (J = 0.5, h = 2, motor 0.1 N·m)
     # and a damper (J = 0.2, D = 0.4, σ = (0.1, 0, 0)). H = (1, 2, 3):
     # ω = (H − h a − σ) / p = (0.9, 1.0, 1/3).
-    layout = ((ROTOR, DAMPER), 1)
+    layout = (rotor(), DAMPER)
     moments = np.array([1.0, 2.0, 3.0])
     packed = np.array([*rotor_rows((0, 0, 1), 0.5, torques=(0.1,)), 0.2, 0.4])[:, None]
     y = np.array([1.0, 2.0, 3.0, 1.0, 0.0, 0.0, 0.0, 2.0, 0.1, 0.0, 0.0])
     w = np.array([0.9, 1.0, 1.0 / 3.0])
-    assert_allclose(parts.velocity(layout, y, 1.0 / moments, packed, 0), w, rtol=1e-15)
+    assert_allclose(part_model(layout).velocity(y, 1.0 / moments, packed, 0), w, rtol=1e-15)
     dy = rates(layout, y, moments, packed)
     h = y[:3]
     assert_allclose(dy[:3], -np.cross(w, h), rtol=1e-15)  # Ḣ = −ω × H
@@ -55,7 +67,7 @@ def test_rates_of_a_rotor_and_a_damper_worked_by_hand() -> None:
 def test_a_torque_asked_of_the_rotors_is_shared_out_and_clipped() -> None:
     # Two rotors along x and y with allocation rows (1, 0, 0), (0, 1, 0): a body
     # torque v = (0.3, −0.5, 0) asks u = −v of them; the second is clipped to 0.4.
-    layout = ((ROTOR, ROTOR), 1)
+    layout = (rotor(), rotor())
     moments = np.array([1.0, 1.0, 1.0])
     packed = np.array(
         [*rotor_rows((1, 0, 0), 0.1, allocation=(1, 0, 0)),
@@ -69,7 +81,7 @@ def test_a_torque_asked_of_the_rotors_is_shared_out_and_clipped() -> None:
 
 
 def test_a_rotor_at_its_largest_speed_gets_no_more_torque() -> None:
-    layout = ((ROTOR,), 1)
+    layout = (rotor(),)
     moments = np.array([1.0, 1.0, 1.0])
     packed = np.array(rotor_rows((0, 0, 1), 0.5, torques=(0.2,), max_speed=10.0))[:, None]
     # h = J (a·ω + Ω) with ω = 0 (H = h a): Ω = h / J.
@@ -80,7 +92,7 @@ def test_a_rotor_at_its_largest_speed_gets_no_more_torque() -> None:
 
 
 def test_the_schedule_is_read_at_the_hold_time() -> None:
-    layout = ((ROTOR,), 2)
+    layout = (rotor(2),)
     moments = np.array([1.0, 1.0, 1.0])
     packed = np.array(rotor_rows((0, 0, 1), 0.5, times=(0.0, 1.0), torques=(0.2, -0.1)))[:, None]
     y = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
@@ -102,7 +114,7 @@ def test_rk4_and_the_splitting_spin_a_rotor_up_exactly() -> None:
     # the body turning the other way about axis 3 at ω3 = −u t / p3, by the angle
     # −u t² / (2 p3): the splittings by the midpoint rule, exact for a linear ω3;
     # RK4 on q̇ = ½ q ⊗ (0, ω(t)) with an error ~(ω3 dt)⁵ a step: 1e-10.
-    layout = ((ROTOR,), 1)
+    layout = (rotor(),)
     moments = np.array([2.0, 3.0, 4.0])
     packed = np.array(rotor_rows((0, 0, 1), 0.5, torques=(0.1,)))[:, None]
     for step, tolerance in (
@@ -120,7 +132,7 @@ def test_rk4_and_the_splitting_spin_a_rotor_up_exactly() -> None:
 def test_the_splitting_turns_h_about_the_rotor_axis_and_keeps_its_length() -> None:
     # A free gyrostat: each stage of the splitting is a rotation, so |H| stays
     # to round-off over many steps of an asymmetric body.
-    layout = ((ROTOR,), 1)
+    layout = (rotor(),)
     moments = np.array([2.0, 3.0, 4.0])
     axis = np.array([0.6, 0.0, 0.8])
     packed = np.array(rotor_rows(axis, 0.3))[:, None]
@@ -134,7 +146,7 @@ def test_the_splitting_turns_h_about_the_rotor_axis_and_keeps_its_length() -> No
 
 @pytest.mark.filterwarnings("ignore:invalid value:RuntimeWarning")  # NaN, as plain Python
 def test_a_state_that_blows_up_is_reported_with_its_step() -> None:
-    layout = ((ROTOR,), 1)
+    layout = (rotor(),)
     moments = np.array([1.0, 1.0, 1.0])
     packed = np.array(rotor_rows((0, 0, 1), 0.5, torques=(math.inf,)))[:, None]
     y = np.array([0.1, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0])

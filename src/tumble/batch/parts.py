@@ -1,4 +1,4 @@
-"""Batches of bodies that carry internal parts (Rotor, KaneDamper): the state
+"""Batches of bodies that carry internal parts (:mod:`tumble.parts`): the state
 conversions and packing, per body, for the parts' batch kernels
 (:func:`tumble.core.parts.batch_kernel`), and their driver."""
 
@@ -16,8 +16,7 @@ from tumble.core._jit import FINITE
 from tumble.errors import InputError, IntegrationError
 from tumble.integrators import INTEGRATORS, Integrator
 from tumble.integrators.drivers import PROGRESS_CHUNK
-from tumble.parts import KaneDamper, Rotor, layout_of
-from tumble.parts.packing import padded_schedule
+from tumble.parts import kernel_layout, pack_parts, spin_columns
 from tumble.torques import TorqueModel, bind
 from tumble.units import vector_to_si
 
@@ -28,18 +27,18 @@ Array = NDArray[np.float64]
 
 @dataclass(frozen=True, eq=False)
 class PartsBatch:
-    """N bodies carrying the same Rotor and KaneDamper parts, ready for the
-    parts' batch kernels (:func:`tumble.core.parts.batch_kernel`): each body in
-    the principal frame of its platform inertia (the locked inertia less the
-    parts' spin inertia), the state ``y`` (7 + m, N) holding H, q and the
-    parts' momenta, as :meth:`tumble.body.RigidBody.kernel_state` does for one.
+    """N bodies carrying the same parts, ready for the parts' batch kernels
+    (:func:`tumble.core.parts.batch_kernel`): each body in the principal frame of
+    its platform inertia (the locked inertia less the parts' spin inertia), the
+    state ``y`` (7 + m, N) holding H, q and the parts' momenta, as
+    :meth:`tumble.body.RigidBody.kernel_state` does for one.
     """
 
     bodies: BodyBatch
     parts: tuple[Any, ...]
     y: Array
     packed: Array
-    layout: tuple[tuple[int, ...], int]
+    layout: Any
     method: str
 
     @classmethod
@@ -48,21 +47,19 @@ class PartsBatch:
         method: str,
     ) -> PartsBatch:  # fmt: skip
         """From the locked ``inertia`` ((N, 3) or (N, 3, 3), kg·m²), ω0 (N, 3) rad/s,
-        the attitudes (N, 4), the parts and the rotors' speeds (None or (N, k))."""
+        the attitudes (N, 4), the parts and the speeds of the parts that have one
+        (None or (N, k): those of the parts that spin, :attr:`tumble.parts.InternalPart.spin`)."""
         n = len(omega)
         locked = inertia if inertia.ndim == 3 else np.einsum("ni,ij->nij", inertia, np.eye(3))
         for part in parts:
-            if not isinstance(part, Rotor | KaneDamper):
+            if part.not_in_batches is not None:
                 raise InputError(
-                    f"Expected Rotor and KaneDamper parts in simulate_batch, got a "
-                    f"{type(part).__name__} (its mass moves each body's centre of mass: use "
-                    "simulate)."
+                    f"Expected parts that simulate_batch takes, got a {type(part).__name__} "
+                    f"({part.not_in_batches})."
                 )
-        rotors = [part for part in parts if isinstance(part, Rotor)]
-        if speeds is None:
-            speed = np.tile([rotor.speed for rotor in rotors], (n, 1))
-        else:
-            speed = vector_to_si(speeds, "angular_velocity", "rotor_speed", (n, len(rotors)))
+        spinning = [k for k, part in enumerate(parts) if part.spin is not None]
+        if speeds is not None:
+            speeds = vector_to_si(speeds, "angular_velocity", "rotor_speed", (n, len(spinning)))
         platform = locked - sum(part.spin_inertia() for part in parts)
         bodies = BodyBatch.from_inertia(platform)
         low = np.flatnonzero(~(bodies.moments[:, 0] > ZERO_MOMENT * bodies.moments[:, 2]))
@@ -74,46 +71,38 @@ class PartsBatch:
                 f"positive principal moments), got body {k} with "
                 f"{np.round(bodies.moments[k], 12).tolist()} kg·m² left."
             )
-        # H = I ω + Σ J Ω a at t = 0 (the dampers turn with the body), then each
-        # part's momentum: a rotor's J (a·ω + Ω), a damper's J ω (principal axes).
-        momentum = np.einsum("nij,nj->ni", locked, omega)
+        # H = I_p ω + each part's momentum at t = 0, then each part's momenta.
+        momentum = np.einsum("nij,nj->ni", platform, omega)
         blocks = []
-        k = 0
-        for part in parts:
-            if isinstance(part, Rotor):
-                momentum += part.inertia * speed[:, k : k + 1] * part.axis
-                blocks.append(part.inertia * (omega @ part.axis + speed[:, k])[None, :])
-                k += 1
-            else:
-                blocks.append(part.inertia * bodies.to_principal(omega).T)
+        for k, part in enumerate(parts):
+            values = part.initial_values(omega)
+            if speeds is not None and k in spinning:
+                values = np.array(values)
+                values[:, part.spin] = speeds[:, spinning.index(k)]
+            momentum = momentum + part.momentum(omega, values)
+            blocks.append(part.to_kernel(part.momenta(omega, values), bodies).T)
         y = np.concatenate(
             [bodies.to_principal(momentum).T, bodies.attitude_to_principal(q0).T, *blocks]
         )
-        layout = layout_of(parts)
-        return cls(bodies, parts, np.ascontiguousarray(y), _pack(bodies, parts, layout), layout,
-                   method)  # fmt: skip
+        layout = kernel_layout(bodies, parts)
+        packed = np.ascontiguousarray(pack_parts(bodies, parts))
+        return cls(bodies, parts, np.ascontiguousarray(y), packed, layout, method)
 
     def values(self, y: Array) -> tuple[Array, Array, Array]:
         """ω (N, 3) and the attitude (N, 4), body axes, and the parts' values
-        (N, m), from kernel states (7 + m, N)."""
+        (N, m), from kernel states (7 + m, N): ω as the kernels solve for it."""
+        from tumble.core.parts import velocities
+
         bodies = self.bodies
-        inside = y[:3].T.copy()
-        row = 7
-        momenta = []
+        moments = np.ascontiguousarray(bodies.moments.T)
+        principal = velocities(self.layout)(np.ascontiguousarray(y), moments, self.packed)
+        omega = bodies.from_principal(principal)
+        values, k = [], 7
         for part in self.parts:
-            if isinstance(part, Rotor):
-                h = y[row]
-                inside -= h[:, None] * bodies.to_principal(part.axis)
-                momenta.append(h[:, None])
-                row += 1
-            else:
-                block = y[row : row + 3].T
-                inside -= block
-                momenta.append(bodies.from_principal(block.copy()))
-                row += 3
-        omega = bodies.from_principal(inside / bodies.moments)
-        parts = [part.values_from(omega, m) for part, m in zip(self.parts, momenta, strict=True)]
-        return omega, bodies.attitude_from_principal(y[3:7].T.copy()), np.concatenate(parts, axis=1)
+            momenta = part.from_kernel(np.ascontiguousarray(y[k : k + part.size].T), bodies)
+            values.append(part.values_from(omega, momenta))
+            k += part.size
+        return omega, bodies.attitude_from_principal(y[3:7].T.copy()), np.concatenate(values, 1)
 
     def run(
         self, integrator: Integrator, torque: TorqueModel | None, dt: float, n_steps: int,
@@ -122,10 +111,10 @@ class PartsBatch:
         """Advance the bodies ``n_steps`` steps of ``dt`` s; the result as
         :func:`simulate_batch` returns it."""
         kinds = {part.kind for part in self.parts}
-        if not integrator.handles(kinds) or integrator.parts_batch is None:
+        if not integrator.handles(self.parts) or integrator.parts_batch is None:
             able = [
                 name for name, entry in INTEGRATORS.items()
-                if entry.parts_batch is not None and entry.handles(kinds)
+                if entry.parts_batch is not None and entry.handles(self.parts)
             ]  # fmt: skip
             raise InputError(
                 f"Expected a method that integrates batches carrying "
@@ -166,7 +155,7 @@ class PartsBatch:
                 f"{int(status[k])} (t = {int(status[k]) * dt:.6g} s)."
             )
         omega, quaternion, values = self.values(self.y)
-        rotors = tuple(k for k, part in enumerate(self._columns()) if isinstance(part, Rotor))
+        rotors = spin_columns(self.parts)
         if record_every is None:
             return BatchResult(omega, quaternion, np.array([n_steps * dt]), None, None, dt,
                                self.method, values, None, rotors)  # fmt: skip
@@ -175,33 +164,3 @@ class PartsBatch:
             np.stack([h[0] for h in history]), np.stack([h[1] for h in history]),
             dt, self.method, values, np.stack([h[2] for h in history]), rotors,
         )  # fmt: skip
-
-    def _columns(self) -> list[Any]:
-        """The part owning each column of the values."""
-        return [part for part in self.parts for _ in range(part.size)]
-
-
-def _pack(bodies: BodyBatch, parts: tuple[Any, ...], layout: tuple[tuple[int, ...], int]) -> Array:
-    """The parts packed for the kernels, one column per body (each in its
-    platform's principal frame), as :func:`tumble.parts.pack_parts` packs one."""
-    _, longest = layout
-    n = len(bodies)
-    rotors = [part for part in parts if isinstance(part, Rotor)]
-    axes = np.zeros((n, 0, 3))
-    if rotors:
-        turned = [bodies.to_principal(np.broadcast_to(rotor.axis, (n, 3))) for rotor in rotors]
-        axes = np.stack(turned, axis=1)
-    allocation = np.asarray(
-        np.linalg.pinv(np.swapaxes(axes, 1, 2)) if rotors else np.zeros((n, 0, 3)), dtype=float
-    )
-    rows: list[Array] = []
-    k = 0
-    for part in parts:
-        if isinstance(part, Rotor):
-            shared = [part.inertia, part.max_torque, part.max_speed]
-            rows += [axes[:, k].T, np.tile(np.array(shared)[:, None], (1, n)), allocation[:, k].T]
-            rows += [np.tile(padded_schedule(part, longest)[:, None], (1, n))]
-            k += 1
-        else:
-            rows.append(np.tile([[part.inertia], [part.damping]], (1, n)))
-    return np.ascontiguousarray(np.concatenate(rows, axis=0))

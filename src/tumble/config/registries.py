@@ -17,7 +17,14 @@ from typing import Any
 from tumble.config.errors import key_error, unknown_key
 from tumble.errors import InputError, quoted
 
-__all__ = ["actuator_choice", "method_choice", "theory_choice", "torque_entry", "torque_types"]
+__all__ = [
+    "actuator_choice",
+    "method_choice",
+    "part_entry",
+    "theory_choice",
+    "torque_entry",
+    "torque_types",
+]
 
 
 def method_choice(value: Any, *, batch: bool = False) -> str:
@@ -136,4 +143,50 @@ def torque_entry(data: Any) -> Any:
             values[parameter.name] = parameter.convert(data[parameter.name], per_body=False)
         except InputError as exc:
             raise key_error(parameter.name, str(exc)) from None
+    return {"type": kind, "values": values}
+
+
+def part_entry(data: Any) -> Any:
+    """Check one ``[[internal]]`` table against the part registry
+    (:data:`tumble.parts.PARTS`): its ``type`` is a registered kind, its other
+    keys are that kind's keys in files
+    (:meth:`tumble.parts.InternalPart.keys_in_files`), each converted to SI.
+
+    Returns ``{"type": kind, "values": {key: value}}`` (data that is not a table
+    is returned as it is, for pydantic to refuse); raises pydantic errors
+    located at the key at fault. The part is made once
+    (:meth:`tumble.parts.InternalPart.from_table`), so that the values are
+    checked together (a key that is missing, a value the part refuses).
+    """
+    from tumble.parts import PARTS, TableKeyError, part_class
+
+    if not isinstance(data, dict):
+        return data
+    kind = data.get("type")
+    if kind is None:
+        raise key_error("type", f"Expected `type` ({', '.join(PARTS)}), which is missing.")
+    try:
+        cls = part_class(kind)
+    except InputError as exc:
+        raise key_error("type", str(exc)) from None
+    keys = {parameter.name: parameter for parameter in cls.keys_in_files()}
+    elsewhere = {p.name for other in PARTS.values() for p in other.keys_in_files()}
+    values: dict[str, Any] = {}
+    for key, value in data.items():
+        if key == "type":
+            continue
+        if key not in keys:
+            if key in elsewhere:
+                raise key_error(str(key), f"Expected no `{key}` for a {kind}, got one.")
+            raise unknown_key(str(key), ["type", *keys])
+        try:
+            values[key] = keys[key].convert(value, per_body=False)
+        except InputError as exc:
+            raise key_error(str(key), str(exc)) from None
+    try:
+        cls.from_table(values)
+    except TableKeyError as exc:
+        raise key_error(exc.key, str(exc)) from None
+    except InputError as exc:
+        raise ValueError(str(exc)) from None
     return {"type": kind, "values": values}

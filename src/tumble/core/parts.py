@@ -1,12 +1,13 @@
 """Equations of motion of a body carrying internal parts, and the loops that step it.
 
-A body may carry *rotors* (symmetric wheels spinning on body-fixed axes, driven
-by motors: reaction and momentum wheels, a dual-spin rotor) and *Kane dampers*
-(spheres turning in a viscous fluid inside it). Everything here is in the
+A body may carry *parts* that move inside it: rotors (symmetric wheels on
+body-fixed axes, driven by motors), Kane dampers (spheres turning in a
+viscous fluid), a spring–mass damper (a point mass sliding on a spring), or
+any kind registered in :mod:`tumble.parts`. Everything here is in the
 principal frame of the body's **platform inertia** ``I_p = diag(p1, p2, p3)``:
 its inertia about the reference point (the centre of mass, or a pivot) less
-each rotor's ``J a aᵀ`` and each damper's ``J 1``, the part of the inertia
-that turns at the body's own rate ω.
+each part's spin inertia, the part of the inertia that turns at the body's
+own rate ω.
 
 State ``y`` (``7 + m``):
 
@@ -14,57 +15,50 @@ State ``y`` (``7 + m``):
   every part), kg·m²/s;
 * ``y[3:7]`` q: unit quaternion ``[w, x, y, z]`` turning principal-platform
   coordinates into space coordinates;
-* one entry per rotor: its axial angular momentum ``h = J (a·ω + Ω)``,
-  kg·m²/s (Ω its spin rate relative to the body);
-* three per damper: the sphere's angular momentum ``σ = J ω_s``, kg·m²/s
-  (ω_s its absolute angular velocity, in body components);
-* two for a spring–mass damper (one a body at most): the point mass's
-  displacement x along its direction n (m) and its momentum
-  ``p = g·ω + μ ẋ`` (kg·m/s).
+* then each part's momenta, in the order of the parts (a rotor's axial
+  momentum, a damper sphere's angular momentum, a spring's displacement and
+  momentum: see each kind's equations, :mod:`tumble.core.rotor` and
+  :mod:`tumble.core.dampers`).
 
-Velocities: ``ω = I_p⁻¹ (H − Σ h a − Σ σ)``, ``Ω = h / J − a·ω``, ``ω_s = σ / J``.
-With a spring–mass damper (reduced mass μ = m (M − m) / M, rest position d0
-from the rest of the body's centre of mass, ``d = d0 + x n``, ``g = μ d0 × n``)
-the body's inertia about the moving centre of mass becomes ``I_p + Δ(x)``,
-``Δ = μ ((|d|² − |d0|²) 1 − (d dᵀ − d0 d0ᵀ))``, and ω and ẋ solve
-``(I_p + Δ) ω + g ẋ = H − Σ h a − Σ σ``, ``g·ω + μ ẋ = p``: the kinetic energy is
-``½ ωᵀ (I_p + Δ) ω + ẋ ω·g + ½ μ ẋ²`` (checked against the sum over the masses
-with sympy in the tests).
-Equations (Hughes, *Spacecraft Attitude Dynamics*, 1986, §6.2 for the
-gyrostat; Schaub & Junkins, *Analytical Mechanics of Space Systems*, §4.5)::
+**A part kind's equations** (:class:`PartEquations`) are compiled functions of
+one signature each, reading the part's state from ``y[k], y[k + 1], …`` and
+its packed values from rows ``row … row + rows − 1`` of column ``pc`` of
+``parts``:
+
+* ``momentum(y, k, parts, row, rows, pc) -> (m1, m2, m3)`` and, for a part
+  that moves mass, ``inertia(y, k, parts, row, rows, pc) -> (a11, a12, a13,
+  a22, a23, a33)``: the body's angular velocity is the solution of
+  ``(I_p + Σ inertia) ω = H − Σ momentum`` (for a rotor ``h a``, for a damper
+  its sphere's momentum; a spring–mass damper moves the centre of mass:
+  :mod:`tumble.core.dampers`);
+* ``rates(y, dy, k, parts, row, rows, pc, w, v, hold)``: the rates of its
+  state, with ``w`` = ω and ``v`` the torque the parts that act through the
+  rotors must exert on the body (a motor's share), read at time ``hold``;
+* for a part the splitting integrators take (a rotor: its momentum is fixed
+  in the body between kicks), ``kick(y, k, parts, row, rows, pc, w, v, hold,
+  h)``: its momenta advanced over ``h`` with the attitude held.
+
+Equations of the body (Hughes, *Spacecraft Attitude Dynamics*, 1986, §6.2 for
+the gyrostat; Schaub & Junkins, *Analytical Mechanics of Space Systems*,
+§4.5)::
 
     Ḣ = τ − c ω − ω × H              (τ − c ω: the external torque)
     q̇ = ½ q ⊗ (0, ω)
-    ḣ = u                             (the motor torque on the rotor; the body feels −u a)
-    σ̇ = D (ω − ω_s) − ω × σ          (D: the damper's viscous coupling, N·m·s)
-    ṗ = μ (ω × n)·(ω × d) − k x − c ẋ  (k the spring's stiffness, c its damping)
 
-Internal torques (motors, the fluid) move momentum between the body and its
-parts and leave H alone. Each rotor's motor torque ``u`` is its own schedule
-(piecewise constant in time) plus its share of the torque that the torque
-models acting *through the rotors* (an attitude controller driving reaction
-wheels) ask of them: ``u = −P v`` with ``v`` that torque on the body and P the
-pseudo-inverse of the matrix of rotor axes, so that ``−Σ u a = v`` when the
-axes span space. ``u`` is then clipped to the rotor's largest torque, and set
-to zero when it would drive the rotor past its largest speed.
+Internal torques (motors, fluids, springs) move momentum between the body
+and its parts and leave H alone.
 
-Parts are packed in their order as rows of ``parts`` (rows, 1 shared or N per
-body): per rotor ``ROTOR_FIELDS`` then ``n_schedule`` switch times and
-``n_schedule`` torques (times padded with +inf), per damper ``DAMPER_FIELDS``,
-for the spring–mass damper ``SPRING_FIELDS``. The kernels are built for one
-layout ``(kinds, n_schedule)``: ``kinds`` the parts' kinds in order (``ROTOR``,
-``DAMPER`` or ``SPRING``), the same order as the state.
-
-A rotor's schedule is read at one *hold* time per step (its middle; for the
-adaptive method, the middle of each stretch between switches, where the
-driver ends its calls), so the motor torque is constant over a step and a
-switch on a step boundary is integrated exactly, whatever the stages'
-times (the fourth-order splitting steps outside [t, t + dt]).
+:func:`part_model` composes the equations of one *layout* (the parts' kinds
+in order, with their state sizes and packed rows) into the four functions the
+steps close over (``velocity``, ``momentum``, ``rates``, ``kick``); the
+kernels are built for one layout and cached under its identity.
 """
 
 from __future__ import annotations
 
 import math
+from functools import cache
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -74,77 +68,61 @@ from tumble.core.dynamics import quaternion_rates
 from tumble.core.splitting import decay_integral, free_flow_one_body, sub_steps, turn
 
 __all__ = [
-    "DAMPER",
-    "DAMPER_FIELDS",
-    "ROTOR",
-    "ROTOR_FIELDS",
-    "SPRING",
-    "SPRING_FIELDS",
+    "PartEquations",
+    "PartModel",
     "adaptive_kernel",
     "batch_kernel",
+    "layout_identity",
+    "part_model",
+    "part_rates",
     "parts_rk4_step",
-    "rotor_rows",
     "single_kernel",
+    "solve3",
     "splitting_step",
     "strang_step",
-    "velocity",
+    "velocities",
     "yoshida_step",
 ]
 
-#: The rows of one rotor, before its schedule: axis (principal-platform axes),
-#: axial moment J (kg·m²), largest motor torque (N·m), largest relative speed
-#: (rad/s), and its row of the allocation matrix P (1/… : u = −P v).
-ROTOR_FIELDS = ("axis_1", "axis_2", "axis_3", "inertia", "max_torque", "max_speed",
-                "allocation_1", "allocation_2", "allocation_3")  # fmt: skip
-#: The rows of one damper: the sphere's moment J (kg·m²) and the coupling D (N·m·s).
-DAMPER_FIELDS = ("inertia", "damping")
-#: The rows of a spring–mass damper: the rest position d0 (m, from the centre of
-#: mass of the rest of the body), the unit direction n, the reduced mass μ (kg),
-#: the stiffness k (N/m) and the damping c (N·s/m).
-SPRING_FIELDS = ("rest_1", "rest_2", "rest_3", "direction_1", "direction_2", "direction_3",
-                 "reduced_mass", "stiffness", "damping")  # fmt: skip
 
-_ROTOR = len(ROTOR_FIELDS)
-_DAMPER = len(DAMPER_FIELDS)
-_SPRING = len(SPRING_FIELDS)
+class PartEquations(NamedTuple):
+    """A part kind's compiled equations (see the module's docstring): ``inertia``
+    None for a part that moves no mass, ``kick`` None for a part the splitting
+    integrators do not take."""
 
-#: The kinds of part in a layout.
-ROTOR = 0
-DAMPER = 1
-SPRING = 2
+    momentum: Any
+    rates: Any
+    inertia: Any = None
+    kick: Any = None
 
 
-@njit(inline="always")
-def rotor_rows(n_schedule):  # type: ignore[no-untyped-def]
-    """Rows one rotor takes in ``parts``."""
-    return _ROTOR + 2 * n_schedule
+#: One part in a layout: its equations, its state size and its packed rows.
+LayoutEntry = tuple[PartEquations, int, int]
 
 
-@njit(inline="always")
-def velocity(layout, y, inverse, parts, pc):  # type: ignore[no-untyped-def]
-    """ω (rad/s, principal-platform axes) of state ``y``: ``I_p⁻¹ (H − Σ h a − Σ σ)``,
-    or with a spring–mass damper the solution of the module's docstring."""
-    g1, g2, g3 = _internal_momentum(layout, y, parts, pc, True)
-    r1, r2, r3 = y[0] - g1, y[1] - g2, y[2] - g3
-    k, row = _spring_at(layout)
-    if k < 0:
-        return r1 * inverse[0], r2 * inverse[1], r3 * inverse[2]
-    d1, d2, d3, _, _, _, mu, e1, e2, e3, g4, g5, g6 = _spring_geometry(y, parts, row, pc, k)
-    # (I_p + Δ − g gᵀ / μ) ω = r − g p / μ, Δ = μ ((|d|² − |d0|²) 1 − (d dᵀ − d0 d0ᵀ)).
-    grow = (d1 * d1 + d2 * d2 + d3 * d3) - (e1 * e1 + e2 * e2 + e3 * e3)
-    p = y[k + 1]
-    a11 = 1.0 / inverse[0] + mu * (grow - (d1 * d1 - e1 * e1)) - g4 * g4 / mu
-    a22 = 1.0 / inverse[1] + mu * (grow - (d2 * d2 - e2 * e2)) - g5 * g5 / mu
-    a33 = 1.0 / inverse[2] + mu * (grow - (d3 * d3 - e3 * e3)) - g6 * g6 / mu
-    a12 = -mu * (d1 * d2 - e1 * e2) - g4 * g5 / mu
-    a13 = -mu * (d1 * d3 - e1 * e3) - g4 * g6 / mu
-    a23 = -mu * (d2 * d3 - e2 * e3) - g5 * g6 / mu
-    return _solve3(a11, a12, a13, a22, a23, a33, r1 - g4 * p / mu, r2 - g5 * p / mu,
-                   r3 - g6 * p / mu)  # fmt: skip
+class PartModel(NamedTuple):
+    """The compiled functions of one layout: ``velocity(y, inverse, parts, pc) ->
+    ω``, ``momentum(y, parts, pc) -> Σ momentum``, ``rates(y, dy, parts, pc, w,
+    v, hold)`` and ``kick(y, parts, pc, w, v, hold, h)``; ``splittable`` when
+    every part has a kick."""
+
+    velocity: Any
+    momentum: Any
+    rates: Any
+    kick: Any
+    splittable: bool
+
+
+def layout_identity(layout: tuple[LayoutEntry, ...]) -> str:
+    """A stable description of a layout, for the kernels' cache keys: each part's
+    equations (their source stamps), state size and rows."""
+    return ";".join(
+        f"{file_stamp(equations.rates)}:{size}:{rows}" for equations, size, rows in layout
+    )
 
 
 @njit(inline="always")
-def _solve3(a11, a12, a13, a22, a23, a33, b1, b2, b3):  # type: ignore[no-untyped-def]
+def solve3(a11, a12, a13, a22, a23, a33, b1, b2, b3):  # type: ignore[no-untyped-def]
     """x of the symmetric 3 × 3 system A x = b, by cofactors (A positive definite)."""
     c11 = a22 * a33 - a23 * a23
     c12 = a13 * a23 - a12 * a33
@@ -160,70 +138,117 @@ def _solve3(a11, a12, a13, a22, a23, a33, b1, b2, b3):  # type: ignore[no-untype
     )
 
 
+# ------------------------------------------------------------------ one layout's functions
+# Each function below is a closure over the equations of one part and its place
+# (k, row, rows), chained with the previous parts' (as tumble.core.torques.combine
+# chains torque terms): the compiler inlines the whole chain, so a layout's
+# functions run as if written out by hand for it.
 @njit(inline="always")
-def _spring_at(layout):  # type: ignore[no-untyped-def]
-    """The index in the state and the first row of the spring–mass damper, or (−1, −1)."""
-    kinds, n_schedule = layout
-    k = 7
-    row = 0
-    for kind in kinds:
-        if kind == SPRING:
-            return k, row
-        if kind == ROTOR:
-            k += 1
-            row += rotor_rows(n_schedule)
-        else:
-            k += 3
-            row += _DAMPER
-    return -1, -1
+def _no_momentum(y, parts, pc):  # type: ignore[no-untyped-def]
+    return 0.0, 0.0, 0.0
 
 
 @njit(inline="always")
-def _spring_geometry(y, parts, row, pc, k):  # type: ignore[no-untyped-def]
-    """d = d0 + x n, n, μ, d0 and g = μ d0 × n of the spring–mass damper."""
-    x = y[k]
-    e1 = parts[row, pc]
-    e2 = parts[row + 1, pc]
-    e3 = parts[row + 2, pc]
-    n1 = parts[row + 3, pc]
-    n2 = parts[row + 4, pc]
-    n3 = parts[row + 5, pc]
-    mu = parts[row + 6, pc]
-    return (
-        e1 + x * n1, e2 + x * n2, e3 + x * n3, n1, n2, n3, mu, e1, e2, e3,
-        mu * (e2 * n3 - e3 * n2), mu * (e3 * n1 - e1 * n3), mu * (e1 * n2 - e2 * n1),
-    )  # fmt: skip
+def _no_inertia(y, parts, pc):  # type: ignore[no-untyped-def]
+    return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
 
 
 @njit(inline="always")
-def _scheduled(parts, row, pc, n_schedule, hold):  # type: ignore[no-untyped-def]
-    """The scheduled motor torque at time ``hold`` (right-continuous)."""
-    value = 0.0
-    for j in range(n_schedule):
-        if parts[row + _ROTOR + j, pc] <= hold:
-            value = parts[row + _ROTOR + n_schedule + j, pc]
-    return value
+def _no_rates(y, dy, parts, pc, w, v, hold):  # type: ignore[no-untyped-def]
+    return None
 
 
 @njit(inline="always")
-def _motor(parts, row, pc, n_schedule, hold, h, w1, w2, w3, v1, v2, v3):  # type: ignore[no-untyped-def]
-    """A rotor's motor torque (N·m): its schedule read at ``hold`` plus its share of
-    the torque ``v`` the rotors must exert on the body, clipped to its limits."""
-    a1 = parts[row, pc]
-    a2 = parts[row + 1, pc]
-    a3 = parts[row + 2, pc]
-    u = _scheduled(parts, row, pc, n_schedule, hold) - (
-        parts[row + 6, pc] * v1 + parts[row + 7, pc] * v2 + parts[row + 8, pc] * v3
+def _no_kick(y, parts, pc, w, v, hold, h):  # type: ignore[no-untyped-def]
+    return None
+
+
+def _chain_momentum(previous, momentum, k, row, rows):  # type: ignore[no-untyped-def]
+    @njit(inline="always", cache=False)
+    def total(y, parts, pc):  # type: ignore[no-untyped-def]
+        a1, a2, a3 = previous(y, parts, pc)
+        b1, b2, b3 = momentum(y, k, parts, row, rows, pc)
+        return a1 + b1, a2 + b2, a3 + b3
+
+    return total
+
+
+def _chain_inertia(previous, inertia, k, row, rows):  # type: ignore[no-untyped-def]
+    @njit(inline="always", cache=False)
+    def total(y, parts, pc):  # type: ignore[no-untyped-def]
+        a = previous(y, parts, pc)
+        b = inertia(y, k, parts, row, rows, pc)
+        return a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5]
+
+    return total
+
+
+def _chain_rates(previous, rates, k, row, rows):  # type: ignore[no-untyped-def]
+    @njit(inline="always", cache=False)
+    def every(y, dy, parts, pc, w, v, hold):  # type: ignore[no-untyped-def]
+        previous(y, dy, parts, pc, w, v, hold)
+        rates(y, dy, k, parts, row, rows, pc, w, v, hold)
+
+    return every
+
+
+def _chain_kick(previous, kick, k, row, rows):  # type: ignore[no-untyped-def]
+    @njit(inline="always", cache=False)
+    def every(y, parts, pc, w, v, hold, h):  # type: ignore[no-untyped-def]
+        previous(y, parts, pc, w, v, hold, h)
+        kick(y, k, parts, row, rows, pc, w, v, hold, h)
+
+    return every
+
+
+def _diagonal_velocity(momentum):  # type: ignore[no-untyped-def]
+    @njit(inline="always", cache=False)
+    def velocity(y, inverse, parts, pc):  # type: ignore[no-untyped-def]
+        m1, m2, m3 = momentum(y, parts, pc)
+        return (y[0] - m1) * inverse[0], (y[1] - m2) * inverse[1], (y[2] - m3) * inverse[2]
+
+    return velocity
+
+
+def _solved_velocity(momentum, inertia):  # type: ignore[no-untyped-def]
+    @njit(inline="always", cache=False)
+    def velocity(y, inverse, parts, pc):  # type: ignore[no-untyped-def]
+        m1, m2, m3 = momentum(y, parts, pc)
+        a11, a12, a13, a22, a23, a33 = inertia(y, parts, pc)
+        return solve3(
+            1.0 / inverse[0] + a11, a12, a13, 1.0 / inverse[1] + a22, a23,
+            1.0 / inverse[2] + a33, y[0] - m1, y[1] - m2, y[2] - m3,
+        )  # fmt: skip
+
+    return velocity
+
+
+@cache
+def part_model(layout: tuple[LayoutEntry, ...]) -> PartModel:
+    """The compiled functions of ``layout`` (:class:`PartModel`): ω solves
+    ``(I_p + Σ inertia) ω = H − Σ momentum`` (a division by the platform moments
+    when no part moves mass); the rates and kicks run each part's in order."""
+    momentum, inertia, rates, kick = _no_momentum, None, _no_rates, _no_kick
+    k, row = 7, 0
+    for equations, size, rows in layout:
+        momentum = _chain_momentum(momentum, equations.momentum, k, row, rows)
+        if equations.inertia is not None:
+            inertia = _chain_inertia(
+                _no_inertia if inertia is None else inertia, equations.inertia, k, row, rows
+            )
+        rates = _chain_rates(rates, equations.rates, k, row, rows)
+        if equations.kick is not None:
+            kick = _chain_kick(kick, equations.kick, k, row, rows)
+        k += size
+        row += rows
+    velocity = (
+        _diagonal_velocity(momentum) if inertia is None else _solved_velocity(momentum, inertia)
     )
-    largest = parts[row + 4, pc]
-    u = min(max(u, -largest), largest)
-    speed = h / parts[row + 3, pc] - (a1 * w1 + a2 * w2 + a3 * w3)
-    limit = parts[row + 5, pc]
-    if (speed >= limit and u > 0.0) or (speed <= -limit and u < 0.0):
-        u = 0.0
-    return u
+    splittable = inertia is None and all(entry[0].kick is not None for entry in layout)
+    return PartModel(velocity, momentum, rates, kick, splittable)
 
 
+# ------------------------------------------------------------------ the rates
 @njit(inline="always")
 def _torques(torque, drive, t, w1, w2, w3, q, system):  # type: ignore[no-untyped-def]
     """The external torque ``(τ1, τ2, τ3, c)`` (its damping c apart) and the torque
@@ -235,57 +260,26 @@ def _torques(torque, drive, t, w1, w2, w3, q, system):  # type: ignore[no-untype
 
 
 @njit(inline="always")
-def part_rates(torque, drive, layout, t, hold, y, dy, system):  # type: ignore[no-untyped-def]
-    """``dy = f(t, y)`` for the state of the module's docstring, the schedules read
-    at time ``hold``.
+def part_rates(torque, drive, velocity, rates, t, hold, y, dy, system):  # type: ignore[no-untyped-def]
+    """``dy = f(t, y)`` for the state of the module's docstring, the parts' inputs
+    read at time ``hold``.
 
     ``system`` is ``(moments, inverse, parts, pc, params, column, context)``: the
     platform moments and their inverses (3,), the packed parts and their column,
     and the torque's params, column and context (:mod:`tumble.core.torques`).
     ``torque`` gives the external torque, ``drive`` the torque the rotors must
-    exert on the body.
+    exert on the body; ``velocity`` and ``rates`` are the layout's
+    (:func:`part_model`).
     """
-    kinds, n_schedule = layout
     inverse, parts, pc = system[1], system[2], system[3]
-    w1, w2, w3 = velocity(layout, y, inverse, parts, pc)
+    w1, w2, w3 = velocity(y, inverse, parts, pc)
     q = (y[3], y[4], y[5], y[6])
     t1, t2, t3, c, v1, v2, v3 = _torques(torque, drive, t, w1, w2, w3, q, system)
     dy[0] = t1 - c * w1 - (w2 * y[2] - w3 * y[1])
     dy[1] = t2 - c * w2 - (w3 * y[0] - w1 * y[2])
     dy[2] = t3 - c * w3 - (w1 * y[1] - w2 * y[0])
     dy[3], dy[4], dy[5], dy[6] = quaternion_rates(q[0], q[1], q[2], q[3], w1, w2, w3)
-    k = 7
-    row = 0
-    for kind in kinds:
-        if kind == ROTOR:
-            dy[k] = _motor(parts, row, pc, n_schedule, hold, y[k], w1, w2, w3, v1, v2, v3)
-            k += 1
-            row += rotor_rows(n_schedule)
-        elif kind == DAMPER:
-            moment = parts[row, pc]
-            damping = parts[row + 1, pc]
-            s1 = y[k]
-            s2 = y[k + 1]
-            s3 = y[k + 2]
-            dy[k] = damping * (w1 - s1 / moment) - (w2 * s3 - w3 * s2)
-            dy[k + 1] = damping * (w2 - s2 / moment) - (w3 * s1 - w1 * s3)
-            dy[k + 2] = damping * (w3 - s3 / moment) - (w1 * s2 - w2 * s1)
-            k += 3
-            row += _DAMPER
-        else:
-            d1, d2, d3, n1, n2, n3, mu, _, _, _, g4, g5, g6 = _spring_geometry(y, parts, row, pc, k)
-            speed = (y[k + 1] - (g4 * w1 + g5 * w2 + g6 * w3)) / mu
-            # ∂T/∂x = μ (ω × n)·(ω × d), then the spring and its damping.
-            c1, c2, c3 = w2 * n3 - w3 * n2, w3 * n1 - w1 * n3, w1 * n2 - w2 * n1
-            f1, f2, f3 = w2 * d3 - w3 * d2, w3 * d1 - w1 * d3, w1 * d2 - w2 * d1
-            dy[k] = speed
-            dy[k + 1] = (
-                mu * (c1 * f1 + c2 * f2 + c3 * f3)
-                - parts[row + 7, pc] * y[k]
-                - parts[row + 8, pc] * speed
-            )
-            k += 2
-            row += _SPRING
+    rates(y, dy, parts, pc, (w1, w2, w3), (v1, v2, v3), hold)
 
 
 @njit(inline="always")
@@ -304,8 +298,11 @@ def _finite(y):  # type: ignore[no-untyped-def]
     return math.isfinite(total) and math.isfinite(norm) and norm > 0.0
 
 
+# Every step below has the signature ``step(torque, drive, velocity, momentum,
+# rates, kick, t, dt, y, work, system)``: the layout's four functions
+# (:func:`part_model`) passed one by one, so the compiler inlines them.
 @njit(inline="always")
-def parts_rk4_step(torque, drive, layout, t, dt, y, work, system):  # type: ignore[no-untyped-def]
+def parts_rk4_step(torque, drive, velocity, momentum, rates, kick, t, dt, y, work, system):  # type: ignore[no-untyped-def]
     """One classical Runge–Kutta step of ``dt`` s from time ``t``, in place on ``y``
     (``work`` (5, len(y)) scratch); the quaternion renormalised."""
     n = y.shape[0]
@@ -315,16 +312,16 @@ def parts_rk4_step(torque, drive, layout, t, dt, y, work, system):  # type: igno
     k3 = work[2]
     k4 = work[3]
     stage = work[4]
-    part_rates(torque, drive, layout, t, hold, y, k1, system)
+    part_rates(torque, drive, velocity, rates, t, hold, y, k1, system)
     for i in range(n):
         stage[i] = y[i] + 0.5 * dt * k1[i]
-    part_rates(torque, drive, layout, hold, hold, stage, k2, system)
+    part_rates(torque, drive, velocity, rates, hold, hold, stage, k2, system)
     for i in range(n):
         stage[i] = y[i] + 0.5 * dt * k2[i]
-    part_rates(torque, drive, layout, hold, hold, stage, k3, system)
+    part_rates(torque, drive, velocity, rates, hold, hold, stage, k3, system)
     for i in range(n):
         stage[i] = y[i] + dt * k3[i]
-    part_rates(torque, drive, layout, t + dt, hold, stage, k4, system)
+    part_rates(torque, drive, velocity, rates, t + dt, hold, stage, k4, system)
     sixth = dt / 6.0
     for i in range(n):
         y[i] += sixth * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i])
@@ -333,44 +330,14 @@ def parts_rk4_step(torque, drive, layout, t, dt, y, work, system):  # type: igno
 
 # ------------------------------------------------------------------ the gyrostat splitting
 @njit(inline="always")
-def _internal_momentum(layout, y, parts, pc, dampers):  # type: ignore[no-untyped-def]
-    """Σ h a (kg·m²/s, principal-platform axes): the rotors' momentum along their
-    axes, plus the dampers' Σ σ when ``dampers``."""
-    kinds, n_schedule = layout
-    s1 = 0.0
-    s2 = 0.0
-    s3 = 0.0
-    k = 7
-    row = 0
-    for kind in kinds:
-        if kind == ROTOR:
-            h = y[k]
-            s1 += h * parts[row, pc]
-            s2 += h * parts[row + 1, pc]
-            s3 += h * parts[row + 2, pc]
-            k += 1
-            row += rotor_rows(n_schedule)
-        elif kind == DAMPER:
-            if dampers:
-                s1 += y[k]
-                s2 += y[k + 1]
-                s3 += y[k + 2]
-            k += 3
-            row += _DAMPER
-        else:  # a spring–mass damper: in the velocity's own solve
-            k += 2
-            row += _SPRING
-    return s1, s2, s3
-
-
-@njit(inline="always")
-def _link(layout, h, y, system):  # type: ignore[no-untyped-def]
-    """The exact flow over h of ``−b·H``, ``b = I_p⁻¹ Σ h a``: the body turns about
-    the body-fixed b at the rate −|b|, so H turns about b by +|b| h in the body."""
+def _link(momentum, h, y, system):  # type: ignore[no-untyped-def]
+    """The exact flow over h of ``−b·H``, ``b = I_p⁻¹ g`` with ``g`` the parts'
+    momentum (fixed in the body between kicks): the body turns about the
+    body-fixed b at the rate −|b|, so H turns about b by +|b| h in the body."""
     inverse = system[1]
     parts = system[2]
     pc = system[3]
-    g1, g2, g3 = _internal_momentum(layout, y, parts, pc, False)
+    g1, g2, g3 = momentum(y, parts, pc)
     b1 = g1 * inverse[0]
     b2 = g2 * inverse[1]
     b3 = g3 * inverse[2]
@@ -400,78 +367,75 @@ def _link(layout, h, y, system):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _kick(torque, drive, layout, t, hold, h, y, system):  # type: ignore[no-untyped-def]
+def _kick(torque, drive, momentum, kick, t, hold, h, y, system):  # type: ignore[no-untyped-def]
     """The torques over h with the attitude and the torques held: the external
-    torque on H (its damping ``c`` integrated exactly) and the motor torques on
-    the rotors' momenta (schedules read at ``hold``)."""
-    kinds, n_schedule = layout
+    torque on H (its damping ``c`` integrated exactly) and the parts' kicks
+    (their inputs read at ``hold``)."""
     moments, inverse, parts, pc = system[0], system[1], system[2], system[3]
-    g1, g2, g3 = _internal_momentum(layout, y, parts, pc, False)
+    g1, g2, g3 = momentum(y, parts, pc)
     w1 = (y[0] - g1) * inverse[0]
     w2 = (y[1] - g2) * inverse[1]
     w3 = (y[2] - g3) * inverse[2]
     q = (y[3], y[4], y[5], y[6])
     t1, t2, t3, c, v1, v2, v3 = _torques(torque, drive, t, w1, w2, w3, q, system)
-    k = 7
-    row = 0
-    for _ in kinds:  # the splitting's bodies carry rotors only
-        u = _motor(parts, row, pc, n_schedule, hold, y[k], w1, w2, w3, v1, v2, v3)
-        y[k] += u * h
-        k += 1
-        row += rotor_rows(n_schedule)
+    kick(y, parts, pc, (w1, w2, w3), (v1, v2, v3), hold, h)
     y[0] += (t1 - c * w1) * decay_integral(c, moments[0], h)
     y[1] += (t2 - c * w2) * decay_integral(c, moments[1], h)
     y[2] += (t3 - c * w3) * decay_integral(c, moments[2], h)
 
 
 @njit(inline="always")
-def _strang(torque, drive, layout, t, h, hold, y, system):  # type: ignore[no-untyped-def]
+def _strang(torque, drive, momentum, kick, t, h, hold, y, system):  # type: ignore[no-untyped-def]
     """kick(h/2) ∘ link(h/2) ∘ free(h) ∘ link(h/2) ∘ kick(h/2), from time t."""
     inverse = system[1]
-    _kick(torque, drive, layout, t, hold, 0.5 * h, y, system)
-    _link(layout, 0.5 * h, y, system)
+    _kick(torque, drive, momentum, kick, t, hold, 0.5 * h, y, system)
+    _link(momentum, 0.5 * h, y, system)
     # The C library's sines: the kernels turn one body at a time.
     y[0], y[1], y[2], y[3], y[4], y[5], y[6] = free_flow_one_body(
         h, y[0], y[1], y[2], y[3], y[4], y[5], y[6], inverse[0], inverse[1], inverse[2]
     )
-    _link(layout, 0.5 * h, y, system)
-    _kick(torque, drive, layout, t + h, hold, 0.5 * h, y, system)
+    _link(momentum, 0.5 * h, y, system)
+    _kick(torque, drive, momentum, kick, t + h, hold, 0.5 * h, y, system)
 
 
 @njit(inline="always")
-def splitting_step(torque, drive, layout, t, dt, y, work, system, order):  # type: ignore[no-untyped-def]
+def splitting_step(torque, drive, momentum, kick, t, dt, y, system, order):  # type: ignore[no-untyped-def]
     """One splitting step of ``dt`` s from ``t``, in place: Strang (``order`` 2) or
-    Yoshida's triple jump of it (4). The free flow of the gyrostat,
-    ``T = ½ (H − g)ᵀ I_p⁻¹ (H − g)`` with ``g = Σ h a`` constant between kicks,
-    is the rigid body's ``½ Hᵀ I_p⁻¹ H`` (the exact rotations of
-    :func:`tumble.core.splitting.free_flow_one_body`) and the linear ``−(I_p⁻¹ g)·H``, an
-    exact rotation about a body-fixed axis: explicit and symplectic, H kept to
-    round-off (``work`` is not used)."""
+    Yoshida's triple jump of it (4), for a layout whose parts all kick and move
+    no mass (:attr:`PartModel.splittable`). The free flow of the gyrostat,
+    ``T = ½ (H − g)ᵀ I_p⁻¹ (H − g)`` with ``g`` the parts' momentum, constant
+    between kicks, is the rigid body's ``½ Hᵀ I_p⁻¹ H`` (the exact rotations of
+    :func:`tumble.core.splitting.free_flow_one_body`) and the linear ``−(I_p⁻¹
+    g)·H``, an exact rotation about a body-fixed axis: explicit and symplectic,
+    H kept to round-off."""
     fractions, n_sub = sub_steps(order)
     hold = t + 0.5 * dt
     # The sub-steps at one call site, so the compiler inlines the Strang step once.
     for j in range(n_sub):
         h = fractions[j] * dt
-        _strang(torque, drive, layout, t, h, hold, y, system)
+        _strang(torque, drive, momentum, kick, t, h, hold, y, system)
         t += h
     _normalise(y)
 
 
 @njit(inline="always")
-def strang_step(torque, drive, layout, t, dt, y, work, system):  # type: ignore[no-untyped-def]
-    """:func:`splitting_step` of order 2 (Strang)."""
-    splitting_step(torque, drive, layout, t, dt, y, work, system, 2)
+def strang_step(torque, drive, velocity, momentum, rates, kick, t, dt, y, work, system):  # type: ignore[no-untyped-def]
+    """:func:`splitting_step` of order 2 (Strang); ``work`` is not used."""
+    splitting_step(torque, drive, momentum, kick, t, dt, y, system, 2)
 
 
 @njit(inline="always")
-def yoshida_step(torque, drive, layout, t, dt, y, work, system):  # type: ignore[no-untyped-def]
+def yoshida_step(torque, drive, velocity, momentum, rates, kick, t, dt, y, work, system):  # type: ignore[no-untyped-def]
     """:func:`splitting_step` of order 4 (Yoshida's triple jump of Strang)."""
-    splitting_step(torque, drive, layout, t, dt, y, work, system, 4)
+    splitting_step(torque, drive, momentum, kick, t, dt, y, system, 4)
 
 
 # ------------------------------------------------------------------ loops
 @njit(inline="always")
-def _steps(step, torque, drive, layout, y, system, dt, n_steps, first_step, record_every, out):  # type: ignore[no-untyped-def]
+def _steps(  # type: ignore[no-untyped-def]
+    step, torque, drive, velocity, momentum, rates, kick, y, system, dt, n_steps, first_step,
+    record_every, out,
+):  # fmt: skip
     """``n_steps`` steps of one body in place; its status (see :func:`single_kernel`)."""
     n = y.shape[0]
     work = np.empty((5, n))
@@ -481,7 +445,7 @@ def _steps(step, torque, drive, layout, y, system, dt, n_steps, first_step, reco
         number = first_step + k
         for i in range(n):
             saved[i] = y[i]
-        step(torque, drive, layout, number * dt, dt, y, work, system)
+        step(torque, drive, velocity, momentum, rates, kick, number * dt, dt, y, work, system)
         if not _finite(y):
             for i in range(n):
                 y[i] = saved[i]
@@ -506,14 +470,17 @@ def single_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unt
     or the global number of the first step that was not finite (the state is
     left as it was before it).
     """
+    velocity, momentum, rates, kick, _ = part_model(layout)
+    key = layout_identity(layout)
 
-    @specialise(njit, f"parts.single|{file_stamp(step)}|{layout}|{identity}")
+    @specialise(njit, f"parts.single|{file_stamp(step)}|{key}|{identity}")
     def run(y, moments, parts, params, context, dt, n_steps, first_step, record_every, out):  # type: ignore[no-untyped-def]
         inverse = 1.0 / moments
         system = (moments, inverse, parts, 0, params, 0, context)
         return _steps(
-            step, torque, drive, layout, y, system, dt, n_steps, first_step, record_every, out
-        )
+            step, torque, drive, velocity, momentum, rates, kick, y, system, dt, n_steps,
+            first_step, record_every, out,
+        )  # fmt: skip
 
     return run
 
@@ -523,21 +490,24 @@ def batch_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unty
     (``y`` (7 + m, N), ``moments`` (3, N); ``parts`` and ``params`` shared or one
     column per body) advanced in place, one body per thread at a time; ``status``
     (N,) receives each body's status (a body keeps its last finite state)."""
+    velocity, momentum, rates, kick, _ = part_model(layout)
+    key = layout_identity(layout)
 
     # One body per call of a compiled function of its own, as in
     # tumble.core.splitting: inlined into the parallel loop, the stepping
     # defeats numba's parfor analysis.
-    @specialise(njit, f"parts.body|{file_stamp(step)}|{layout}|{identity}")
+    @specialise(njit, f"parts.body|{file_stamp(step)}|{key}|{identity}")
     def one_body(y, moments, parts, pc, params, column, context, t0, dt, n_steps):  # type: ignore[no-untyped-def]
         inverse = 1.0 / moments
         system = (moments, inverse, parts, pc, params, column, context)
         never = np.iinfo(np.int64).max
         first = int(t0 / dt + 0.5) if dt > 0.0 else 0
         return _steps(
-            step, torque, drive, layout, y, system, dt, n_steps, first, never, np.zeros((1, 1))
-        )
+            step, torque, drive, velocity, momentum, rates, kick, y, system, dt, n_steps,
+            first, never, np.zeros((1, 1)),
+        )  # fmt: skip
 
-    @specialise(njit_parallel, f"parts.batch|{file_stamp(step)}|{layout}|{identity}")
+    @specialise(njit_parallel, f"parts.batch|{file_stamp(step)}|{key}|{identity}")
     def batch(y, moments, parts, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
         part_stride = 0 if parts.shape[1] == 1 else 1
         param_stride = 0 if params.shape[1] == 1 else 1
@@ -557,16 +527,18 @@ def adaptive_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped
     sample_times, out) -> status``: one body's state ``y`` integrated in place from
     ``t_start`` to ``t_stop`` (s) by Dormand–Prince 5(4)
     (:func:`tumble.core.adaptive.adaptive_loop`: ``control``, the samples written
-    to the rows of ``out`` (m, 7 + m') and the status as there). The schedules
-    are read at the middle of (t_start, t_stop): the driver ends each call at
-    the next switch."""
+    to the rows of ``out`` (m, 7 + m') and the status as there). The parts'
+    inputs are read at the middle of (t_start, t_stop): the driver ends each
+    call at the next switch of a schedule."""
+    velocity, _, rates, _, _ = part_model(layout)
+    key = layout_identity(layout)
 
     @njit(inline="always", cache=False)
     def rates_of_parts(t, y, dy, args):  # type: ignore[no-untyped-def]
         system, hold = args
-        part_rates(torque, drive, layout, t, hold, y, dy, system)
+        part_rates(torque, drive, velocity, rates, t, hold, y, dy, system)
 
-    @specialise(njit, f"parts.adaptive|{layout}|{identity}")
+    @specialise(njit, f"parts.adaptive|{key}|{identity}")
     def run(y, moments, parts, params, context, t_start, t_stop, control, sample_times, out):  # type: ignore[no-untyped-def]
         inverse = 1.0 / moments
         system = (moments, inverse, parts, 0, params, 0, context)
@@ -576,3 +548,32 @@ def adaptive_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped
         )
 
     return run
+
+
+@cache
+def velocities(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
+    """``omega(states, moments, parts) -> (n, 3)``: the body's ω (rad/s, principal
+    platform axes) of kernel states (7 + m, n) (each column a body or a sample),
+    with the platform moments (3, n) and the packed parts (rows, 1 shared or n),
+    as the kernels solve for it: how a trajectory's samples are read back."""
+    velocity = part_model(layout).velocity
+    key = layout_identity(layout)
+
+    @specialise(njit, f"parts.velocities|{key}")
+    def omega(states, moments, parts):  # type: ignore[no-untyped-def]
+        n = states.shape[1]
+        out = np.empty((n, 3))
+        shared_moments = moments.shape[1] == 1
+        part_stride = 0 if parts.shape[1] == 1 else 1
+        y = np.empty(states.shape[0])
+        inverse = np.empty(3)
+        for j in range(n):
+            for i in range(states.shape[0]):
+                y[i] = states[i, j]
+            m = 0 if shared_moments else j
+            for i in range(3):
+                inverse[i] = 1.0 / moments[i, m]
+            out[j, 0], out[j, 1], out[j, 2] = velocity(y, inverse, parts, j * part_stride)
+        return out
+
+    return omega

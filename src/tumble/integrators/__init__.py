@@ -36,10 +36,13 @@ from tumble.torques import BoundTorque
 __all__ = [
     "INTEGRATORS",
     "Integrator",
+    "any_part",
     "auto_choice",
     "batch_integrators",
     "get_integrator",
+    "gyrostatic_part",
     "register_integrator",
+    "splittable_part",
 ]
 
 #: How ``dt`` is used: a fixed step (``"stepping"``), the sampling interval of a
@@ -50,9 +53,22 @@ Kind = Literal["stepping", "sampling", "adaptive"]
 KernelFactory = Callable[[Any, str], Any]
 PartsKernelFactory = Callable[[Any, Any, Any, str], Any]
 
-#: The kinds of internal part (:attr:`tumble.parts.InternalPart.kind`).
-ROTORS = frozenset({"rotor"})
-ALL_PARTS = frozenset({"rotor", "kane-damper", "spring-mass-damper"})
+
+def any_part(part_class: Any) -> bool:
+    """Every kind of part: the Runge–Kutta methods integrate any part's equations."""
+    return True
+
+
+def splittable_part(part_class: Any) -> bool:
+    """Parts whose momentum is fixed in the body between kicks and that move no
+    mass (:attr:`tumble.parts.InternalPart.splittable`: rotors)."""
+    return bool(part_class.splittable)
+
+
+def gyrostatic_part(part_class: Any) -> bool:
+    """Parts that may make a gyrostat, whose free motion is in closed form
+    (:attr:`tumble.parts.InternalPart.gyrostatic`: rotors without motors)."""
+    return bool(part_class.gyrostatic)
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,7 +102,9 @@ class Integrator:
         picks it for this bound torque (the first entry with a reason wins, among
         those that handle the body's parts).
     single, batch, metrics : kernel factories (see the module's docstring), or None.
-    parts : the kinds of internal part it handles (empty: bodies without parts).
+    takes_part : None (bodies without parts only), or ``takes_part(part_class) ->
+        bool``: the kinds of part (:data:`tumble.parts.PARTS`) it integrates
+        (:func:`any_part`, :func:`splittable_part`, :func:`gyrostatic_part`).
     applies : None, or ``applies(body, torque) -> None or why not``: a narrower
         rule on the bodies and bound torques it integrates (the exact solution
         needs a torque-free body, a gyrostat if it carries rotors, or a
@@ -110,7 +128,7 @@ class Integrator:
     single: KernelFactory | None = None
     batch: KernelFactory | None = None
     metrics: KernelFactory | None = None
-    parts: frozenset[str] = frozenset()
+    takes_part: Callable[[Any], bool] | None = None
     applies: Callable[[Any, BoundTorque], str | None] | None = None
     parts_single: PartsKernelFactory | None = None
     parts_batch: PartsKernelFactory | None = None
@@ -123,16 +141,22 @@ class Integrator:
     def supports_batch(self) -> bool:
         return self.batch is not None
 
-    def handles(self, kinds: frozenset[str] | set[str]) -> bool:
-        """True when it integrates a body carrying parts of these kinds."""
-        return set(kinds) <= self.parts
+    def handles(self, parts: Any) -> bool:
+        """True when it integrates a body carrying these parts (instances of
+        :class:`tumble.parts.InternalPart`)."""
+        parts = tuple(parts)
+        if not parts:
+            return True
+        takes = self.takes_part
+        return takes is not None and all(takes(type(part)) for part in parts)
 
     def refuses(self, body: Any, torque: BoundTorque) -> str | None:
         """Why it does not integrate this body (:class:`tumble.body.RigidBody`)
         under this bound torque, or None."""
-        kinds = {part.kind for part in getattr(body, "parts", ())}
-        if not self.handles(kinds):
-            return f"it does not integrate bodies carrying {', '.join(sorted(kinds))} parts"
+        parts = tuple(getattr(body, "parts", ()))
+        if not self.handles(parts):
+            kinds = sorted({part.kind for part in parts})
+            return f"it does not integrate bodies carrying {', '.join(kinds)} parts"
         return None if self.applies is None else self.applies(body, torque)
 
     def kernel(
@@ -145,7 +169,7 @@ class Integrator:
         attitude: bool = True,
     ) -> Any:
         """The compiled kernel ``role`` specialised for ``torque`` (and, for bodies
-        carrying parts, their ``layout``: :func:`tumble.parts.layout_of`), built
+        carrying parts, their ``layout``: :meth:`tumble.parts.PartSet.layout`), built
         once per process; compiled on first call, or loaded from the on-disk
         cache. Hints for a stepping integrator's metrics kernel, which the other
         kernels ignore: ``principal_axis``, the axis 0, 1 or 2 that every nominal
@@ -302,7 +326,7 @@ register_integrator(
         metrics=freebody.exact_metrics_kernel,
         torque_free_only=True,
         auto=_exact_when,
-        parts=ROTORS,
+        takes_part=gyrostatic_part,
         applies=_exact_applies,
     )
 )
@@ -359,7 +383,7 @@ def _splitting(
     return Integrator(
         preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
         "a symmetric body's free motion exactly; with rotors, L to round-off",
-        parts=ROTORS,
+        takes_part=splittable_part,
         parts_single=partial(part_kernels.single_kernel, part_step),
         parts_batch=partial(part_kernels.batch_kernel, part_step),
         **common,
@@ -394,7 +418,7 @@ register_integrator(
         batch=partial(stepping.batch_kernel, rk4_step),
         metrics=partial(stepping.metrics_kernel, rk4_step),
         measures_without_attitude=True,
-        parts=ALL_PARTS,
+        takes_part=any_part,
         parts_single=partial(part_kernels.single_kernel, part_kernels.parts_rk4_step),
         parts_batch=partial(part_kernels.batch_kernel, part_kernels.parts_rk4_step),
     )
@@ -409,7 +433,7 @@ register_integrator(
         run=drivers.run_adaptive,
         auto=_adaptive_when,
         single=adaptive.single_kernel,
-        parts=ALL_PARTS,
+        takes_part=any_part,
         parts_single=part_kernels.adaptive_kernel,
     )
 )

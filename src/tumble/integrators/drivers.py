@@ -73,11 +73,9 @@ class Problem:
     attitude0: Array
 
     @property
-    def layout(self) -> tuple[tuple[int, ...], int]:
-        """The parts' layout for their kernels (:func:`tumble.parts.layout_of`)."""
-        from tumble.parts import layout_of
-
-        return layout_of(self.body.parts)
+    def layout(self) -> Any:
+        """The parts' layout for their kernels (:func:`tumble.parts.kernel_layout`)."""
+        return self.body.layout
 
 
 @dataclass(frozen=True, eq=False)
@@ -220,15 +218,13 @@ def _run_parts_stepping(
     integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
 ) -> Samples:
     """Fixed steps of a body carrying parts (:mod:`tumble.core.parts`)."""
-    from tumble.parts import pack_parts
-
     body = problem.body
     kernel = integrator.kernel("parts_single", problem.torque, problem.layout)
     y = body.kernel_state(problem.omega0, problem.attitude0)
     out = np.empty((len(schedule.times), y.size))
     out[0] = y
     torque = problem.torque
-    parts = pack_parts(body, problem.layout)
+    parts = np.array(body.packed_parts)
     moments = np.ascontiguousarray(body.moments)
 
     def run(done: int, count: int) -> int:
@@ -257,13 +253,13 @@ def run_adaptive(
     moments = np.ascontiguousarray(body.moments)
     control = np.array([0.0, schedule.rtol, schedule.atol, 0.0, 0.0, 0.0, schedule.most_steps])
     if body.parts:
-        from tumble.parts import pack_parts, switch_times
+        from tumble.parts import switch_times
 
         kernel = integrator.kernel("parts_single", torque, problem.layout)
         y = body.kernel_state(problem.omega0, problem.attitude0)
         out = np.empty((times.size, y.size))
         out[0] = y
-        parts = pack_parts(body, problem.layout)
+        parts = np.array(body.packed_parts)
 
         def advance(start: float, stop: float, rows: slice) -> int:
             status = kernel(

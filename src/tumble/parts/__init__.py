@@ -1,7 +1,8 @@
-"""Parts a body carries inside it: :class:`Rotor` (reaction and momentum wheels,
-the rotor of a dual-spin satellite), :class:`KaneDamper` (a sphere in viscous
-fluid) and :class:`SpringMassDamper` (a point mass on a spring), the two
-internal energy sinks.
+"""Parts a body carries inside it, each kind a registered plugin
+(:data:`PARTS`, :func:`register_part`): :class:`Rotor` (reaction and momentum
+wheels, the rotor of a dual-spin satellite), :class:`KaneDamper` (a sphere in
+viscous fluid) and :class:`SpringMassDamper` (a point mass on a spring), the
+two internal energy sinks.
 
 **Convention.** A body's :class:`~tumble.MassProperties` hold every internal
 part *as if it were locked to the body*: its mass and all of its inertia, about
@@ -23,35 +24,54 @@ What a part contributes, with ω the body's angular velocity (body axes):
   inertia about the moving centre of mass and the coupling of ẋ with ω, the
   kinetic energy of its sliding and the spring's elastic energy.
 
-The equations of motion are in :mod:`tumble.core.parts`.
+**A new kind** is one module: a frozen dataclass subclassing
+:class:`InternalPart` with its parameters, state, energy and momentum, its
+packed rows (:meth:`InternalPart.pack`) and its compiled equations
+(:class:`tumble.core.parts.PartEquations`), decorated with
+:func:`register_part`. The equations of motion are in :mod:`tumble.core.parts`.
 """
 
 from __future__ import annotations
 
-from tumble.parts.base import InternalPart, internal_rate
+from tumble.parts.base import (
+    PARTS,
+    FilePart,
+    InternalPart,
+    PartDrawing,
+    TableKeyError,
+    internal_rate,
+    part_class,
+    register_part,
+)
 from tumble.parts.dampers import KaneDamper, SpringMassDamper
 from tumble.parts.packing import (
-    PART_TYPES,
     check_parts,
     from_description,
-    layout_of,
+    kernel_layout,
     pack_parts,
+    spin_columns,
     switch_times,
     value_columns,
 )
 from tumble.parts.rotor import Rotor
 
 __all__ = [
-    "PART_TYPES",
+    "PARTS",
+    "FilePart",
     "InternalPart",
     "KaneDamper",
+    "PartDrawing",
     "Rotor",
     "SpringMassDamper",
+    "TableKeyError",
     "check_parts",
     "from_description",
     "internal_rate",
-    "layout_of",
+    "kernel_layout",
     "pack_parts",
+    "part_class",
+    "register_part",
+    "spin_columns",
     "switch_times",
     "value_columns",
 ]

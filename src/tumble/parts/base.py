@@ -1,19 +1,43 @@
-"""The base of the parts a body carries, and the checks of their values."""
+"""The base of the parts a body carries, their registry, and the checks of their values.
+
+A part kind is one module under :mod:`tumble.parts`: a subclass of
+:class:`InternalPart` (its parameters, its state and how it maps to and from
+the kernels, its energy and momentum, how it is drawn and read from files)
+whose ``equations`` are compiled functions (:class:`tumble.core.parts.PartEquations`),
+registered once with :func:`register_part`. Everything else in tumble — the
+body model, the integrators, the batch driver, scenario and sweep files,
+trajectory files, the report — reads the registry :data:`PARTS`.
+"""
 
 from __future__ import annotations
 
+import difflib
 import math
-from typing import Any, ClassVar
+from dataclasses import dataclass
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
+from tumble.core.parts import PartEquations
+from tumble.errors import InputError, quoted
+from tumble.parameters import Parameter
 from tumble.units import to_si
 
 Array = NDArray[np.float64]
 
-__all__ = ["InternalPart", "internal_rate", "limit", "positive"]
+__all__ = [
+    "PARTS",
+    "FilePart",
+    "InternalPart",
+    "PartDrawing",
+    "TableKeyError",
+    "internal_rate",
+    "limit",
+    "part_class",
+    "positive",
+    "register_part",
+]
 
 
 def positive(value: Any, kind: str, name: str, owner: str, unit: str, strict: bool = True) -> float:
@@ -32,21 +56,143 @@ def limit(value: Any, kind: str, name: str, unit: str) -> float:
     return positive(value, kind, name, "Rotor", unit)
 
 
+@dataclass(frozen=True)
+class PartDrawing:
+    """How the report draws a part, in body coordinates: a ``"disc"`` (a wheel, on
+    ``axis``, of ``thickness``) or a ``"ball"``, of ``radius`` (m) centred at
+    ``position`` (m). ``spin``: the index of the part's value that is its spin
+    rate relative to the body (rad/s), turning the disc in the viewer, or None."""
+
+    shape: Literal["disc", "ball"]
+    position: Array
+    radius: float
+    axis: Array | None = None
+    thickness: float = 0.0
+    spin: int | None = None
+
+
+@dataclass(frozen=True)
+class FilePart:
+    """A part read from a table of a scenario or sweep file: the part, the solid
+    tumble adds to the body for it (a MassProperties in body coordinates, or
+    None: already in ``[body]``), and where and how large to draw it (m;
+    None: at the centre of mass, sized to the body)."""
+
+    part: InternalPart
+    solid: Any = None
+    position: Array | None = None
+    radius: float | None = None
+    thickness: float | None = None
+
+
+class TableKeyError(InputError):
+    """A value of a part's table in a file that is wrong (or missing), about one
+    ``key``: files place the message at that key."""
+
+    def __init__(self, key: str, message: str) -> None:
+        super().__init__(message)
+        self.key = key
+
+
+#: Every registered part kind by its ``type`` in files, in registration order.
+PARTS: dict[str, type[InternalPart]] = {}
+
+
+def register_part(cls: type[InternalPart]) -> type[InternalPart]:
+    """Class decorator: add a part kind to :data:`PARTS` under ``cls.kind``.
+
+    Raises
+    ------
+    InputError
+        A class without a ``kind``, ``label``, ``size`` or ``equations``.
+    """
+    missing = [name for name in ("kind", "label", "size", "equations") if not getattr(cls, name)]
+    if missing:
+        raise InputError(
+            f"Expected a part kind with {', '.join(f'`{m}`' for m in missing)}, got "
+            f"{cls.__name__} without."
+        )
+    if len(cls.value_labels) != cls.size:
+        raise InputError(
+            f"Expected {cls.size} `value_labels` of {cls.__name__} (its `size`), got "
+            f"{len(cls.value_labels)}."
+        )
+    PARTS[cls.kind] = cls
+    return cls
+
+
+def part_class(kind: Any) -> type[InternalPart]:
+    """The registered part class of ``type`` ``kind``.
+
+    Raises
+    ------
+    InputError
+        An unknown kind; the message lists the kinds and the closest.
+    """
+    if not isinstance(kind, str) or kind not in PARTS:
+        close = difflib.get_close_matches(str(kind), list(PARTS), n=1)
+        hint = f" Did you mean {close[0]!r}?" if close else ""
+        raise InputError(
+            f"Expected `type` to be one of {', '.join(PARTS)}, got {quoted(kind)}.{hint}"
+        )
+    return PARTS[kind]
+
+
 class InternalPart:
     """Base of the parts a body carries (see the module's docstring).
 
     A part has ``size`` state values: its *values* (what a trajectory records,
     in the user's units: a rotor's relative spin rate, a damper sphere's angular
-    velocity) and its *momenta* (what the kernels integrate).
+    velocity) and its *momenta* (what the kernels integrate, in the same order:
+    the state of :mod:`tumble.core.parts`).
     """
 
     #: Its ``type`` in scenario files.
     kind: ClassVar[str] = ""
+    #: What it is, one line.
+    summary: ClassVar[str] = ""
+    #: The prefix of its columns in trajectory files (``rotor`` → ``rotor_1_speed``).
+    label: ClassVar[str] = ""
     #: State values per part.
     size: ClassVar[int] = 0
     #: Labels of its values, and their unit.
     value_labels: ClassVar[tuple[str, ...]] = ()
     value_unit: ClassVar[str] = "rad/s"
+    #: Its constructor's parameters, in SI (what :meth:`describe` writes).
+    parameters: ClassVar[tuple[Parameter, ...]] = ()
+    #: The keys of its tables in scenario and sweep files besides ``type`` (by
+    #: default its parameters and ``position``, where it is drawn), each converted
+    #: to SI before :meth:`from_table`.
+    file_keys: ClassVar[tuple[Parameter, ...]] = ()
+    #: Its compiled equations.
+    equations: ClassVar[PartEquations | None] = None
+    #: True for a part the splitting integrators take: its equations kick and it
+    #: moves no mass (its momentum is fixed in the body between kicks). Set from
+    #: ``equations``.
+    splittable: ClassVar[bool] = False
+    #: True for a part that may make a gyrostat (a rotor without a motor: its
+    #: momentum along a body-fixed principal axis is constant), whose free
+    #: motion the exact integrator solves (:attr:`gyrostatic_axis`).
+    gyrostatic: ClassVar[bool] = False
+    #: The index of its value that is its spin rate relative to the body (rad/s)
+    #: about a body-fixed axis (a wheel's), or None: what ``rotor_speed`` reads.
+    spin: ClassVar[int | None] = None
+    #: True for a part that takes a share of the torque models acting through
+    #: the body's rotors (``actuator="rotors"``).
+    actuated: ClassVar[bool] = False
+    #: None, or why a body may carry only one part of this kind.
+    one_per_body: ClassVar[str | None] = None
+    #: None, or why it needs a free body (no pivot).
+    free_body_only: ClassVar[str | None] = None
+    #: None, or why batches of bodies (given by their inertia alone) do not take it.
+    not_in_batches: ClassVar[str | None] = None
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        equations = cls.equations
+        cls.splittable = bool(
+            equations is not None and equations.kick is not None and equations.inertia is None
+        )
 
     def attached(self, mp: Any) -> InternalPart:
         """The part as carried by a body of mass properties ``mp`` (what it needs to
@@ -82,8 +228,92 @@ class InternalPart:
         raise NotImplementedError
 
     def describe(self) -> dict[str, Any]:
-        """The part as JSON-ready SI values (with ``type``), to write beside a trajectory."""
+        """The part as JSON-ready SI values (with ``type``), to write beside a
+        trajectory; :meth:`from_description` reads it back. By default its
+        :attr:`parameters`' values (arrays as lists, infinities as None)."""
+        values: dict[str, Any] = {"type": self.kind}
+        for parameter in self.parameters:
+            value = getattr(self, parameter.name)
+            if isinstance(value, np.ndarray):
+                value = value.tolist()
+            elif isinstance(value, float) and math.isinf(value):
+                value = None
+            values[parameter.name] = value
+        return values
+
+    @classmethod
+    def from_description(cls, values: dict[str, Any]) -> InternalPart:
+        """The part from :meth:`describe`'s dictionary, less its ``type``."""
+        return cls(**values)
+
+    @classmethod
+    def keys_in_files(cls) -> tuple[Parameter, ...]:
+        """The keys of its tables in files: :attr:`file_keys`, or its parameters
+        and ``position``."""
+        if cls.file_keys:
+            return cls.file_keys
+        where = Parameter("position", "length", (3,), "where it is drawn, body coordinates")
+        return (*cls.parameters, where)
+
+    @classmethod
+    def from_table(cls, values: dict[str, Any]) -> FilePart:
+        """The part from a table of a scenario or sweep file, its values converted
+        to SI (:meth:`keys_in_files`), with what tumble adds to the body for it.
+        By default the values are the constructor's (``position`` places its
+        drawing).
+
+        Raises
+        ------
+        TableKeyError
+            A value wrong or missing, about one key.
+        InputError
+            A value the part refuses.
+        """
+        values = dict(values)
+        position = values.pop("position", None)
+        return FilePart(cls(**values), position=position)
+
+    # ------------------------------------------------------------ for the kernels
+    def pack(self, frame: Any, parts: tuple[InternalPart, ...]) -> list[Any]:
+        """The rows its compiled equations read (:mod:`tumble.core.parts`), each a
+        number or an (N,) array (one value per body of a batch), in the kernels'
+        frame: ``frame`` is the body (:class:`tumble.body.RigidBody`) or the
+        bodies (:class:`tumble.body.BodyBatch`), whose ``to_principal`` turns body
+        vectors (3,) into its principal platform axes ((3,) or (N, 3)); ``parts``
+        all the parts of the body, itself included (a rotor's share of a torque
+        depends on its siblings)."""
         raise NotImplementedError
+
+    def to_kernel(self, momenta: Array, frame: Any) -> Array:
+        """Its momenta (..., size) (:meth:`momenta`, body axes) in the kernels' frame
+        (the same for scalars; vectors turned by ``frame.to_principal``)."""
+        return momenta
+
+    def from_kernel(self, block: Array, frame: Any) -> Array:
+        """Its momenta (n, size) in body axes from the kernels' frame (the inverse
+        of :meth:`to_kernel`)."""
+        return block
+
+    def switch_times(self) -> Array:
+        """The times (s) at which its inputs switch (a motor's schedule): an
+        adaptive integration ends its steps there."""
+        return np.zeros(0)
+
+    @property
+    def gyrostatic_axis(self) -> Array | None:
+        """For a part that may make a gyrostat (:attr:`gyrostatic`), the unit axis
+        (body axes) along which its momentum is constant in free motion; None
+        when it is not constant (a motor drives it)."""
+        return None
+
+    def drawing(
+        self, reach: float, centre: Array, position: Any = None, radius: float | None = None,
+        thickness: float | None = None,
+    ) -> PartDrawing | None:  # fmt: skip
+        """How to draw it in a body of size ``reach`` (m) whose centre of mass is
+        at ``centre`` (body coordinates, m), at ``position`` and of ``radius`` and
+        ``thickness`` when the file gave them; None for a part not drawn."""
+        return None
 
     def internal_rates(self, platform_inertia: Array) -> tuple[float, float]:
         """How fast its own motion relative to the body goes, 1/s, on a body whose

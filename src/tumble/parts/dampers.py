@@ -9,8 +9,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble.core.dampers import DAMPER_EQUATIONS, SPRING_EQUATIONS
 from tumble.errors import InputError
-from tumble.parts.base import InternalPart, positive
+from tumble.parameters import Parameter
+from tumble.parts.base import FilePart, InternalPart, PartDrawing, positive, register_part
+from tumble.parts.solids import SIZE_KEYS, moment_from_table, required
 from tumble.units import to_si, unit_vector, vector_to_si
 
 __all__ = ["KaneDamper", "SpringMassDamper"]
@@ -18,6 +21,7 @@ __all__ = ["KaneDamper", "SpringMassDamper"]
 Array = NDArray[np.float64]
 
 
+@register_part
 @dataclass(frozen=True, eq=False)
 class KaneDamper(InternalPart):
     """A Kane damper: a sphere of moment of inertia ``inertia`` (kg·m², > 0; about
@@ -58,8 +62,16 @@ class KaneDamper(InternalPart):
     damping: Any
 
     kind = "kane-damper"
+    summary = "a sphere turning in viscous fluid inside the body: an energy sink"
+    label = "damper"
     size = 3
     value_labels = ("omega_x", "omega_y", "omega_z")
+    parameters = (
+        Parameter("inertia", "inertia", (), "the sphere's moment of inertia J", 0.0, strict=True),
+        Parameter("damping", "damping", (), "the fluid's viscous coupling D", 0.0),
+    )
+    file_keys = (parameters[1], *SIZE_KEYS)
+    equations = DAMPER_EQUATIONS
 
     def __post_init__(self) -> None:
         object.__setattr__(
@@ -101,13 +113,46 @@ class KaneDamper(InternalPart):
     def values_from(self, omega: Array, momenta: Array) -> Array:
         return np.asarray(momenta / self.inertia)
 
-    def describe(self) -> dict[str, Any]:
-        return {"type": self.kind, "inertia": self.inertia, "damping": self.damping}
+    def pack(self, frame: Any, parts: tuple[InternalPart, ...]) -> list[Any]:
+        """J and D: :data:`tumble.core.dampers.DAMPER_FIELDS`."""
+        return [self.inertia, self.damping]
+
+    def to_kernel(self, momenta: Array, frame: Any) -> Array:
+        return np.asarray(frame.to_principal(momenta))
+
+    def from_kernel(self, block: Array, frame: Any) -> Array:
+        return np.asarray(frame.from_principal(block))
+
+    @classmethod
+    def from_table(cls, values: dict[str, Any]) -> FilePart:
+        """A damper of ``inertia`` (already in ``[body]``), or a uniform sphere of
+        ``mass`` and ``radius`` that tumble adds to the body at ``position``."""
+        damping = required(values, "damping", "the fluid's viscous coupling D, N·m·s")
+        moment, solid = moment_from_table(cls.kind, values, 0.4)
+        position = values.get("position")
+        position = np.zeros(3) if position is None else np.asarray(position, dtype=float)
+        ball = None
+        if solid:
+            from tumble.shapes import solid_sphere
+
+            ball = solid_sphere(values["mass"], values["radius"]).transformed(None, position)
+        return FilePart(cls(moment, damping), ball, position, values.get("radius"))
+
+    def drawing(
+        self, reach: float, centre: Array, position: Any = None, radius: float | None = None,
+        thickness: float | None = None,
+    ) -> PartDrawing | None:  # fmt: skip
+        """Its sphere, when its size is known."""
+        if radius is None:
+            return None
+        at = np.asarray(centre if position is None else position, dtype=float)
+        return PartDrawing("ball", at, radius)
 
     def __repr__(self) -> str:
         return f"KaneDamper(inertia={self.inertia!r} kg·m², damping={self.damping!r} N·m·s)"
 
 
+@register_part
 @dataclass(frozen=True, eq=False)
 class SpringMassDamper(InternalPart):
     """A point mass on a spring: it slides along the body-fixed ``direction`` through
@@ -136,9 +181,30 @@ class SpringMassDamper(InternalPart):
     geometry: Any = field(default=None, init=False, repr=False)
 
     kind = "spring-mass-damper"
+    summary = "a point mass sliding on a spring with a dashpot: an energy sink"
+    label = "spring"
     size = 2
     value_labels = ("displacement", "velocity")
     value_unit = "m, m/s"
+    parameters = (
+        Parameter("mass", "mass", (), "the sliding point mass, in [body] at `position`", 0.0,
+                  strict=True),
+        Parameter("position", "length", (3,), "its rest point, body coordinates"),
+        Parameter("direction", "dimensionless", (3,), "the direction it slides along, body "
+                  "axes"),
+        Parameter("stiffness", "stiffness", (), "the spring's stiffness k", 0.0, strict=True),
+        Parameter("damping", "linear_damping", (), "the dashpot's damping c", 0.0),
+        Parameter("displacement", "length", (), "where it starts along its direction"),
+    )  # fmt: skip
+    file_keys = (
+        parameters[0], parameters[1],
+        Parameter("axis", "dimensionless", (3,), "the direction it slides along, body axes"),
+        *parameters[3:],
+    )  # fmt: skip
+    equations = SPRING_EQUATIONS
+    one_per_body = "two moving masses couple through the centre of mass; this model holds one"
+    free_body_only = "its mass moves the centre of mass the body turns about"
+    not_in_batches = "its mass moves each body's centre of mass: use simulate"
 
     def __post_init__(self) -> None:
         owner = "SpringMassDamper"
@@ -247,16 +313,38 @@ class SpringMassDamper(InternalPart):
         speed = (p - np.asarray(omega, dtype=float) @ self.coupling()) / reduced
         return np.stack([x, speed], axis=-1)
 
-    def describe(self) -> dict[str, Any]:
-        return {
-            "type": self.kind,
-            "mass": self.mass,
-            "position": self.position.tolist(),
-            "direction": self.direction.tolist(),
-            "stiffness": self.stiffness,
-            "damping": self.damping,
-            "displacement": self.displacement,
-        }
+    def pack(self, frame: Any, parts: tuple[InternalPart, ...]) -> list[Any]:
+        """d0, n (principal platform axes), μ, k and c:
+        :data:`tumble.core.dampers.SPRING_FIELDS`."""
+        reduced, rest = self._geometry
+        d0 = np.asarray(frame.to_principal(rest), dtype=float)
+        n = np.asarray(frame.to_principal(self.direction), dtype=float)
+        return [*d0, *n, reduced, self.stiffness, self.damping]
+
+    @classmethod
+    def from_table(cls, values: dict[str, Any]) -> FilePart:
+        """A point mass tumble adds to the body at ``position``, its rest point,
+        sliding along ``axis``."""
+        from tumble.massprops import point_masses
+
+        mass = required(values, "mass", "kg")
+        axis = required(values, "axis", "the direction it slides along")
+        stiffness = required(values, "stiffness", "N/m")
+        position = values.get("position")
+        position = np.zeros(3) if position is None else np.asarray(position, dtype=float)
+        damping = values.get("damping")
+        part = cls(
+            mass, position, axis, stiffness, 0.0 if damping is None else damping,
+            values.get("displacement") or 0.0,
+        )  # fmt: skip
+        return FilePart(part, point_masses([mass], [position.tolist()]), position)
+
+    def drawing(
+        self, reach: float, centre: Array, position: Any = None, radius: float | None = None,
+        thickness: float | None = None,
+    ) -> PartDrawing:  # fmt: skip
+        """Its mass at rest, as a small ball."""
+        return PartDrawing("ball", np.asarray(self.position, dtype=float), 0.04 * reach)
 
     def __repr__(self) -> str:
         return (
@@ -264,6 +352,3 @@ class SpringMassDamper(InternalPart):
             f"{self.direction.tolist()}, stiffness={self.stiffness!r} N/m, "
             f"damping={self.damping!r} N·s/m)"
         )
-
-
-#: The part classes by their ``type`` in scenario files and run files.

@@ -9,8 +9,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble.core.rotor import ROTOR_EQUATIONS
 from tumble.errors import InputError
-from tumble.parts.base import InternalPart, limit, positive
+from tumble.parameters import Parameter
+from tumble.parts.base import (
+    FilePart,
+    InternalPart,
+    PartDrawing,
+    limit,
+    positive,
+    register_part,
+)
+from tumble.parts.solids import SIZE_KEYS, moment_from_table, required
 from tumble.units import to_si, unit_vector
 
 __all__ = ["Rotor"]
@@ -18,6 +28,21 @@ __all__ = ["Rotor"]
 Array = NDArray[np.float64]
 
 
+_PARAMETERS = (
+    Parameter("axis", "dimensionless", (3,), "its spin axis, body axes (normalised)"),
+    Parameter("inertia", "inertia", (), "its moment of inertia J about its axis", 0.0,
+              strict=True),
+    Parameter("speed", "angular_velocity", (), "its spin rate relative to the body at t = 0"),
+    Parameter("torque", "", (), "the motor torque on it (N·m): a constant, or a schedule of "
+              "(time, torque) pairs"),
+    Parameter("max_torque", "torque", (), "the largest motor torque (default none)", 0.0,
+              strict=True, optional=True),
+    Parameter("max_speed", "angular_velocity", (), "the largest relative speed (default none)",
+              0.0, strict=True, optional=True),
+)  # fmt: skip
+
+
+@register_part
 @dataclass(frozen=True, eq=False)
 class Rotor(InternalPart):
     """A symmetric rotor (a wheel) spinning about a body-fixed axis.
@@ -65,8 +90,21 @@ class Rotor(InternalPart):
     max_speed: Any = None
 
     kind = "rotor"
+    summary = "a wheel spinning about a body-fixed axis, driven by a motor"
+    label = "rotor"
     size = 1
     value_labels = ("speed",)
+    parameters = _PARAMETERS
+    file_keys = (
+        *(p for p in _PARAMETERS if p.name != "inertia"),
+        *SIZE_KEYS,
+        Parameter("thickness", "length", (), "the thickness of the uniform disc tumble adds "
+                  "(default a fifth of its radius)", 0.0, strict=True),
+    )  # fmt: skip
+    equations = ROTOR_EQUATIONS
+    gyrostatic = True
+    actuated = True
+    spin = 0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "axis", unit_vector(self.axis, "axis", owner="Rotor"))
@@ -107,6 +145,70 @@ class Rotor(InternalPart):
 
     def spin_inertia(self) -> Array:
         return np.asarray(self.inertia * np.outer(self.axis, self.axis))
+
+    def switch_times(self) -> Array:
+        return self.schedule[0]
+
+    @property
+    def gyrostatic_axis(self) -> Array | None:
+        return None if self.driven else np.asarray(self.axis)
+
+    def pack(self, frame: Any, parts: tuple[InternalPart, ...]) -> list[Any]:
+        """Its axis (principal platform axes), J, limits and row of the allocation
+        matrix (the pseudo-inverse of the rotors' axes as columns), then its
+        schedule: :data:`tumble.core.rotor.ROTOR_FIELDS`."""
+        rotors = [part for part in parts if isinstance(part, Rotor)]
+        turned = np.stack([np.asarray(frame.to_principal(r.axis), dtype=float) for r in rotors], -2)
+        allocation = np.linalg.pinv(np.swapaxes(turned, -1, -2))  # (..., k, 3)
+        k = next(j for j, part in enumerate(rotors) if part is self)
+        times, torques = self.schedule
+        return [
+            *(turned[..., k, i] for i in range(3)), self.inertia, self.max_torque,
+            self.max_speed, *(allocation[..., k, i] for i in range(3)), *times, *torques,
+        ]  # fmt: skip
+
+    @classmethod
+    def from_table(cls, values: dict[str, Any]) -> FilePart:
+        """A rotor of ``inertia`` (already in ``[body]``), or a uniform disc of
+        ``mass``, ``radius`` and ``thickness`` (a fifth of its radius by default)
+        that tumble adds to the body at ``position``."""
+        axis = required(values, "axis", "the rotor's spin axis, body axes")
+        moment, solid = moment_from_table(cls.kind, values, 0.5)
+        torque = values.get("torque", 0.0)
+        if isinstance(torque, list) and torque and all(isinstance(p, list) for p in torque):
+            torque = [tuple(pair) for pair in torque]
+        rotor = cls(
+            axis, moment, speed=values.get("speed", 0.0), torque=torque,
+            max_torque=values.get("max_torque"), max_speed=values.get("max_speed"),
+        )  # fmt: skip
+        position = values.get("position")
+        position = np.zeros(3) if position is None else np.asarray(position, dtype=float)
+        radius = values.get("radius")
+        thickness = values.get("thickness")
+        if thickness is None and radius is not None:
+            thickness = radius / 5.0
+        disc = None
+        if solid:
+            from scipy.spatial.transform import Rotation
+
+            from tumble.shapes import solid_cylinder
+
+            turn, _ = Rotation.align_vectors([rotor.axis], [[0.0, 0.0, 1.0]])
+            disc = solid_cylinder(values["mass"], radius, thickness).transformed(turn, position)
+        return FilePart(rotor, disc, position, radius, thickness)
+
+    def drawing(
+        self, reach: float, centre: Array, position: Any = None, radius: float | None = None,
+        thickness: float | None = None,
+    ) -> PartDrawing:  # fmt: skip
+        """A disc on its axis, turning at its speed: its own size, or a quarter of
+        the body's."""
+        if radius is None:
+            radius = float(max(0.2 * reach, 1e-3)) if position is not None else 0.25 * reach
+        if thickness is None:
+            thickness = radius / 5.0
+        at = np.asarray(centre if position is None else position, dtype=float)
+        return PartDrawing("disc", at, radius, np.asarray(self.axis), thickness, spin=0)
 
     def initial_values(self, omega0: Array) -> Array:
         return np.full((*np.shape(omega0)[:-1], 1), self.speed)

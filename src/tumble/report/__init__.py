@@ -206,21 +206,18 @@ def _fill(
     viewer = None
     if spec.output.viewer:
         step("viewer.html")
-        from tumble.report.scenario_geometry import (
-            body_geometry,
-            rotor_drawings,
-            with_dampers,
-        )
+        from tumble.report.scenario_geometry import body_geometry, part_drawings
         from tumble.report.viewer import viewer_html
-        from tumble.scenario.build import at_key
+        from tumble.scenario.build import at_key, file_parts
 
         title = spec.scenario.title or name
         with at_key(result.scenario, "body"):
             geometry = body_geometry(spec.body, result.scenario.folder)
-        rotors = rotor_drawings(spec.internal, geometry)
+        centre = result.trajectory.mass_properties.center_of_mass
+        drawn, rotors = part_drawings(file_parts(spec), centre, geometry)
         page = viewer_html(
-            result.trajectory, with_dampers(spec.internal, geometry),
-            frames=spec.output.viewer_frames, title=title, rotors=rotors,
+            result.trajectory, drawn, frames=spec.output.viewer_frames, title=title,
+            rotors=rotors,
         )  # fmt: skip
         write_text(staging / "viewer.html", page)
         viewer = "viewer.html"

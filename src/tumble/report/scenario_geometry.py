@@ -29,7 +29,7 @@ from tumble.report.geometry import (
 from tumble.scenario.bodies import InertiaBody, MeshBody, PartsBody, PointsBody, ShapeBody
 from tumble.scenario.build import mesh_path, rotation
 
-__all__ = ["body_geometry", "rotor_drawings", "shape_mesh", "with_dampers"]
+__all__ = ["body_geometry", "part_drawings", "shape_mesh"]
 
 Array = NDArray[np.float64]
 
@@ -137,39 +137,37 @@ def _concatenate(pieces: list[tuple[Array, NDArray[np.int64]]]) -> tuple[Array, 
     return np.vstack(vertices), np.vstack(faces).astype(np.int64)
 
 
-def rotor_drawings(internal: Any, geometry: Geometry) -> list[RotorDrawing]:
-    """Where to draw the rotors of a scenario's ``[[internal]]`` tables: at their
-    ``position``, their own size (or one from the body's size when given by
-    their inertia)."""
+def part_drawings(
+    parts: Any, centre: Array, geometry: Geometry
+) -> tuple[Geometry, list[RotorDrawing]]:
+    """The body's mesh with the parts drawn as balls added to it, and the discs of
+    the parts that spin, in the order of their speeds (:class:`RotorDrawing`),
+    from each part's :meth:`~tumble.parts.InternalPart.drawing`. ``parts`` are
+    parts as read from a file (:class:`tumble.parts.FilePart`) or bare parts;
+    ``centre`` the body's centre of mass (body coordinates, m)."""
     vertices = geometry.vertices
     reach = float(np.max(np.ptp(vertices, axis=0))) if len(vertices) else 1.0
-    drawings = []
-    for spec in internal:
-        if spec.type != "rotor":
-            continue
-        radius = spec.drawing_radius(reach)
-        thickness = spec.disc_thickness if spec.radius is not None else radius / 5.0
-        axis = np.asarray(spec.axis, dtype=float)
-        drawings.append(
-            RotorDrawing(np.asarray(spec.position), axis / np.linalg.norm(axis), radius, thickness)
-        )
-    return drawings
-
-
-def with_dampers(internal: Any, geometry: Geometry) -> Geometry:
-    """The body's mesh with the spheres of the dampers given by mass and radius, and
-    a ball at the rest point of a spring–mass damper."""
     pieces = [(geometry.vertices, geometry.faces)]
-    vertices = geometry.vertices
-    reach = float(np.max(np.ptp(vertices, axis=0))) if len(vertices) else 1.0
-    for spec in internal:
-        if spec.type == "kane-damper" and spec.radius is not None:
-            ball, faces = sphere(spec.radius, rings=8, sections=12)
-            pieces.append((ball + np.asarray(spec.position), faces))
-        elif spec.type == "spring-mass-damper":  # its mass at rest, as a small ball
-            ball, faces = sphere(0.04 * reach, rings=8, sections=12)
-            pieces.append((ball + np.asarray(spec.position), faces))
-    if len(pieces) == 1:
-        return geometry
-    vertices, faces = _concatenate(pieces)
-    return Geometry(vertices, faces, geometry.exact)
+    rotors = []
+    for entry in parts:
+        part = getattr(entry, "part", entry)
+        drawing = part.drawing(
+            reach, centre, getattr(entry, "position", None), getattr(entry, "radius", None),
+            getattr(entry, "thickness", None),
+        )  # fmt: skip
+        if drawing is None:
+            continue
+        if drawing.shape == "ball":
+            ball, faces = sphere(drawing.radius, rings=8, sections=12)
+            pieces.append((ball + drawing.position, faces))
+        elif drawing.spin is not None:
+            axis = np.asarray(drawing.axis, dtype=float)
+            rotors.append(
+                RotorDrawing(
+                    drawing.position, axis / np.linalg.norm(axis), drawing.radius, drawing.thickness
+                )
+            )
+    if len(pieces) > 1:
+        vertices, faces = _concatenate(pieces)
+        geometry = Geometry(vertices, faces, geometry.exact)
+    return geometry, rotors

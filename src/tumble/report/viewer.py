@@ -52,14 +52,17 @@ def _geometry(traj: Trajectory, geometry: Geometry | None) -> tuple[Array, NDArr
 
 
 def _rotor_drawings(traj: Trajectory, reach: float) -> list[RotorDrawing]:
-    """Discs for the trajectory's rotors, at the centre of mass, sized to the body."""
-    from tumble.parts import Rotor
+    """Discs for the trajectory's parts that spin (its rotors), as each part draws
+    itself (:meth:`tumble.parts.InternalPart.drawing`): at the centre of mass,
+    sized to the body."""
     from tumble.report.geometry import RotorDrawing
 
+    centre = traj.mass_properties.center_of_mass
+    drawings = [part.drawing(reach, centre) for part in traj.internal]
     return [
-        RotorDrawing(traj.mass_properties.center_of_mass, part.axis, 0.25 * reach, 0.05 * reach)
-        for part in traj.internal
-        if isinstance(part, Rotor)
+        RotorDrawing(d.position, np.asarray(d.axis), d.radius, d.thickness)
+        for d in drawings
+        if d is not None and d.shape == "disc" and d.spin is not None
     ]
 
 

@@ -158,18 +158,29 @@ def torque_model(scenario: Scenario, loaded: LoadedScenario | None = None) -> An
     return sum(terms[1:], terms[0]) if terms else None
 
 
+def file_parts(scenario: Scenario, loaded: LoadedScenario | None = None) -> list[Any]:
+    """The scenario's ``[[internal]]`` parts as read (:class:`tumble.parts.FilePart`:
+    the part, the solid tumble adds, where it is drawn)."""
+    from tumble.parts import TableKeyError
+
+    read = []
+    for k, spec in enumerate(scenario.internal):
+        try:
+            read.append(spec.file_part())
+        except InputError as exc:
+            path = ("internal", k, exc.key) if isinstance(exc, TableKeyError) else ("internal", k)
+            with at_key(loaded, *path):
+                raise InputError(str(exc)) from None
+    return read
+
+
 def internal_parts(
     scenario: Scenario, loaded: LoadedScenario | None = None
 ) -> tuple[tuple[Any, ...], MassProperties | None]:
     """The scenario's ``[[internal]]`` parts (:mod:`tumble.parts`) and the sum of the
     uniform solids tumble adds to the body for those given by mass and radius
     (None when there are none)."""
-    parts, solids = [], []
-    for k, spec in enumerate(scenario.internal):
-        with at_key(loaded, "internal", k):
-            parts.append(spec.part())
-            solid = spec.solid()
-            if solid is not None:
-                solids.append(solid)
+    read = file_parts(scenario, loaded)
+    solids = [entry.solid for entry in read if entry.solid is not None]
     added = sum(solids[1:], solids[0]) if solids else None
-    return tuple(parts), added
+    return tuple(entry.part for entry in read), added

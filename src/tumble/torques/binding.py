@@ -94,7 +94,7 @@ def bind(
     for term in acting:
         _check_bodies(term, bodies)
         if term.actuator == "rotors" and not any(
-            getattr(part, "kind", "") == "rotor" for part in getattr(body, "parts", ())
+            getattr(part, "actuated", False) for part in getattr(body, "parts", ())
         ):
             raise InputError(
                 f"Expected rotors in the body for {term!r}, which acts through them, got none "

@@ -9,68 +9,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
-from tumble.units import SI_UNITS, to_si, vector_to_si
+from tumble.parameters import Parameter, shown_unit
 
 __all__ = ["ACTUATORS", "TORQUES", "Parameter", "TorqueModel", "TorqueSum", "register_torque"]
 
 Array = NDArray[np.float64]
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """A parameter of a torque model.
-
-    Attributes
-    ----------
-    name : its keyword, and its key in scenario files.
-    kind : the kind of quantity (a key of :data:`tumble.units.SI_UNITS`).
-    shape : ``()`` for a number, ``(3,)`` for a vector.
-    description : what it is, with its frame.
-    minimum : the smallest value allowed, or None; ``strict``: the minimum
-        itself is not allowed (a value must exceed it).
-    sweep : the names of its per-body parameters in sweep files, one per
-        component (empty: not sweepable).
-    optional : None is allowed (and kept): "none" (no limit, no value).
-    """
-
-    name: str
-    kind: str
-    shape: tuple[int, ...] = ()
-    description: str = ""
-    minimum: float | None = None
-    sweep: tuple[str, ...] = ()
-    strict: bool = False
-    optional: bool = False
-
-    def convert(self, value: Any, per_body: bool) -> Any:
-        """The value in SI: a float or (3,) array, or with ``per_body`` also (N,) or
-        (N, 3), one per body of a batch (None stays None when ``optional``)."""
-        if value is None and self.optional:
-            return None
-        many = per_body and np.ndim(value) == len(self.shape) + 1 and not isinstance(value, str)
-        if not self.shape and not many:
-            result: Any = to_si(value, self.kind, self.name)
-        else:
-            shape = ((-1, *self.shape) if many else self.shape) or (-1,)
-            result = vector_to_si(value, self.kind, self.name, shape)
-        low = np.asarray(result)
-        if self.minimum is not None and np.any(
-            low <= self.minimum if self.strict else low < self.minimum
-        ):
-            unit = SI_UNITS[self.kind].replace("*", "·")
-            relation = ">" if self.strict else ">="
-            if np.ndim(result):
-                k = int(np.argmin(result))
-                shown = f"{self.name}[{k}] = {float(np.ravel(result)[k])!r}"
-            else:
-                shown = repr(result)
-            raise InputError(
-                f"Expected `{self.name}` {relation} {self.minimum:g} {unit}, got {shown}."
-            )
-        if isinstance(result, np.ndarray):
-            result = result.copy()  # frozen: never the caller's own array
-            result.flags.writeable = False
-        return result
 
 
 #: Where a torque model's torque comes from (see :attr:`TorqueModel.actuator`).
@@ -182,7 +125,7 @@ class TorqueModel:
                 what = "vectors" if parameter.shape else "values"
                 shown.append(f"per body, {len(value)} {what}")
             else:
-                unit = SI_UNITS[parameter.kind].replace("*", "·")
+                unit = shown_unit(parameter.kind)
                 number = np.asarray(value).tolist()
                 shown.append(f"{number} {unit}".rstrip())
         if self.actuator != "external":
