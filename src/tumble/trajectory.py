@@ -21,9 +21,11 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from tumble.body import INVARIANTS, RigidBody, label
+from tumble._version import __version__
+from tumble.body import RigidBody
 from tumble.errors import InputError
 from tumble.files import replaced
+from tumble.invariants import INVARIANTS, label
 from tumble.massprops import MassProperties
 from tumble.parts import InternalPart, Rotor, from_description, value_columns
 from tumble.torques import Gravity
@@ -293,8 +295,6 @@ class Trajectory:
         """
         import pyarrow as pa
         import pyarrow.parquet as pq
-
-        from tumble import __version__
 
         columns = {"t": self.t}
         for k, axis in enumerate("xyz"):

@@ -16,6 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from tumble._version import __version__
+
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
     from tumble.scenario.execute import RunResult
@@ -130,8 +132,6 @@ _CAPTIONS = {
 
 def report_html(result: RunResult, figures: Mapping[str, bytes], viewer: str | None = None) -> str:
     """The run's report: the scenario, theory vs simulation, drift, figures, the TOML."""
-    from tumble import __version__
-
     spec = result.scenario.spec
     traj = result.trajectory
     info = spec.scenario
