@@ -25,9 +25,8 @@ from tumble.core.metrics import (
     MOMENTUM_DEVIATION,
     N_METRICS,
 )
-from tumble.errors import OutputError
+from tumble.errors import CoarseStepWarning, IntegrationError, OutputError
 from tumble.report import write_sweep_report
-from tumble.simulation import CoarseStepWarning, IntegrationError
 from tumble.sweep import load_sweep, open_results, run_sweep, show_sweep
 from tumble.sweep.build import parse_sweep
 from tumble.sweep.metrics import compute_chunk

@@ -97,7 +97,7 @@ def comparisons_html(rows: Sequence[Mapping[str, Any]]) -> str:
 
 def drift_html(drift: Mapping[str, Any]) -> str:
     """The drift of the quantities the motion conserves as an HTML table."""
-    from tumble.body import INVARIANTS, label
+    from tumble.invariants import INVARIANTS, label
 
     if not drift:
         return "<p>Nothing is conserved in this motion (it is driven or damped).</p>"
@@ -225,7 +225,7 @@ def mass_properties_html(mp: MassProperties) -> str:
 
 def trajectory_html(traj: Trajectory) -> str:
     """A small HTML summary of a trajectory (notebooks)."""
-    from tumble.body import label
+    from tumble.invariants import label
 
     drift = traj.drift
     kind = "free body" if traj.pivot is None else f"pivot at {np.round(traj.pivot, 9).tolist()} m"

@@ -210,7 +210,7 @@ class TorqueModel:
         return np.zeros(len(matrices))
 
     def conserves(self, body: Any) -> frozenset[str]:
-        """Which of :data:`tumble.body.INVARIANTS` the motion of this body keeps
+        """Which of :data:`tumble.invariants.INVARIANTS` the motion of this body keeps
         under this torque (with every other quantity a torque-free body keeps
         that this torque does not change)."""
         return frozenset()
