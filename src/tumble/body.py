@@ -179,20 +179,16 @@ class RigidBody:
         return compose(quaternions, self.principal_rotation.inv())
 
     # ------------------------------------------------------------ parts
-    @property
-    def state_size(self) -> int:
-        """Entries of the parts' values (and of their momenta in the kernels' state)."""
-        return sum(part.size for part in self.parts)
-
     def initial_values(self, omega0: Array) -> Array:
-        """(..., state_size) the parts' values at t = 0 for the body's ω0 (..., 3)
-        (:meth:`tumble.parts.InternalPart.initial_values`)."""
+        """(..., p) the parts' values at t = 0 for the body's ω0 (..., 3)
+        (:meth:`tumble.parts.InternalPart.initial_values`); p, here and below, is
+        the sum of the parts' sizes."""
         omega0 = np.asarray(omega0, dtype=float)
         pieces = [part.initial_values(omega0) for part in self.parts]
         return np.concatenate(pieces, axis=-1) if pieces else np.zeros((*omega0.shape[:-1], 0))
 
     def split_values(self, values: Array | None, omega: Array | None = None) -> list[Array]:
-        """The parts' values (..., state_size), cut per part; None: their initial
+        """The parts' values (..., p), cut per part; None: their initial
         values for ω (..., 3) (a damper turning with the body)."""
         if values is None:
             start = np.zeros(3) if omega is None else omega
@@ -201,7 +197,7 @@ class RigidBody:
         return [values[..., a:b] for a, b in itertools.pairwise(cuts)]
 
     def kernel_state(self, omega0: Array, attitude0: Array) -> Array:
-        """(7 + state_size,) the state the parts' kernels integrate
+        """(7 + p,) the state the parts' kernels integrate
         (:mod:`tumble.core.parts`): H, q (principal-platform frame), then the parts'
         momenta, from ω0 (rad/s, body axes) and the attitude (body → space)."""
         omega0 = np.asarray(omega0, dtype=float)
@@ -217,7 +213,7 @@ class RigidBody:
 
     def from_kernel_state(self, states: Array) -> tuple[Array, Array, Array]:
         """ω (n, 3) and the attitude (n, 4), body axes, and the parts' values
-        (n, state_size), from kernel states (n, 7 + state_size)."""
+        (n, p), from kernel states (n, 7 + p)."""
         states = np.asarray(states, dtype=float)
         inside = states[:, :3].copy()
         k = 7
@@ -265,7 +261,7 @@ class RigidBody:
     def angular_momentum(self, omega: Array, values: Array | None = None) -> Array:
         """Angular momentum about the reference point, body axes, kg·m²/s, for ω
         (..., 3) rad/s: ``I ω`` without parts; with parts ``I_p ω`` plus each
-        part's own (``values`` (..., state_size) the parts' values, None: their
+        part's own (``values`` (..., p) the parts' values, None: their
         initial values, a damper turning with the body)."""
         omega = np.asarray(omega, dtype=float)
         momentum = omega @ self.platform_inertia.T
