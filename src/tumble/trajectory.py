@@ -23,7 +23,7 @@ from scipy.spatial.transform import Rotation
 
 from tumble._version import __version__
 from tumble.body import RigidBody
-from tumble.errors import InputError
+from tumble.errors import InputError, unknown_choice
 from tumble.files import replaced
 from tumble.invariants import INVARIANTS, label
 from tumble.massprops import MassProperties
@@ -208,9 +208,7 @@ class Trajectory:
             lever = self.body.lever
             axis = lever / max(math.hypot(*lever), np.finfo(float).tiny)
             return np.asarray(self.body_momentum @ axis)
-        raise InputError(
-            f"Expected one of {', '.join(INVARIANTS)} or a model's own quantity, got {name!r}."
-        )
+        raise unknown_choice(name, INVARIANTS, "a quantity", alternative="a model's own quantity")
 
     def relative_change(self, name: str) -> Array:
         """(n,) the change of a conserved quantity from its initial value, relative:

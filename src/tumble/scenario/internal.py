@@ -37,7 +37,6 @@ spring–mass damper is always given by its ``mass`` (a point mass tumble adds a
 
 from __future__ import annotations
 
-import difflib
 import math
 from typing import Annotated, Any
 
@@ -45,7 +44,7 @@ import numpy as np
 from pydantic import model_validator
 
 from tumble.config import StrictModel, key_error
-from tumble.errors import InputError, quoted
+from tumble.errors import InputError, unknown_choice
 from tumble.scenario.bodies import (
     AngularVelocity,
     Length,
@@ -93,12 +92,7 @@ class InternalSpec(StrictModel):
     def _consistent(self) -> InternalSpec:
         kinds = list(PART_KEYS)
         if self.type not in kinds:
-            close = difflib.get_close_matches(self.type, kinds, n=1)
-            hint = f" Did you mean {close[0]!r}?" if close else ""
-            raise key_error(
-                "type",
-                f"Expected `type` to be one of {', '.join(kinds)}, got {quoted(self.type)}.{hint}",
-            )
+            raise key_error("type", str(unknown_choice(self.type, kinds, "`type`")))
         given = {key for key in self.model_fields_set if key not in {"type", "position"}}
         spring = self.type == "spring-mass-damper"
         sizes = {"mass"} if spring else {"inertia", "mass", "radius"}

@@ -8,7 +8,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
+from tumble.errors import InputError, unknown_choice
 from tumble.units import SI_UNITS, to_si, vector_to_si
 
 __all__ = ["ACTUATORS", "TORQUES", "Parameter", "TorqueModel", "TorqueSum", "register_torque"]
@@ -137,10 +137,7 @@ class TorqueModel:
             self.actuator != "external" and not self.drives_rotors
         ):
             allowed = ACTUATORS if self.drives_rotors else ("external",)
-            raise InputError(
-                f"Expected `actuator` of {type(self).__name__} to be one of "
-                f"{', '.join(repr(a) for a in allowed)}, got {self.actuator!r}."
-            )
+            raise unknown_choice(self.actuator, allowed, f"`actuator` of {type(self).__name__}")
 
     # ------------------------------------------------------------ algebra
     @property
