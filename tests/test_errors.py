@@ -3,6 +3,9 @@ what was expected, the names, the value received, the nearest name."""
 
 from __future__ import annotations
 
+import pytest
+
+import tumble as tb
 from tumble.errors import InputError, nearest, unknown_choice
 
 
@@ -43,3 +46,22 @@ def test_a_long_value_is_cut_and_a_line_break_escaped() -> None:
     assert message.endswith(
         "got 'nnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnn'...."
     )
+
+
+def test_an_unknown_method_has_one_message_wherever_it_is_named() -> None:
+    # simulate, simulate_batch and the files' `method` share one check.
+    from tumble.config.registries import method_choice
+    from tumble.integrators import method_names
+
+    body = tb.MassProperties(1.0, [0, 0, 0], [[1.0, 0, 0], [0, 2.0, 0], [0, 0, 3.0]])
+    expected = str(unknown_choice("rk5", method_names(), "`method`"))
+    assert expected.endswith("got 'rk5'. Did you mean rk4?")
+    with pytest.raises(InputError) as from_simulate:
+        tb.simulate(body, [0.1, 1.0, 0.1], duration=1.0, dt=0.1, method="rk5")
+    with pytest.raises(InputError) as from_files:
+        method_choice("rk5")
+    assert str(from_simulate.value) == str(from_files.value) == expected
+    batch = str(unknown_choice("rk5", method_names(batch=True), "`method`"))
+    with pytest.raises(InputError) as from_batch:
+        tb.simulate_batch([1.0, 2.0, 3.0], [[0.1, 1.0, 0.1]], duration=1.0, dt=0.1, method="rk5")
+    assert str(from_batch.value) == batch

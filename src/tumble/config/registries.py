@@ -21,22 +21,16 @@ __all__ = ["actuator_choice", "method_choice", "theory_choice", "torque_entry", 
 
 def method_choice(value: Any, *, batch: bool = False) -> str:
     """``value`` if it names a registered integrator (with batch kernels measured
-    as they step, for ``batch``; else also ``"auto"``).
+    as they step, for ``batch``: sweeps; else also ``"auto"``).
 
     Raises
     ------
     InputError
-        Another value; the message lists the choices.
+        Another value (:func:`tumble.integrators.check_method`).
     """
-    from tumble.integrators import INTEGRATORS
+    from tumble.integrators import check_method
 
-    if batch:
-        names = [name for name, entry in INTEGRATORS.items() if entry.metrics is not None]
-    else:
-        names = ["auto", *INTEGRATORS]
-    if value not in names:
-        raise unknown_choice(value, names, "`method`")
-    return str(value)
+    return check_method(value, measured=batch)
 
 
 def theory_choice(value: Any) -> str:
