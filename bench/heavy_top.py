@@ -56,7 +56,7 @@ from scipy.optimize import curve_fit
 
 import tumble as tb
 from peers import INTEGRATORS, Top, TopRun, environment, mujoco_top, scipy_top, top_model
-from tumble.simulation import CoarseStepWarning
+from tumble.errors import CoarseStepWarning
 
 TARGET = 1e-6  # relative error of the nutation amplitude tumble must reach
 MUJOCO_DT = 1e-3

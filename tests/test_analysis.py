@@ -32,7 +32,7 @@ from scipy.spatial.transform import Rotation
 
 import tumble as tb
 from tumble import analysis, checks, theory
-from tumble.simulation import Trajectory
+from tumble.trajectory import Trajectory
 
 G = 9.81
 

@@ -74,7 +74,7 @@ def test_mesh_json_with_mass() -> None:
     [
         (
             ["inertia", "cylindr", "--mass", "1"],
-            r"Expected a shape \(box, .*\) or a mesh file, got 'cylindr'\. Did you mean solid-cylinder\?",
+            r"Expected a shape to be one of box, .*, or a mesh file, got 'cylindr'\. Did you mean solid-cylinder\?",
         ),
         (
             ["inertia", "box", "--mass", "1", "--size", "1, 2 m"],

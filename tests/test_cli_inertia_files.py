@@ -30,7 +30,7 @@ def test_a_missing_mesh_file_is_named_as_a_file(
 def test_a_name_too_long_for_the_system_is_cut() -> None:
     code, err = invoke("inertia", "n" * 5000, "--mass", "1")
     assert code == 2
-    assert err.startswith("error: Expected a shape (box, ")
+    assert err.startswith("error: Expected a shape to be one of box, ")
     assert err.endswith(f"or a mesh file, got {'n' * 60!r}....")
 
 

@@ -70,7 +70,7 @@ def test_show_prints_the_toml_to_copy(tmp_path: Path) -> None:
     code, out, err = invoke("show", "skewrod")
     assert code == 2 and out == ""
     assert err.strip().splitlines() == [
-        f"error: Expected the name of a built-in scenario ({SCENARIOS}) or sweep ({SWEEPS}), "
+        f"error: Expected a built-in scenario or sweep to be one of {SCENARIOS}, {SWEEPS}, "
         "got 'skewrod'. Did you mean skew-rod?"
     ]
 
@@ -93,7 +93,7 @@ def test_show_prints_a_builtin_sweep() -> None:
     ("name", "hint"),
     [
         # A file of one's own: show prints only what tumble ships.
-        ("base.toml", ", a file of your own: `tumble show` prints the files tumble ships."),
+        ("base.toml", ". That is a file of your own: `tumble show` prints the files tumble ships."),
         ("gyroscope.toml", ". Did you mean gyroscope?"),
         ("flip-map.toml", ". Did you mean flip-map?"),
         ("nothing-like-it", "."),
@@ -107,7 +107,7 @@ def test_show_refuses_what_is_not_a_builtin_without_offering_files(
     code, out, err = invoke("show", name)
     assert code == 2 and out == ""
     assert err.strip().splitlines() == [
-        f"error: Expected the name of a built-in scenario ({SCENARIOS}) or sweep ({SWEEPS}), "
+        f"error: Expected a built-in scenario or sweep to be one of {SCENARIOS}, {SWEEPS}, "
         f"got {name!r}{hint}"
     ]
 
@@ -130,8 +130,8 @@ def test_run_a_builtin_sweep_points_to_tumble_sweep() -> None:
     code, _, err = invoke("run", "flip-map")
     assert code == 2
     assert err.strip() == (
-        f"error: Expected a built-in scenario ({SCENARIOS}) or a .toml file, got 'flip-map', a "
-        "built-in sweep: run it with `tumble sweep flip-map`."
+        f"error: Expected a built-in scenario to be one of {SCENARIOS}, or a .toml file, got "
+        "'flip-map'. That is a built-in sweep: run it with `tumble sweep flip-map`."
     )
 
 
@@ -261,7 +261,7 @@ def test_default_folder_is_under_runs(
         ),
         (
             QUICK.replace("[output]", "[ouptut]"),
-            r"^error: .*quick\.toml, line 17, `ouptut`: Expected one of .*, got the unknown key `ouptut`\. Did you mean `output`\?$",
+            r"^error: .*quick\.toml, line 17, `ouptut`: Expected the key to be one of .*, got 'ouptut'\. Did you mean output\?$",
         ),
         (
             QUICK.replace('duration = "5 s"', 'duration = "0 s"'),

@@ -443,7 +443,7 @@ def test_every_free_body_keeps_the_bound(
 def test_a_recording_sampled_far_too_fast_is_averaged_with_a_note() -> None:
     # The phone at 590 kHz: 2.2 million samples, averaged in blocks of far less
     # than a degree of turn. Oracle: the truth, within 3 standard errors.
-    from tumble.identification.fit import MAX_SAMPLES
+    from tumble.identification.decimation import MAX_SAMPLES
 
     phone = synthetic_phone(0, rate=590_000.0)
     fit = tb.identify(phone.t, phone.omega)

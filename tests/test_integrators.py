@@ -20,7 +20,7 @@ from scipy.spatial.transform import Rotation
 
 import tumble as tb
 from reference import attitude_error, reference
-from tumble.simulation import CoarseStepWarning, IntegrationError
+from tumble.errors import CoarseStepWarning, IntegrationError
 
 AXES = Rotation.from_rotvec([0.3, -0.5, 0.8])
 TUMBLER = tb.MassProperties(

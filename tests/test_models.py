@@ -34,9 +34,9 @@ from scipy.spatial.transform import Rotation
 
 import tumble as tb
 from tumble import models, theory
+from tumble.errors import CoarseStepWarning, IntegrationError
 from tumble.integrators import drivers
 from tumble.models import EARTH_ROTATION_RATE, gyrocompass
-from tumble.simulation import CoarseStepWarning, IntegrationError
 
 ODE = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-12}
 DISK = tb.shapes.solid_cylinder(1.0, 0.05, 0.02)  # I_s = 1.25e-3, I_AB ≈ 6.58e-4 kg·m²

@@ -582,7 +582,7 @@ def test_auto_chooses_the_splitting_for_rotors_and_the_adaptive_method_for_dampe
         ),
         (
             lambda: tb.torques.AttitudeController([1, 0, 0, 0], 1.0, 1.0, actuator="jets"),
-            r"Expected `actuator` of AttitudeController to be one of 'external', 'rotors', got 'jets'",
+            r"Expected `actuator` of AttitudeController to be one of external, rotors, got 'jets'",
         ),
         (lambda: tb.torques.LinearDamping(0.1, actuator="rotors"), r"unexpected keyword"),
     ],

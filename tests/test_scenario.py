@@ -31,17 +31,17 @@ def edited(old: str, new: str, text: str = GYRO) -> str:
         (
             'radius = "10 cm"',
             'radus = "10 cm"',
-            r"g\.toml, line 20, `body\.radus`: Expected one of `translation`, `rotation`, `shape`, `mass`, `radius`, .*, got the unknown key `radus`\. Did you mean `radius`\?",
+            r"g\.toml, line 20, `body\.radus`: Expected the key to be one of translation, rotation, shape, mass, radius, .*, got 'radus'\. Did you mean radius\?",
         ),
         (
             "[output]",
             "[outputs]",
-            r"line 38, `outputs`: Expected one of `scenario`, `body`, .*, got the unknown key `outputs`\. Did you mean `output`\?",
+            r"line 38, `outputs`: Expected the key to be one of scenario, body, .*, got 'outputs'\. Did you mean output\?",
         ),
         (
             'method = "auto"  ',
             'methd = "auto"  ',
-            r"line 33, `simulation\.methd`: Expected one of `duration`, `dt`, `method`, got the unknown key `methd`\. Did you mean `method`\?",
+            r"line 33, `simulation\.methd`: Expected the key to be one of duration, dt, method, got 'methd'\. Did you mean method\?",
         ),
         # wrong units
         (
@@ -126,7 +126,7 @@ def edited(old: str, new: str, text: str = GYRO) -> str:
         (
             '"solid-cylinder"',
             '"cilinder"',
-            r"line 18, `body\.shape`: Expected `shape` to be one of box, .* got 'cilinder'\. Did you mean 'solid-cylinder'\?",
+            r"line 18, `body\.shape`: Expected `shape` to be one of box, .* got 'cilinder'\. Did you mean solid-cylinder\?",
         ),
         (
             'height = "1 cm"',
@@ -218,7 +218,7 @@ def test_keys_inside_a_part_are_located() -> None:
         parse(text)
     with pytest.raises(
         ScenarioError,
-        match=r"`body\.parts\[0\]\.rotation\.angel`: Expected one of `euler_zxz`, `axis`, `angle`, `quaternion`, got the unknown key `angel`\. Did you mean `angle`\?",
+        match=r"`body\.parts\[0\]\.rotation\.angel`: Expected the key to be one of euler_zxz, axis, angle, quaternion, got 'angel'\. Did you mean angle\?",
     ):
         parse(edited('angle = "180 deg"', 'angel = "180 deg"', builtin_text("heavy-top")))
 
@@ -267,7 +267,7 @@ def test_gyrocompass_refuses_an_initial_state() -> None:
 def test_unknown_names_and_files() -> None:
     with pytest.raises(
         ScenarioError,
-        match=r"Expected a built-in scenario \(gyroscope, .*\) or a \.toml file, got 'gyroskope'\. Did you mean gyroscope\?",
+        match=r"Expected a built-in scenario to be one of gyroscope, .*, or a \.toml file, got 'gyroskope'\. Did you mean gyroscope\?",
     ):
         load("gyroskope")
     with pytest.raises(
@@ -586,7 +586,7 @@ duration = "2 s"
         (
             'type = "damping"',
             'type = "dampng"',
-            r"spun\.toml, line 13, `torques\[0\]\.type`: Expected `type` to be one of gravity, constant-body, constant-space, damping, hold-rotation, rotor-momentum, attitude-control, gravity-gradient, got 'dampng'\. Did you mean 'damping'\?",
+            r"spun\.toml, line 13, `torques\[0\]\.type`: Expected `type` to be one of gravity, constant-body, constant-space, damping, hold-rotation, rotor-momentum, attitude-control, gravity-gradient, got 'dampng'\. Did you mean damping\?",
         ),
         (
             'type = "damping"',
@@ -601,7 +601,7 @@ duration = "2 s"
         (
             'coefficient = "0.001 N*m*s"',
             'coefficient = "0.001 N*m*s"\ntorque = "1, 0, 0 N*m"',
-            r"line 15, `torques\[0\]\.torque`: Expected one of `type`, `coefficient`, got the unknown key `torque`\.",
+            r"line 15, `torques\[0\]\.torque`: Expected the key to be one of type, coefficient, got 'torque'\.",
         ),
         (
             'coefficient = "0.001 N*m*s"',

@@ -18,7 +18,7 @@ import pytest
 
 import tumble as tb
 from test_sweep import SMALL, assert_same_bits, stored, write
-from tumble.simulation import CoarseStepWarning, IntegrationError
+from tumble.errors import CoarseStepWarning, IntegrationError
 from tumble.sweep import dask_backend, run_sweep
 from tumble.sweep.build import parse_sweep
 

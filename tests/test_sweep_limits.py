@@ -125,7 +125,7 @@ def test_a_plan_too_large_to_write_is_refused_before_it_is_built() -> None:
         ("max_store_bytes = inf", r"`limits.max_store_bytes`: Expected a finite number"),
         (
             "max_steps = 5",
-            r"`limits.max_steps`: Expected one of `max_body_steps`, `max_store_bytes`",
+            r"`limits.max_steps`: Expected the key to be one of max_body_steps, max_store_bytes",
         ),
     ],
 )

@@ -14,106 +14,104 @@ proper rotation matrix.
 from __future__ import annotations
 
 import importlib
-from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
-from tumble.errors import (
-    InputError,
-    MeshError,
-    OutputError,
-    OutputInUseError,
-    RequestTooLargeError,
-)
-
 if TYPE_CHECKING:
-    from tumble import analysis, models, shapes, theory, torques, units
-    from tumble.batch import simulate_batch
-    from tumble.kinematics import angular_momentum, kinetic_energy, required_torque
-    from tumble.massprops import MassProperties, point_masses
-    from tumble.mesh import MeshOrientationWarning, MeshRepairWarning, from_mesh
-    from tumble.parts import KaneDamper, Rotor, SpringMassDamper
-    from tumble.simulation import simulate
-    from tumble.trajectory import Trajectory
+    # What type checkers see: every name of _PUBLIC, imported where it is defined
+    # ("X as X" marks it re-exported). tests/test_public.py holds it to the table.
+    from tumble import analysis as analysis
+    from tumble import identification as identification
+    from tumble import models as models
+    from tumble import shapes as shapes
+    from tumble import sweep as sweep
+    from tumble import symbolic as symbolic
+    from tumble import theory as theory
+    from tumble import torques as torques
+    from tumble import units as units
+    from tumble._version import __version__ as __version__
+    from tumble.batch import simulate_batch as simulate_batch
+    from tumble.errors import CoarseStepWarning as CoarseStepWarning
+    from tumble.errors import InputError as InputError
+    from tumble.errors import IntegrationError as IntegrationError
+    from tumble.errors import MeshError as MeshError
+    from tumble.errors import OutputError as OutputError
+    from tumble.errors import OutputInUseError as OutputInUseError
+    from tumble.errors import RequestTooLargeError as RequestTooLargeError
+    from tumble.identification.fit import identify as identify
+    from tumble.kinematics import angular_momentum as angular_momentum
+    from tumble.kinematics import kinetic_energy as kinetic_energy
+    from tumble.kinematics import required_torque as required_torque
+    from tumble.massprops import MassProperties as MassProperties
+    from tumble.massprops import point_masses as point_masses
+    from tumble.mesh import MeshOrientationWarning as MeshOrientationWarning
+    from tumble.mesh import MeshRepairWarning as MeshRepairWarning
+    from tumble.mesh import from_mesh as from_mesh
+    from tumble.parts import KaneDamper as KaneDamper
+    from tumble.parts import Rotor as Rotor
+    from tumble.parts import SpringMassDamper as SpringMassDamper
+    from tumble.simulation import simulate as simulate
+    from tumble.trajectory import Trajectory as Trajectory
 
-try:
-    __version__ = version("tumble")
-except PackageNotFoundError:  # running from a source tree that is not installed
-    __version__ = "0+unknown"
-
-# Public names load on first use, so `import tumble` (and `tumble --help`) does
-# not pay for pint's registry or numba until they are needed.
-_WHERE = {
+#: Every public name of the package and the module that defines it (a public
+#: module maps to itself). ``__all__``, ``dir(tumble)`` and the loader below are
+#: made from it. Names load on first use, so that ``import tumble`` (and
+#: ``tumble --help``) pays for neither numba nor pint's registry until needed.
+_PUBLIC = {
+    "__version__": "tumble._version",
+    # mass properties
     "MassProperties": "tumble.massprops",
     "point_masses": "tumble.massprops",
     "from_mesh": "tumble.mesh",
-    "MeshOrientationWarning": "tumble.mesh",
-    "MeshRepairWarning": "tumble.mesh",
+    # motion
     "angular_momentum": "tumble.kinematics",
     "kinetic_energy": "tumble.kinematics",
     "required_torque": "tumble.kinematics",
     "simulate": "tumble.simulation",
-    "Trajectory": "tumble.trajectory",
     "simulate_batch": "tumble.batch",
+    "Trajectory": "tumble.trajectory",
     "Rotor": "tumble.parts",
     "KaneDamper": "tumble.parts",
     "SpringMassDamper": "tumble.parts",
+    # from measurements
     "identify": "tumble.identification.fit",
-}
-_SUBMODULES = {
-    "analysis",
-    "identification",
-    "models",
-    "shapes",
-    "sweep",
-    "symbolic",
-    "theory",
-    "torques",
-    "units",
+    # errors and warnings
+    "InputError": "tumble.errors",
+    "IntegrationError": "tumble.errors",
+    "MeshError": "tumble.errors",
+    "OutputError": "tumble.errors",
+    "OutputInUseError": "tumble.errors",
+    "RequestTooLargeError": "tumble.errors",
+    "CoarseStepWarning": "tumble.errors",
+    "MeshOrientationWarning": "tumble.mesh",
+    "MeshRepairWarning": "tumble.mesh",
+    # public modules
+    "analysis": "tumble.analysis",
+    "identification": "tumble.identification",
+    "models": "tumble.models",
+    "shapes": "tumble.shapes",
+    "sweep": "tumble.sweep",
+    "symbolic": "tumble.symbolic",
+    "theory": "tumble.theory",
+    "torques": "tumble.torques",
+    "units": "tumble.units",
 }
 
-__all__ = [
-    "InputError",
-    "KaneDamper",
-    "MassProperties",
-    "MeshError",
-    "MeshOrientationWarning",
-    "MeshRepairWarning",
-    "OutputError",
-    "OutputInUseError",
-    "RequestTooLargeError",
-    "Rotor",
-    "SpringMassDamper",
-    "Trajectory",
-    "__version__",
-    "analysis",
-    "angular_momentum",
-    "from_mesh",
-    "identification",
-    "identify",
-    "kinetic_energy",
-    "models",
-    "point_masses",
-    "required_torque",
-    "shapes",
-    "simulate",
-    "simulate_batch",
-    "sweep",
-    "theory",
-    "torques",
-    "units",
-]
+#: Public names that need an optional dependency (sympy): loaded on use like the
+#: others, but left out of ``__all__`` so that ``from tumble import *`` needs none.
+_OPTIONAL = frozenset({"symbolic"})
+
+__all__ = sorted(name for name in _PUBLIC if name not in _OPTIONAL)
 
 
 def __getattr__(name: str) -> Any:
-    if name in _SUBMODULES:
-        value: Any = importlib.import_module(f"tumble.{name}")
-    elif name in _WHERE:
-        value = getattr(importlib.import_module(_WHERE[name]), name)
-    else:
+    where = _PUBLIC.get(name)
+    if where is None:
         raise AttributeError(f"module 'tumble' has no attribute {name!r}")
+    module = importlib.import_module(where)
+    value = module if where == f"tumble.{name}" else getattr(module, name)
     globals()[name] = value
     return value
 
 
 def __dir__() -> list[str]:
-    return sorted(__all__)
+    return sorted(_PUBLIC)

@@ -10,7 +10,7 @@ body's own rate (the inertia less the parts' spin inertia; the whole inertia
 for a body without parts) and its principal frame (the kernels work in it),
 the changes of axes between the user's body axes and that frame, the state of
 the parts, the angular momentum and kinetic energy, the fastest rate a time
-step must resolve, and the quantities its motion conserves (:data:`INVARIANTS`).
+step must resolve, and the quantities its motion conserves (:data:`tumble.invariants.INVARIANTS`).
 
 :class:`BodyBatch` is the same for N free bodies at once (:func:`tumble.simulate_batch`).
 
@@ -31,27 +31,11 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from tumble.errors import InputError
-from tumble.invariants import (
-    FREE_BODY_INVARIANTS,
-    INVARIANTS,
-    Invariant,
-    label,
-    largest_rate,
-    reduce_invariants,
-)
+from tumble.invariants import FREE_BODY_INVARIANTS, largest_rate, reduce_invariants
 from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, principal_decomposition
 from tumble.parts import InternalPart, kernel_layout, pack_parts
 
-__all__ = [
-    "FREE_BODY_INVARIANTS",
-    "INVARIANTS",
-    "ZERO_MOMENT",
-    "BodyBatch",
-    "Invariant",
-    "RigidBody",
-    "label",
-    "reduce_invariants",
-]
+__all__ = ["ZERO_MOMENT", "BodyBatch", "RigidBody"]
 
 Array = NDArray[np.float64]
 
@@ -209,7 +193,8 @@ class RigidBody:
 
     def initial_values(self, omega0: Array) -> Array:
         """(..., m) the parts' values at t = 0 for the body's ω0 (..., 3)
-        (:meth:`tumble.parts.InternalPart.initial_values`)."""
+        (:meth:`tumble.parts.InternalPart.initial_values`); m, here and below, is
+        the sum of the parts' sizes."""
         omega0 = np.asarray(omega0, dtype=float)
         pieces = [part.initial_values(omega0) for part in self.parts]
         return np.concatenate(pieces, axis=-1) if pieces else np.zeros((*omega0.shape[:-1], 0))
@@ -355,11 +340,12 @@ class RigidBody:
         return None
 
     def conserved(self, torques: Any) -> tuple[str, ...]:
-        """The quantities (keys of :data:`INVARIANTS`) the motion of this body conserves
-        under the torque models ``torques`` (those that act on it; see
-        :meth:`tumble.torques.TorqueModel.conserves`): what a torque-free body
-        conserves, less what each model changes. Internal parts keep L (their
-        torques are internal); a motor or a damper changes the energy."""
+        """The quantities (keys of :data:`tumble.invariants.INVARIANTS`) the motion
+        of this body conserves under the torque models ``torques`` (those that act
+        on it; see :meth:`tumble.torques.TorqueModel.conserves`): what a
+        torque-free body conserves, less what each model changes. Internal parts
+        keep L (their torques are internal); a motor or a damper changes the
+        energy."""
         kept = set(FREE_BODY_INVARIANTS)
         if any(part.driven or part.dissipative for part in self.parts):
             kept.discard("energy")
@@ -374,7 +360,7 @@ class RigidBody:
         """An upper estimate of the fastest angular rate a time step must resolve, rad/s.
 
         Torque-free, the largest |ω| the motion reaches (``omega`` in body axes,
-        rad/s): :func:`largest_rate`, exact, where the bound |L| / I1 would
+        rad/s): :func:`tumble.invariants.largest_rate`, exact, where the bound |L| / I1 would
         overstate an elongated body's rate many times. A body on a pivot under a
         weight ``weight`` (N) adds the pendulum rate √(m g l / I1). With
         ``exact_spin`` (integrators whose free flow turns a symmetric body

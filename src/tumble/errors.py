@@ -7,6 +7,7 @@ show what was received, e.g. ``Expected `mass` > 0 kg, got -1.0.``
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 
 __all__ = [
     "QUOTED_LENGTH",
@@ -19,7 +20,9 @@ __all__ = [
     "OutputInUseError",
     "RequestTooLargeError",
     "cut",
+    "nearest",
     "quoted",
+    "unknown_choice",
 ]
 
 #: The most characters of a value a message echoes; the rest is cut (``'...'...``).
@@ -105,3 +108,55 @@ def quoted(value: object, limit: int = QUOTED_LENGTH) -> str:
     if isinstance(value, str):
         return repr(value) if len(value) <= limit else f"{value[:limit]!r}..."
     return cut(repr(value), limit)
+
+
+def nearest(value: object, choices: Iterable[str]) -> str | None:
+    """The choice closest to ``value`` (:func:`difflib.get_close_matches`, with
+    case and ``_`` against ``-`` ignored), or None when none is close."""
+    import difflib
+
+    folded: dict[str, str] = {}
+    for choice in choices:
+        folded.setdefault(_folded(choice), choice)
+    close = difflib.get_close_matches(_folded(str(value)), list(folded), n=1)
+    return folded[close[0]] if close else None
+
+
+def _folded(name: str) -> str:
+    return name.strip().lower().replace("_", "-")
+
+
+def unknown_choice(
+    value: object,
+    choices: Iterable[str],
+    what: str,
+    *,
+    alternative: str = "",
+    hint: str | None = None,
+) -> InputError:
+    """The error for ``value``, which is none of ``choices``: the one message of
+    every lookup by name in tumble,
+    ``Expected WHAT to be one of a, b, c[, or ALTERNATIVE], got 'x'. Did you mean b?``
+
+    Parameters
+    ----------
+    value : what was received; the message shows it with :func:`quoted`.
+    choices : the names accepted, in the order the message lists them.
+    what : what was expected, as the message names it (``"`method`"``, ``"the key"``).
+    alternative : what else is accepted besides the names (``"a .toml file"``).
+    hint : a sentence said instead of the nearest name (None: the nearest, if any).
+
+    Examples
+    --------
+    >>> print(unknown_choice("strnag", ["rk4", "strang"], "`method`"))
+    Expected `method` to be one of rk4, strang, got 'strnag'. Did you mean strang?
+    >>> print(unknown_choice("top", ["gyroscope"], "the scenario", alternative="a .toml file"))
+    Expected the scenario to be one of gyroscope, or a .toml file, got 'top'.
+    """
+    choices = list(choices)
+    if hint is None:
+        close = nearest(value, choices)
+        hint = f"Did you mean {close}?" if close is not None else ""
+    listed = ", ".join(choices) + (f", or {alternative}" if alternative else "")
+    tail = f" {hint}" if hint else ""
+    return InputError(f"Expected {what} to be one of {listed}, got {quoted(value)}.{tail}")

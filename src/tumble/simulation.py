@@ -21,12 +21,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.body import RigidBody
-from tumble.errors import CoarseStepWarning, InputError, IntegrationError, RequestTooLargeError
+from tumble.errors import InputError, RequestTooLargeError
 from tumble.integrators import INTEGRATORS, Integrator, auto_choice, get_integrator
 from tumble.integrators.drivers import (
-    DEFAULT_STEPS_PER_TURN,
     MAX_STEPS,
-    MIN_STEPS_PER_TURN,
     Problem,
     Schedule,
     recorded_samples,
@@ -45,18 +43,7 @@ from tumble.units import to_si, vector_to_si
 
 Array = NDArray[np.float64]
 
-__all__ = [
-    "DEFAULT_STEPS_PER_TURN",
-    "MIN_STEPS_PER_TURN",
-    "PEAK_PER_VALUE",
-    "CoarseStepWarning",
-    "IntegrationError",
-    "Setup",
-    "Trajectory",
-    "check_recording",
-    "prepare",
-    "simulate",
-]
+__all__ = ["PEAK_PER_VALUE", "Setup", "check_recording", "prepare", "simulate"]
 
 
 def simulate(

@@ -3,7 +3,7 @@
 The angular momentum, the energy and the conserved quantities of a trajectory
 come from its body model (:class:`tumble.body.RigidBody`, with the parts it
 carries) and its gravity (:class:`tumble.torques.Gravity`); its drift report
-lists exactly the quantities its motion conserves (:data:`tumble.body.INVARIANTS`).
+lists exactly the quantities its motion conserves (:data:`tumble.invariants.INVARIANTS`).
 """
 
 from __future__ import annotations
@@ -21,9 +21,11 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from tumble.body import INVARIANTS, RigidBody, label
-from tumble.errors import InputError
+from tumble._version import __version__
+from tumble.body import RigidBody
+from tumble.errors import InputError, unknown_choice
 from tumble.files import replaced
+from tumble.invariants import INVARIANTS, label
 from tumble.massprops import MassProperties
 from tumble.parts import InternalPart, from_description, spin_columns, value_columns
 from tumble.torques import Gravity
@@ -57,7 +59,7 @@ class Trajectory:
     steps : integration steps taken (accepted steps for the adaptive method;
         0 for the exact solution).
     conserved : the quantities the motion conserves (keys of
-        :data:`tumble.body.INVARIANTS`), as :func:`tumble.simulate` found them
+        :data:`tumble.invariants.INVARIANTS`), as :func:`tumble.simulate` found them
         from the body and its torques; None: those of the body under its
         gravity alone.
     invariant_values : quantities a model computed itself, by name (n,) (e.g.
@@ -175,14 +177,14 @@ class Trajectory:
     @cached_property
     def conserved_quantities(self) -> tuple[str, ...]:
         """The names of the quantities this motion conserves, in the order of
-        :data:`tumble.body.INVARIANTS`."""
+        :data:`tumble.invariants.INVARIANTS`."""
         names = self.conserved
         if names is None:
             names = self.body.conserved([Gravity(self.gravity)])
         return tuple(dict.fromkeys((*names, *self.invariant_values)))
 
     def invariant(self, name: str) -> Array:
-        """The values over time of a quantity of :data:`tumble.body.INVARIANTS`:
+        """The values over time of a quantity of :data:`tumble.invariants.INVARIANTS`:
         (n,), or (n, 3) for the vector L (space axes)."""
         if name in self.invariant_values:
             return np.asarray(self.invariant_values[name], dtype=float)
@@ -202,9 +204,7 @@ class Trajectory:
             lever = self.body.lever
             axis = lever / max(math.hypot(*lever), np.finfo(float).tiny)
             return np.asarray(self.body_momentum @ axis)
-        raise InputError(
-            f"Expected one of {', '.join(INVARIANTS)} or a model's own quantity, got {name!r}."
-        )
+        raise unknown_choice(name, INVARIANTS, "a quantity", alternative="a model's own quantity")
 
     def relative_change(self, name: str) -> Array:
         """(n,) the change of a conserved quantity from its initial value, relative:
@@ -289,8 +289,6 @@ class Trajectory:
         """
         import pyarrow as pa
         import pyarrow.parquet as pq
-
-        from tumble import __version__
 
         columns = {"t": self.t}
         for k, axis in enumerate("xyz"):

@@ -14,7 +14,8 @@ import numpy as np
 from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 
-from tumble.core.gimbal import FINITE, N_PARAMS, derivatives, rk4_run
+from tumble.core._jit import FINITE
+from tumble.core.gimbal import N_PARAMS, derivatives, rk4_run
 
 
 def run(y0: list[float], params: list[float], dt: float, n_steps: int, record_every: int = 1):

@@ -1,4 +1,4 @@
-"""Measurements on a simulated :class:`~tumble.simulation.Trajectory`.
+"""Measurements on a simulated :class:`~tumble.Trajectory`.
 
 Each function measures one physical quantity from the samples, in a way that
 depends as little as possible on the sampling interval, and says how:

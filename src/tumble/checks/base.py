@@ -10,7 +10,6 @@ the comparison (:class:`Panel`). :data:`THEORY_CHECKS` holds them in the order
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -19,7 +18,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
+from tumble.errors import InputError, unknown_choice
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
@@ -182,10 +181,7 @@ def choose_check(name: str, setup: Setup) -> TheoryCheck | None:
         return next((check for check in THEORY_CHECKS.values() if check.fits(setup)), None)
     check = THEORY_CHECKS.get(name)
     if check is None:
-        names = ["auto", "none", *THEORY_CHECKS]
-        close = difflib.get_close_matches(name, names, n=1)
-        hint = f" Did you mean {close[0]!r}?" if close else ""
-        raise InputError(f"Expected `model` to be one of {', '.join(names)}, got {name!r}.{hint}")
+        raise unknown_choice(name, ["auto", "none", *THEORY_CHECKS], "`model`")
     if not check.fits(setup):
         raise InputError(
             f"Expected {check.needs} for {name!r}, got another setup "

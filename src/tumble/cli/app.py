@@ -38,7 +38,7 @@ class State:
 
 def _version(value: bool) -> None:
     if value:
-        from tumble import __version__
+        from tumble._version import __version__
 
         typer.echo(f"tumble {__version__}")
         raise typer.Exit()

@@ -55,24 +55,17 @@ def show_scenario(
 def _not_builtin(name: str, scenarios: list[str], sweeps: list[str]) -> str:
     """The message for a name ``tumble show`` does not know, with the nearest name,
     or, for a file of the user's, that only built-in files are shown."""
-    import difflib
     from pathlib import Path
 
-    from tumble.errors import quoted
+    from tumble.errors import nearest, unknown_choice
 
     path = Path(name)
     try:
         own_file = path.is_file()
     except OSError:  # a name too long for the system
         own_file = False
-    nearest = difflib.get_close_matches(path.stem, [*scenarios, *sweeps], n=1)
-    if nearest and (path.suffix.lower() == ".toml" or not own_file):
-        hint = f". Did you mean {nearest[0]}?"
-    elif own_file:
-        hint = ", a file of your own: `tumble show` prints the files tumble ships."
-    else:
-        hint = "."
-    return (
-        f"Expected the name of a built-in scenario ({', '.join(scenarios)}) or sweep "
-        f"({', '.join(sweeps)}), got {quoted(name)}{hint}"
-    )
+    names = [*scenarios, *sweeps]
+    hint = None  # the nearest name, if any
+    if own_file and not (path.suffix.lower() == ".toml" and nearest(path.stem, names)):
+        hint = "That is a file of your own: `tumble show` prints the files tumble ships."
+    return str(unknown_choice(name, names, "a built-in scenario or sweep", hint=hint))

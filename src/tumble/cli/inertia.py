@@ -161,7 +161,7 @@ def _build_body(
                 f"Expected {_option(missing[0])} for {shape_name} (it takes {accepted})."
             )
         return shape_name.replace("_", "-"), function(mass, **dimensions)
-    from tumble.errors import quoted
+    from tumble.errors import unknown_choice
     from tumble.mesh.step import STEP_SUFFIXES
 
     path = Path(body)
@@ -180,14 +180,8 @@ def _build_body(
         return str(path), from_mesh(
             path, density=density, mass=mass, units=units, **(mesh_options or {})
         )
-    import difflib
-
-    close = difflib.get_close_matches(shape_name, shapes.__all__, n=1)
-    hint = f" Did you mean {close[0].replace('_', '-')}?" if close else ""
-    raise InputError(
-        f"Expected a shape ({', '.join(s.replace('_', '-') for s in shapes.__all__)}) "
-        f"or a mesh file, got {quoted(body)}.{hint}"
-    )
+    names = [s.replace("_", "-") for s in shapes.__all__]
+    raise unknown_choice(body, names, "a shape", alternative="a mesh file")
 
 
 def _inertia_json(label: str, mp: MassProperties, point: Any) -> dict[str, Any]:

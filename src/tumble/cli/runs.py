@@ -318,7 +318,7 @@ def print_run(result: Any, folder: Path) -> None:
         console.print(table)
     for note in result.notes:  # why nothing was compared, or what a reader should know
         console.print(f"Note: {note}", highlight=False, soft_wrap=True)
-    from tumble.body import label
+    from tumble.invariants import label
 
     parts = [f"{label(key)} {value:.2e}" for key, value in result.drift.items()]
     console.print(

@@ -15,12 +15,11 @@ table: :func:`unknown_key` (a key that is not in the schema) and
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 from tumble.config.locate import key_lines, line_of
-from tumble.errors import QUOTED_LENGTH, InputError, quoted
+from tumble.errors import QUOTED_LENGTH, InputError, quoted, unknown_choice
 
 if TYPE_CHECKING:
     # Imported where used: listing and showing built-in files needs no pydantic.
@@ -48,25 +47,15 @@ class ConfigError(InputError):
 
 
 def unknown_key(key: str, known: Sequence[str]) -> PydanticCustomError:
-    """The error for a key that the schema does not have, suggesting the nearest one.
-
-    Its message is ``Expected one of `a`, `b`, got the unknown key `x`. Did you mean `a`?``;
-    :func:`first_error` adds the key to the path, so the line is the key's own.
+    """The error for a key that the schema does not have, suggesting the nearest one
+    (:func:`tumble.errors.unknown_choice`: ``Expected the key to be one of a, b, got
+    'x'. Did you mean a?``); :func:`first_error` adds the key to the path, so the
+    line is the key's own.
     """
     from pydantic_core import PydanticCustomError
 
-    close = difflib.get_close_matches(key, list(known), n=1)
-    hint = f" Did you mean `{close[0]}`?" if close else ""
-    return PydanticCustomError(
-        "unknown_key",
-        "Expected one of {known}, got the unknown key `{shown}`.{hint}",
-        {
-            "key": key,
-            "shown": key_text(key),
-            "known": ", ".join(f"`{k}`" for k in known),
-            "hint": hint,
-        },
-    )
+    message = str(unknown_choice(key, known, "the key"))
+    return PydanticCustomError("unknown_key", "{message}", {"key": key, "message": message})
 
 
 def key_text(key: str) -> str:

@@ -14,7 +14,6 @@ than Python's TOML parser can follow is one line that gives its depth.
 
 from __future__ import annotations
 
-import difflib
 import os
 import tomllib
 from collections.abc import Callable
@@ -24,7 +23,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from tumble.config.errors import ConfigError, first_error
-from tumble.errors import QUOTED_PATH_LENGTH, quoted
+from tumble.errors import QUOTED_PATH_LENGTH, quoted, unknown_choice
 
 if TYPE_CHECKING:
     from pydantic import BaseModel
@@ -93,20 +92,18 @@ class Builtins:
         ------
         ConfigError (``error``)
             If there is none of that name; the message lists the names and
-            suggests the nearest.
+            suggests the nearest, or says how to run a built-in of the other kind.
         """
         names = self.names()
         if name not in names:
             other = self._other_kind(name)
+            hint = None
             if other is not None:
-                hint = f", a built-in {other.kind}: run it with `{other.runs_with} {name}`."
-            else:
-                close = difflib.get_close_matches(name, names, n=1)
-                hint = "." + (f" Did you mean {close[0]}?" if close else "")
-            raise self.error(
-                f"Expected a built-in {self.kind} ({', '.join(names)}) or a .toml file, "
-                f"got {quoted(name)}{hint}"
+                hint = f"That is a built-in {other.kind}: run it with `{other.runs_with} {name}`."
+            error = unknown_choice(
+                name, names, f"a built-in {self.kind}", alternative="a .toml file", hint=hint
             )
+            raise self.error(str(error))
         return (self.folder() / f"{name}.toml").read_text(encoding="utf-8")
 
     def _other_kind(self, name: str) -> Builtins | None:

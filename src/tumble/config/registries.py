@@ -11,11 +11,10 @@ formats without a change to either schema.
 
 from __future__ import annotations
 
-import difflib
 from typing import Any
 
 from tumble.config.errors import key_error, unknown_key
-from tumble.errors import InputError, quoted
+from tumble.errors import InputError, unknown_choice
 
 __all__ = [
     "actuator_choice",
@@ -29,26 +28,16 @@ __all__ = [
 
 def method_choice(value: Any, *, batch: bool = False) -> str:
     """``value`` if it names a registered integrator (with batch kernels measured
-    as they step, for ``batch``; else also ``"auto"``).
+    as they step, for ``batch``: sweeps; else also ``"auto"``).
 
     Raises
     ------
     InputError
-        Another value; the message lists the choices.
+        Another value (:func:`tumble.integrators.check_method`).
     """
-    from tumble.integrators import INTEGRATORS
+    from tumble.integrators import check_method
 
-    if batch:
-        names = [name for name, entry in INTEGRATORS.items() if entry.metrics is not None]
-    else:
-        names = ["auto", *INTEGRATORS]
-    if value not in names:
-        close = difflib.get_close_matches(str(value), names, n=1)
-        hint = f" Did you mean {close[0]!r}?" if close else ""
-        raise InputError(
-            f"Expected `method` to be one of {', '.join(names)}, got {quoted(value)}.{hint}"
-        )
-    return str(value)
+    return check_method(value, measured=batch)
 
 
 def theory_choice(value: Any) -> str:
@@ -64,11 +53,7 @@ def theory_choice(value: Any) -> str:
 
     names = ["auto", "none", *THEORY_CHECKS]
     if value not in names:
-        close = difflib.get_close_matches(str(value), names, n=1)
-        hint = f" Did you mean {close[0]!r}?" if close else ""
-        raise InputError(
-            f"Expected `model` to be one of {', '.join(names)}, got {quoted(value)}.{hint}"
-        )
+        raise unknown_choice(value, names, "`model`")
     return str(value)
 
 
@@ -83,10 +68,7 @@ def actuator_choice(value: Any) -> str:
     from tumble.torques import ACTUATORS
 
     if value not in ACTUATORS:
-        choices = ", ".join(repr(a) for a in ACTUATORS)
-        raise key_error(
-            "actuator", f"Expected `actuator` to be one of {choices}, got {quoted(value)}."
-        )
+        raise key_error("actuator", str(unknown_choice(value, ACTUATORS, "`actuator`")))
     return str(value)
 
 
@@ -115,11 +97,7 @@ def torque_entry(data: Any) -> Any:
     if kind is None:
         raise key_error("type", f"Expected `type` ({', '.join(names)}), which is missing.")
     if kind not in names:
-        close = difflib.get_close_matches(str(kind), names, n=1)
-        hint = f" Did you mean {close[0]!r}?" if close else ""
-        raise key_error(
-            "type", f"Expected `type` to be one of {', '.join(names)}, got {quoted(kind)}.{hint}"
-        )
+        raise key_error("type", str(unknown_choice(kind, names, "`type`")))
     model = TORQUES[kind]
     known = ["type", *(parameter.name for parameter in model.parameters)]
     if model.drives_rotors:

@@ -209,21 +209,6 @@ def ellipk(m):  # type: ignore[no-untyped-def]
 
 
 @njit
-def _reduced_phase(u, mc, mc_lo):  # type: ignore[no-untyped-def]
-    """``u A`` reduced to ``[-π, π]`` modulo ``2π``, where ``A = AGM(1, √(mc + mc_lo))``.
-
-    ``A = π / (2K)``, so this is ``2π`` times the fractional part of ``u / 4K``.
-    ``A`` is computed in double-double (within 2^-104 relative, measured) and
-    ``u A`` exactly, so the reduced phase carries an error of one rounding plus
-    about ``|u A| 2^-104``, instead of the ``|u A| 2^-53`` of a double product:
-    the second term is below the first unless the phase lies within
-    ``2^-50 |u A|`` of zero, or ``|u|`` exceeds ``2^50 K``.
-    """
-    fh, fl = inverse_period(mc, mc_lo)
-    return _reduce(u, fh, fl)
-
-
-@njit
 def inverse_period(mc, mc_lo):  # type: ignore[no-untyped-def]
     """``1 / 4K = A / 2π`` in double-double, ``A = AGM(1, √(mc + mc_lo))``."""
     ah = 1.0
@@ -256,7 +241,13 @@ def inverse_period(mc, mc_lo):  # type: ignore[no-untyped-def]
 @njit
 def _reduce(u, fh, fl):  # type: ignore[no-untyped-def]
     """``2π`` times the fractional part of ``u (fh + fl)``, with ``fh + fl = 1/4K``
-    in double-double (from :func:`inverse_period`), in ``[-π, π]``."""
+    in double-double (from :func:`inverse_period`), in ``[-π, π]``.
+
+    The product is taken exactly, so the fraction carries an error of one
+    rounding plus about ``|u / 4K| 2^-104`` rather than the ``|u / 4K| 2^-53`` of
+    a double product: the second term is below the first unless the fraction lies
+    within ``2^-50 |u / 4K|`` of zero, or ``|u|`` exceeds ``2^50 K``.
+    """
     scale = 1.0
     if abs(u) > _SPLIT_LIMIT:
         u *= 2.0**-64

@@ -23,7 +23,7 @@ import math
 
 from tumble.core._jit import FINITE, njit
 
-__all__ = ["FINITE", "N_PARAMS", "derivatives", "rk4_run"]
+__all__ = ["N_PARAMS", "derivatives", "rk4_run"]
 
 N_PARAMS = 3
 

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError, quoted
+from tumble.errors import InputError, quoted, unknown_choice
 from tumble.units import pint, vector_to_si
 
 __all__ = [
@@ -112,7 +112,7 @@ def flag(value: Any, name: str) -> bool:
 def check_loss(loss: Any, name: str = "`loss`") -> str:
     """``loss``, one of :data:`LOSSES` (``name``: how the message calls it)."""
     if not isinstance(loss, str) or loss not in LOSSES:
-        raise InputError(f"Expected {name} to be one of {', '.join(LOSSES)}, got {quoted(loss)}.")
+        raise unknown_choice(loss, LOSSES, name)
     return loss
 
 

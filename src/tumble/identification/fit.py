@@ -27,7 +27,6 @@ from scipy.spatial.transform import Rotation
 from tumble.core.freebody import free_omega
 from tumble.errors import InputError
 from tumble.identification.checks import (
-    LOSSES,
     MIN_SAMPLES,
     breaks_free_body,
     check_bias,
@@ -38,13 +37,13 @@ from tumble.identification.checks import (
     samples,
     window_bounds,
 )
-from tumble.identification.decimation import MAX_SAMPLES, averaged
+from tumble.identification.decimation import averaged
 from tumble.identification.flight import free_flight, noise_level
 from tumble.identification.start import linear_start, smoothed
 from tumble.resources import check_memory
 from tumble.theory import flip_period
 
-__all__ = ["LOSSES", "MAX_SAMPLES", "BodyFit", "identify", "principal_rates"]
+__all__ = ["BodyFit", "identify", "principal_rates"]
 
 Array = NDArray[np.float64]
 

@@ -32,7 +32,6 @@ __all__ = [
     "SAMPLE_BYTES",
     "TableLayout",
     "check_samples",
-    "cut",
     "table_columns",
     "table_layout",
 ]

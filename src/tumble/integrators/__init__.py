@@ -29,7 +29,7 @@ from typing import Any, Literal
 from tumble.core import adaptive, freebody, splitting, stepping
 from tumble.core import parts as part_kernels
 from tumble.core.rk4 import rk4_step
-from tumble.errors import InputError
+from tumble.errors import InputError, unknown_choice
 from tumble.integrators import drivers
 from tumble.torques import BoundTorque
 
@@ -39,8 +39,10 @@ __all__ = [
     "any_part",
     "auto_choice",
     "batch_integrators",
+    "check_method",
     "get_integrator",
     "gyrostatic_part",
+    "method_names",
     "register_integrator",
     "splittable_part",
 ]
@@ -225,17 +227,46 @@ def batch_integrators() -> list[str]:
     return [name for name, entry in INTEGRATORS.items() if entry.supports_batch]
 
 
+def method_names(*, batch: bool = False, measured: bool = False) -> list[str]:
+    """The values ``method`` may take: ``"auto"`` and every integrator; for
+    batches (``batch``), the integrators with batch kernels; for batches measured
+    as they step (``measured``: sweeps), those with measuring kernels."""
+    if measured:
+        return [name for name, entry in INTEGRATORS.items() if entry.metrics is not None]
+    if batch:
+        return batch_integrators()
+    return ["auto", *INTEGRATORS]
+
+
+def check_method(name: Any, *, batch: bool = False, measured: bool = False) -> str:
+    """``name`` if ``method`` may take it (:func:`method_names`): the one check of a
+    method's name, for :func:`tumble.simulate`, :func:`tumble.simulate_batch`,
+    scenario files and sweeps.
+
+    Raises
+    ------
+    InputError
+        Another value; the message lists the names and suggests the nearest.
+    """
+    names = method_names(batch=batch, measured=measured)
+    if not isinstance(name, str) or name not in names:
+        raise unknown_choice(name, names, "`method`")
+    return name
+
+
 def get_integrator(name: str, *, batch: bool = False) -> Integrator:
     """The integrator ``name`` (for batches: one with batch kernels).
 
     Raises
     ------
     InputError
-        An unknown name; the message lists the choices.
+        A name :func:`check_method` refuses, or ``"auto"``, which names none.
     """
-    names = batch_integrators() if batch else ["auto", *INTEGRATORS]
-    if name not in names or name == "auto":
-        raise InputError(f"Expected `method` to be one of {', '.join(names)}, got {name!r}.")
+    check_method(name, batch=batch)
+    if name == "auto":
+        raise InputError(
+            "Expected the name of an integrator, got 'auto', which chooses one (auto_choice)."
+        )
     return INTEGRATORS[name]
 
 

@@ -81,8 +81,8 @@ class Problem:
 @dataclass(frozen=True, eq=False)
 class Samples:
     """What a driver returns: ω (n, 3) rad/s and the attitude (n, 4) body → space in
-    body axes, the parts' values (n, state_size) (:attr:`tumble.body.RigidBody.state_size`)
-    and the number of steps taken."""
+    body axes, the parts' values (n, p) (p the sum of the parts'
+    :attr:`~tumble.parts.InternalPart.size`) and the number of steps taken."""
 
     omega: Array
     quaternion: Array

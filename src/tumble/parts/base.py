@@ -11,7 +11,6 @@ trajectory files, the report — reads the registry :data:`PARTS`.
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
@@ -20,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core.parts import PartEquations
-from tumble.errors import InputError, quoted
+from tumble.errors import InputError, unknown_choice
 from tumble.parameters import Parameter
 from tumble.units import to_si
 
@@ -130,11 +129,7 @@ def part_class(kind: Any) -> type[InternalPart]:
         An unknown kind; the message lists the kinds and the closest.
     """
     if not isinstance(kind, str) or kind not in PARTS:
-        close = difflib.get_close_matches(str(kind), list(PARTS), n=1)
-        hint = f" Did you mean {close[0]!r}?" if close else ""
-        raise InputError(
-            f"Expected `type` to be one of {', '.join(PARTS)}, got {quoted(kind)}.{hint}"
-        )
+        raise unknown_choice(kind, PARTS, "`type`")
     return PARTS[kind]
 
 

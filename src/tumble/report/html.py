@@ -16,6 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from tumble._version import __version__
+
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
     from tumble.scenario.execute import RunResult
@@ -95,7 +97,7 @@ def comparisons_html(rows: Sequence[Mapping[str, Any]]) -> str:
 
 def drift_html(drift: Mapping[str, Any]) -> str:
     """The drift of the quantities the motion conserves as an HTML table."""
-    from tumble.body import INVARIANTS, label
+    from tumble.invariants import INVARIANTS, label
 
     if not drift:
         return "<p>Nothing is conserved in this motion (it is driven or damped).</p>"
@@ -130,8 +132,6 @@ _CAPTIONS = {
 
 def report_html(result: RunResult, figures: Mapping[str, bytes], viewer: str | None = None) -> str:
     """The run's report: the scenario, theory vs simulation, drift, figures, the TOML."""
-    from tumble import __version__
-
     spec = result.scenario.spec
     traj = result.trajectory
     info = spec.scenario
@@ -225,7 +225,7 @@ def mass_properties_html(mp: MassProperties) -> str:
 
 def trajectory_html(traj: Trajectory) -> str:
     """A small HTML summary of a trajectory (notebooks)."""
-    from tumble.body import label
+    from tumble.invariants import label
 
     drift = traj.drift
     kind = "free body" if traj.pivot is None else f"pivot at {np.round(traj.pivot, 9).tolist()} m"

@@ -73,7 +73,7 @@ def angular_momentum_sheet(traj: Trajectory) -> Sheet:
 def drift_sheet(traj: Trajectory) -> Sheet:
     """Relative change from their initial values of the quantities the motion
     conserves (:meth:`tumble.Trajectory.relative_change`): the numerical error."""
-    from tumble.body import label
+    from tumble.invariants import label
 
     names = traj.conserved_quantities
     lines = tuple(

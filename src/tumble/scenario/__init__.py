@@ -75,7 +75,8 @@ def parse(
         first problem: key path, line, and what was expected; and how many
         others there are).
     """
-    from tumble.scenario.schema import Scenario, key_path
+    from tumble.scenario.bodies import key_path
+    from tumble.scenario.schema import Scenario
 
     spec = validate_toml(
         Scenario,

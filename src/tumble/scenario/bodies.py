@@ -9,7 +9,6 @@ Quantities are numbers (SI) or strings with units (``"250 g"``,
 
 from __future__ import annotations
 
-import difflib
 from typing import Annotated, Any
 
 import numpy as np
@@ -24,7 +23,7 @@ from pydantic import (
 )
 
 from tumble.config import StrictModel, key_error
-from tumble.errors import InputError, quoted
+from tumble.errors import InputError, unknown_choice
 from tumble.units import to_si, vector_to_si
 
 __all__ = [
@@ -221,13 +220,7 @@ class ShapeBody(_Placed):
     def _dimensions(self) -> ShapeBody:
         name = self.shape.lower().replace("_", "-")
         if name not in SHAPES:
-            close = difflib.get_close_matches(name, list(SHAPES), n=1)
-            hint = f" Did you mean {close[0]!r}?" if close else ""
-            raise key_error(
-                "shape",
-                f"Expected `shape` to be one of {', '.join(SHAPES)}, "
-                f"got {quoted(self.shape)}.{hint}",
-            )
+            raise key_error("shape", str(unknown_choice(self.shape, SHAPES, "`shape`")))
         needed = SHAPES[name]
         every = {n for dims in SHAPES.values() for n in dims}
         given = {n for n in every if getattr(self, n) is not None}

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble._version import __version__
 from tumble.checks import Comparison, Panel, Setup, choose_check
 from tumble.errors import InputError
 from tumble.scenario.build import (
@@ -75,8 +76,6 @@ class RunResult:
 
     def summary(self) -> dict[str, Any]:
         """The JSON-ready summary written to ``summary.json``."""
-        from tumble import __version__
-
         spec = self.scenario.spec
         traj = self.trajectory
         return {

@@ -32,7 +32,6 @@ from tumble.scenario.bodies import (
     LengthVector,
     Time,
     Vector,
-    key_path,
     vector_field,
 )
 from tumble.scenario.internal import InternalSpec
@@ -40,18 +39,14 @@ from tumble.scenario.internal import InternalSpec
 __all__ = [
     "MAX_STEPS",
     "MAX_STEPS_TEXT",
-    "Attitude",
-    "Body",
     "Environment",
     "Gyrocompass",
     "Initial",
-    "InternalSpec",
     "Output",
     "Scenario",
     "Simulation",
     "Theory",
     "Torque",
-    "key_path",
 ]
 
 

@@ -48,7 +48,7 @@ def parse_sweep(text: str, source: str = "<sweep>") -> Plan:
 
     Warns
     -----
-    tumble.simulation.CoarseStepWarning
+    tumble.CoarseStepWarning
         When ``dt`` gives fewer than 20 steps per turn at the fastest spin rate.
     """
     spec = validate_toml(

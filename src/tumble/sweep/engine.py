@@ -209,7 +209,7 @@ def run_sweep(
         An invalid sweep or one beyond its [limits] (refused when it is
         loaded), a folder holding a different sweep (or other files), an
         address where no Dask scheduler answers, bad ``workers``.
-    tumble.simulation.IntegrationError
+    tumble.IntegrationError
         A body's state became NaN or infinite (reduce dt).
     """
     plan = sweep if isinstance(sweep, Plan) else load_sweep(sweep)

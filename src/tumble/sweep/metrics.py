@@ -72,7 +72,7 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
 
     Raises
     ------
-    tumble.simulation.IntegrationError
+    tumble.IntegrationError
         If a body's state became NaN or infinite (the message names the body).
     """
     from tumble.batch import Batch, measure_batch

@@ -29,7 +29,6 @@ key path, what was expected and what was given.
 
 from __future__ import annotations
 
-import difflib
 from functools import partial
 from typing import Annotated, Any, Literal
 
@@ -48,12 +47,11 @@ from tumble.config import (
     ConfigError,
     StrictModel,
     key_error,
-    key_text,
     shown,
     unknown_key,
 )
 from tumble.config.registries import method_choice
-from tumble.errors import InputError, quoted
+from tumble.errors import InputError, quoted, unknown_choice
 from tumble.sweep.plan import (
     PARAMETERS,
     torque_parameters,
@@ -247,13 +245,8 @@ class SweepFile(StrictModel):
             known = list(PARAMETERS)
             for key in data["vary"]:
                 if key not in known:
-                    close = difflib.get_close_matches(str(key), known, n=1)
-                    hint = f" Did you mean `{close[0]}`?" if close else ""
-                    raise key_error(
-                        ("vary", str(key)),
-                        f"Expected a parameter ({', '.join(known)}), got "
-                        f"`{key_text(str(key))}`.{hint}",
-                    )
+                    error = unknown_choice(key, known, "a parameter")
+                    raise key_error(("vary", str(key)), str(error))
         return data
 
 

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble._version import __version__
 from tumble.errors import InputError, OutputError
 from tumble.files import check_output, output_error, write_text
 from tumble.sweep.plan import FORMAT, Plan
@@ -89,8 +90,6 @@ class SweepStore:
             If the folder holds a different sweep, or other files, and
             ``force`` is False; or if it cannot be written.
         """
-        from tumble import __version__
-
         path = Path(folder)
         check_output(path, "the sweep's output folder", folder=True, staged=False)
         identity = plan.identity()
@@ -162,8 +161,6 @@ class SweepStore:
                 f"({', '.join(changed)} differ{'s' if len(changed) == 1 else ''}): run it into "
                 "another folder, or use --force to discard the results there."
             )
-        from tumble import __version__
-
         if old.get("tumble_version") != __version__ and len(self.done()) < self.plan.n_chunks:
             raise InputError(
                 f"Expected results from this version of tumble ({__version__}) to resume, got "
@@ -175,7 +172,6 @@ class SweepStore:
     def _create_arrays(self) -> None:
         import zarr
 
-        from tumble import __version__
         from tumble.sweep.metrics import output_arrays
 
         plan = self.plan

@@ -11,8 +11,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
-from tumble.massprops import MassProperties, as_mass_properties
-from tumble.theory.common import as_times, positive, readonly
+from tumble.massprops import MassProperties, as_mass_properties, readonly
+from tumble.theory.common import as_times, positive
 from tumble.theory.gyrostats import principal_axis
 from tumble.units import to_si
 

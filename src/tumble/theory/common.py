@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
-from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, readonly
+from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties
 from tumble.units import SI_UNITS, to_si, vector_to_si
 
 __all__ = [
@@ -19,7 +19,6 @@ __all__ = [
     "format_values",
     "positive",
     "principal_state",
-    "readonly",
     "rotate_about_z",
 ]
 

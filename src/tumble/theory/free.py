@@ -13,11 +13,15 @@ from numpy.typing import NDArray
 from scipy import special
 
 from tumble.errors import InputError
-from tumble.massprops import REPEATED_MOMENT_TOLERANCE, MassProperties, as_mass_properties
+from tumble.massprops import (
+    REPEATED_MOMENT_TOLERANCE,
+    MassProperties,
+    as_mass_properties,
+    readonly,
+)
 from tumble.theory.common import (
     format_values,
     principal_state,
-    readonly,
 )
 from tumble.units import to_si, vector_to_si
 

@@ -19,8 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
-from tumble.massprops import MassProperties, as_mass_properties
-from tumble.theory.common import as_times, format_values, positive, readonly
+from tumble.massprops import MassProperties, as_mass_properties, readonly
+from tumble.theory.common import as_times, format_values, positive
 from tumble.units import to_si, vector_to_si
 
 __all__ = [

@@ -14,11 +14,11 @@ from tumble.errors import InputError
 from tumble.massprops import (
     MassProperties,
     as_mass_properties,
+    readonly,
 )
 from tumble.theory.common import (
     as_times,
     positive,
-    readonly,
     rotate_about_z,
 )
 from tumble.units import to_si, vector_to_si

@@ -12,8 +12,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.body import FREE_BODY_INVARIANTS
 from tumble.core import torques as kernels
+from tumble.invariants import FREE_BODY_INVARIANTS
 from tumble.torques.model import Parameter, TorqueModel, register_torque
 
 __all__ = [

@@ -8,7 +8,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
+from tumble.errors import InputError, unknown_choice
 from tumble.parameters import Parameter, shown_unit
 
 __all__ = ["ACTUATORS", "TORQUES", "Parameter", "TorqueModel", "TorqueSum", "register_torque"]
@@ -80,10 +80,7 @@ class TorqueModel:
             self.actuator != "external" and not self.drives_rotors
         ):
             allowed = ACTUATORS if self.drives_rotors else ("external",)
-            raise InputError(
-                f"Expected `actuator` of {type(self).__name__} to be one of "
-                f"{', '.join(repr(a) for a in allowed)}, got {self.actuator!r}."
-            )
+            raise unknown_choice(self.actuator, allowed, f"`actuator` of {type(self).__name__}")
 
     # ------------------------------------------------------------ algebra
     @property
@@ -153,7 +150,7 @@ class TorqueModel:
         return np.zeros(len(matrices))
 
     def conserves(self, body: Any) -> frozenset[str]:
-        """Which of :data:`tumble.body.INVARIANTS` the motion of this body keeps
+        """Which of :data:`tumble.invariants.INVARIANTS` the motion of this body keeps
         under this torque (with every other quantity a torque-free body keeps
         that this torque does not change)."""
         return frozenset()
