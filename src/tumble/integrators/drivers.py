@@ -28,8 +28,8 @@ from tumble.errors import (
     IntegrationError,
     RequestTooLargeError,
 )
-from tumble.integrators.exact import exact_principal, gyrostat_solution, lagrange_top
 from tumble.resources import DEFAULT_MAX_STEPS_TEXT
+from tumble.theory.motions import exact_principal, gyrostat_solution, lagrange_top
 from tumble.torques import BoundTorque, Gravity
 from tumble.units import to_si
 

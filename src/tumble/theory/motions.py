@@ -1,11 +1,17 @@
 """Exact motions at any times, without stepping: the torque-free rigid body, the
-torque-free gyrostat and the heavy symmetric (Lagrange) top.
+torque-free gyrostat and the heavy symmetric (Lagrange) top. SI units; ω
+(rad/s) in body axes and the attitude a unit quaternion ``[w, x, y, z]``, body →
+space, except in :func:`exact_principal`, which works in the principal frame.
 
-ω from Jacobi elliptic functions (:func:`tumble.core.freebody.free_omega`); the
-attitude written with z-x-z Euler angles about the fixed L (Landau & Lifshitz,
-*Mechanics* §37): with L along the Z axis of a space frame R_L,
-``A = R_L Rz(φ) Rx(θ) Rz(ψ)``, where ``cos θ = L3/L`` and ``tan ψ = L1/L2``
-follow from ω, and φ is the integral of
+These closed forms are what ``method="exact"`` samples
+(:func:`tumble.integrators.drivers.run_exact`), and what
+:func:`tumble.theory.free_motion` and :func:`tumble.theory.gyroscope` evaluate.
+
+The rigid body's ω follows from Jacobi elliptic functions
+(:func:`tumble.core.freebody.free_omega`) and its attitude is written with
+z-x-z Euler angles about the fixed L (Landau & Lifshitz, *Mechanics* §37): with
+L along the Z axis of a space frame R_L, ``A = R_L Rz(φ) Rx(θ) Rz(ψ)``, where
+``cos θ = L3/L`` and ``tan ψ = L1/L2`` follow from ω, and φ is the integral of
 ``φ̇ = L (I1 ω1² + I2 ω2²)/(I1² ω1² + I2² ω2²)``
 (:func:`tumble.core.freebody.free_precession_angle`).
 """
