@@ -43,7 +43,7 @@ import tumble as tb
 from peers import Top, environment, scipy_top
 from tumble.body import RigidBody
 from tumble.errors import CoarseStepWarning
-from tumble.integrators.exact import lagrange_top
+from tumble.theory.motions import lagrange_top
 
 PERIODS = 100
 SAMPLES_PER_PERIOD = 10

@@ -5,9 +5,13 @@ from __future__ import annotations
 import contextlib
 import io
 import runpy
+import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+
+import tumble_docs  # noqa: E402
 
 
 def test_the_approximation_tables_match_the_script() -> None:
@@ -20,3 +24,15 @@ def test_the_approximation_tables_match_the_script() -> None:
     # 1.2 % at 200 rad/s, and β's error passing 1 % near 20° of swing.
     assert "       200 |   1.22*   1.07*   0.62    0.00    0.61" in page
     assert "       100 |   0.17    0.89    4.10*  18.07*  52.72* 143.71*" in page
+
+
+def test_the_readme_draws_the_layers_as_the_architecture_page_does() -> None:
+    # The architecture page draws the layers from pyproject.toml's contract when
+    # the site is built; the README quotes the same drawing.
+    text, problems = tumble_docs.architecture_layers()
+    assert problems == []
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert f"```text\n{text}\n```" in readme, (
+        "README.md's layers differ from the contract: paste "
+        "tumble_docs.architecture_layers()[0] (docs/_ext) into its Architecture section"
+    )

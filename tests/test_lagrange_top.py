@@ -23,7 +23,7 @@ import tumble as tb
 from reference import attitude_error, reference
 from tumble.body import RigidBody
 from tumble.errors import InputError
-from tumble.integrators.exact import lagrange_top
+from tumble.theory.motions import lagrange_top
 
 G = 9.81
 UP = np.array([0.0, 0.0, 1.0])

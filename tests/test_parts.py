@@ -323,12 +323,12 @@ def test_the_exact_gyrostat_follows_an_independent_integration_near_the_separatr
 )
 def test_the_exact_gyrostats_refuse_another_body(solution, axis, message) -> None:
     from tumble.body import RigidBody
-    from tumble.integrators import exact
+    from tumble.theory import motions
 
     body = RigidBody(tb.MassProperties(20.0, [0, 0, 0], np.diag([2.0, 3.0, 4.0])),
                      parts=(Rotor(axis, 0.1, speed=5.0),))  # fmt: skip
     with pytest.raises(tb.InputError, match=message):
-        getattr(exact, solution)(
+        getattr(motions, solution)(
             body, np.array([0.1, 0.2, 0.3]), np.array([1.0, 0, 0, 0]), np.array([0.0, 1.0])
         )
 

@@ -130,6 +130,33 @@ def test_the_command_line_page_shows_every_command_and_option() -> None:
                     assert option in page, f"tumble {name} {option}"
 
 
+def test_the_architecture_page_describes_every_module_of_the_layers_contract() -> None:
+    # The page's diagram is drawn from pyproject.toml when the site is built; its
+    # descriptions, keyed by module, must cover the contract and nothing else.
+    text, problems = tumble_docs.architecture_layers()
+    assert problems == []
+    _, layers = tumble_docs.contract_layers()
+    labels = [line.split("  ")[0] for line in text.splitlines() if not line.startswith(" ")]
+    assert labels == layers
+    # The closed forms sit below the integrators that sample them.
+    assert labels.index("integrators") < labels.index("torques | theory") < labels.index("body")
+
+
+def test_the_layers_diagram_names_what_the_page_and_the_contract_disagree_on() -> None:
+    layers = ["cli", "theory | analysis", "core"]
+    descriptions = {"cli": "commands", "theory": "closed forms", "core": "kernels", "old": "x"}
+    text, problems = tumble_docs.layers_diagram(layers, descriptions)
+    assert problems == [
+        "The layers contract names tumble.analysis, which the page does not describe: "
+        "add a line `analysis: what it holds`.",
+        "The page describes tumble.old, which the layers contract does not name: remove its "
+        "line or add it to the contract.",
+    ]
+    assert text.splitlines()[1] == "theory | analysis".ljust(28) + "closed forms;"
+    parsed = tumble_docs.layer_descriptions(["cli: typer", "  commands", "", "core: kernels"])
+    assert parsed == {"cli": "typer commands", "core": "kernels"}
+
+
 def test_bars_of_norms_are_escaped_outside_literals_and_math() -> None:
     lines = [
         "|L| and ``x |y|`` and :math:`|z|` and `|w|`",

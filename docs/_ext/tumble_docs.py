@@ -5,6 +5,10 @@ made safe for reStructuredText.
   (pydantic models), the torque, integrator and theory registries and the part
   types, so the list of keys cannot drift from what the parser accepts.
 * ``reference/cli.rst`` is written from the command-line application's own help.
+* The ``import-layers`` directive draws the layers of the import-linter
+  contract in ``pyproject.toml``, top first, so the architecture page follows
+  the contract that ``lint-imports`` checks; a module the contract names and the
+  page does not describe (or the reverse) fails the build.
 * In docstrings, ``|L|`` (a norm) would read as a substitution: bars outside
   literals and math are escaped.
 * MathJax's files are copied from the ``sphinx-mathjax-offline`` wheel into the
@@ -305,6 +309,133 @@ def generate_pages(app: Any) -> None:
     _write_if_changed(reference / "cli.rst", command_line())
 
 
+# ------------------------------------------------------------------ import layers
+#: The project file whose import-linter contracts the architecture page draws.
+PYPROJECT = Path(__file__).resolve().parents[2] / "pyproject.toml"
+
+#: The layers diagram: the column where descriptions start and the width of a line.
+LAYER_COLUMN, LAYER_WIDTH = 28, 100
+
+
+def contract_layers(pyproject: Path = PYPROJECT) -> tuple[str, list[str]]:
+    """The container and the layers, top first, of the one ``layers`` contract in
+    ``pyproject``'s ``[tool.importlinter]`` (each layer as written there, such as
+    ``"scenario | sweep"``)."""
+    import tomllib
+
+    config = tomllib.loads(pyproject.read_text(encoding="utf-8"))
+    contracts = config["tool"]["importlinter"]["contracts"]
+    (contract,) = [c for c in contracts if c.get("type") == "layers"]
+    (container,) = contract["containers"]
+    return container, [str(layer) for layer in contract["layers"]]
+
+
+def layer_modules(layer: str) -> list[str]:
+    """The modules of one layer, as the contract writes it: ``a | b`` (independent)
+    or ``a : b`` (siblings), an optional one in parentheses."""
+    return [name.strip().strip("()").strip() for name in re.split(r"[|:]", layer)]
+
+
+def layer_descriptions(lines: list[str]) -> dict[str, str]:
+    """``module: text`` lines (an indented line continues the one before) as a
+    dictionary from the module to its text."""
+    found: dict[str, str] = {}
+    last = None
+    for line in lines:
+        if not line.strip():
+            continue
+        if line[0].isspace() and last is not None:
+            found[last] += " " + line.strip()
+            continue
+        name, _, text = line.partition(":")
+        last = name.strip()
+        found[last] = text.strip()
+    return found
+
+
+def layers_diagram(
+    layers: list[str], descriptions: dict[str, str], container: str = "tumble"
+) -> tuple[str, list[str]]:
+    """The layers drawn as text, top first: each layer as the contract writes it,
+    then its modules' descriptions joined by ``;``; and the problems, one line
+    each: a module of the contract with no description, or a description of a
+    module the contract does not name."""
+    problems = []
+    named = [module for layer in layers for module in layer_modules(layer)]
+    for module in named:
+        if module not in descriptions:
+            problems.append(
+                f"The layers contract names {container}.{module}, which the page does not "
+                f"describe: add a line `{module}: what it holds`."
+            )
+    for module in descriptions:
+        if module not in named:
+            problems.append(
+                f"The page describes {container}.{module}, which the layers contract does "
+                "not name: remove its line or add it to the contract."
+            )
+    rows = []
+    for layer in layers:
+        label = layer.strip()
+        text = "; ".join(descriptions.get(module, "") for module in layer_modules(layer))
+        indent = " " * LAYER_COLUMN
+        if len(label) + 2 <= LAYER_COLUMN:
+            first = label.ljust(LAYER_COLUMN)
+        else:
+            rows.append(label)
+            first = indent
+        rows += textwrap.wrap(
+            text, LAYER_WIDTH, initial_indent=first, subsequent_indent=indent,
+            break_on_hyphens=False,
+        ) or [first.rstrip()]  # fmt: skip
+    return "\n".join(rows), problems
+
+
+#: The page whose ``import-layers`` directive describes each module.
+ARCHITECTURE = PYPROJECT.parent / "docs" / "explanation" / "architecture.md"
+
+
+def architecture_layers(page: Path = ARCHITECTURE) -> tuple[str, list[str]]:
+    """The layers diagram as the site draws it on the architecture page (from its
+    ``import-layers`` block and the contract), and its problems
+    (:func:`layers_diagram`)."""
+    text = page.read_text(encoding="utf-8")
+    found = re.search(r"^```\{import-layers\}\n(.*?)^```", text, re.MULTILINE | re.DOTALL)
+    if found is None:
+        raise ValueError(f"Expected an import-layers block in {page}, got none.")
+    container, layers = contract_layers()
+    return layers_diagram(layers, layer_descriptions(found.group(1).splitlines()), container)
+
+
+def _import_layers_directive() -> type:
+    """The ``import-layers`` directive (Sphinx is imported only when the site is built)."""
+    from docutils import nodes
+    from sphinx.util import logging
+    from sphinx.util.docutils import SphinxDirective
+
+    logger = logging.getLogger(__name__)
+
+    class ImportLayers(SphinxDirective):
+        """The layers of ``pyproject.toml``'s layers contract as a text block; its
+        content describes each module, ``module: text``."""
+
+        has_content = True
+
+        def run(self) -> list[Any]:
+            self.env.note_dependency(str(PYPROJECT))
+            container, layers = contract_layers()
+            text, problems = layers_diagram(
+                layers, layer_descriptions(list(self.content)), container
+            )
+            for problem in problems:
+                logger.warning(problem, location=self.get_location())
+            block = nodes.literal_block(text, text, language="text")
+            self.set_source_info(block)
+            return [block]
+
+    return ImportLayers
+
+
 # ------------------------------------------------------------------ math offline
 def copy_mathjax(app: Any, error: Exception | None) -> None:
     """Copy MathJax into the built site's ``_static/mathjax`` (``mathjax_path``)."""
@@ -387,4 +518,5 @@ def setup(app: Any) -> dict[str, Any]:
     app.connect("builder-inited", generate_pages)
     app.connect("autodoc-process-docstring", escape_bars)
     app.connect("build-finished", copy_mathjax)
+    app.add_directive("import-layers", _import_layers_directive())
     return {"parallel_read_safe": True, "parallel_write_safe": True}

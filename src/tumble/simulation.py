@@ -90,10 +90,10 @@ def simulate(
         * ``"exact"``: torque-free bodies (free, or on a pivot without gravity):
           the closed-form solution, sampled every ``dt``; no stepping error.
           With parts: rotors without motors on one principal axis of the
-          platform (:func:`tumble.integrators.exact.gyrostat_solution`). Under
+          platform (:func:`tumble.theory.motions.gyrostat_solution`). Under
           gravity: a symmetric top on a pivot (two equal moments about the
           pivot, the pivot and the centre of mass on the symmetry axis), for
-          any ω0 and attitude (:func:`tumble.integrators.exact.lagrange_top`).
+          any ω0 and attitude (:func:`tumble.theory.motions.lagrange_top`).
         * ``"splitting"``: fourth-order symplectic splitting (Yoshida's
           composition of ``"strang"``): exact rotations of the free motion
           composed with torque kicks (:mod:`tumble.core.splitting`); |L| kept

@@ -3,10 +3,11 @@
 One driver per kind of integrator (:data:`tumble.integrators.Kind`), each
 ``run(integrator, problem, schedule, progress) -> Samples`` (body axes): fixed
 steps in chunks between progress reports (:func:`run_stepping`), adaptive steps
-sampled by dense output (:func:`run_adaptive`), or the exact solution sampled
-directly (:func:`run_exact`). A body carrying parts (rotors, dampers) runs on
-the integrator's kernels for parts (:mod:`tumble.core.parts`), whose state
-holds the parts' momenta besides the body's.
+sampled by dense output (:func:`run_adaptive`), or the closed forms of
+:mod:`tumble.theory.motions` sampled directly (:func:`run_exact`). A body
+carrying parts (rotors, dampers) runs on the integrator's kernels for parts
+(:mod:`tumble.core.parts`), whose state holds the parts' momenta besides the
+body's.
 """
 
 from __future__ import annotations
@@ -28,8 +29,8 @@ from tumble.errors import (
     IntegrationError,
     RequestTooLargeError,
 )
-from tumble.integrators.exact import exact_principal, gyrostat_solution, lagrange_top
 from tumble.resources import DEFAULT_MAX_STEPS_TEXT
+from tumble.theory.motions import exact_principal, gyrostat_solution, lagrange_top
 from tumble.torques import BoundTorque, Gravity
 from tumble.units import to_si
 

@@ -20,6 +20,11 @@
 * :func:`attitude_slew` — a slew under quaternion feedback: its natural
   frequency and damping ratio.
 
+The exact motions themselves, ω and the attitude at any time of the
+torque-free rigid body and gyrostat and of the Lagrange top, are in
+:mod:`tumble.theory.motions`: :func:`free_motion` and :func:`gyroscope`
+evaluate them, and ``tumble.simulate(..., method="exact")`` samples them.
+
 Conventions as in the rest of tumble: SI units inside (numbers, pint quantities
 or strings such as ``"3000 rpm"`` at the edge), angular velocity in body
 coordinates unless said otherwise, inertia tensors about the centre of mass in

@@ -379,7 +379,7 @@ class FreeMotion:
         """(ω, q) at time(s) ``t`` (s, a number or an array of any order):
         ω in body axes, rad/s, and the attitude quaternion ``[w, x, y, z]``,
         body → space; shapes (3,), (4,) for a number, (n, 3), (n, 4) for n times."""
-        from tumble.integrators.exact import exact_solution
+        from tumble.theory.motions import exact_solution
 
         scalar = np.ndim(t) == 0
         times = np.atleast_1d(np.asarray(t, dtype=float))

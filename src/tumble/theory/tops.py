@@ -12,7 +12,6 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from tumble.errors import InputError
-from tumble.integrators.exact import LagrangeTop, symmetric_top
 from tumble.kinematics import as_attitude
 from tumble.massprops import (
     PHYSICAL_TOLERANCE,
@@ -24,6 +23,7 @@ from tumble.theory.common import (
     as_times,
     format_values,
 )
+from tumble.theory.motions import LagrangeTop, symmetric_top
 from tumble.units import to_si, vector_to_si
 
 __all__ = ["Gyroscope", "gyroscope"]
@@ -102,7 +102,7 @@ class Gyroscope:
         """The exact motion at times ``t`` (s, a scalar or a 1-D array): ω in body
         axes (rad/s; (3,) or (n, 3)) and the attitude quaternion body → space
         (space z up; (4,) or (n, 4)), O(1) work a sample
-        (:func:`tumble.integrators.exact.lagrange_top`; without a torque about
+        (:func:`tumble.theory.motions.lagrange_top`; without a torque about
         the pivot, the torque-free solution)."""
         times, shape = as_times(t)
         omega, quaternion = self._motion(times)
@@ -334,7 +334,7 @@ def _heavy(
     transverse: float, axial: float, mass_lever: float, g: float, omega: Array, q0: Array,
     theta: float, turning: bool,
 ) -> tuple[Any, tuple[float, float], float, float]:  # fmt: skip
-    """The exact motion under gravity (:func:`tumble.integrators.exact.symmetric_top`),
+    """The exact motion under gravity (:func:`tumble.theory.motions.symmetric_top`),
     the tilt's turning points, the nutation period and the mean precession rate.
     The top's own frame has its axis from the pivot towards the centre of mass:
     body −z when the centre of mass is below the pivot along z."""
@@ -377,7 +377,7 @@ def _free(
     so its tilt from the vertical, at γ from L, swings between |γ − θ_L| and
     γ + θ_L (folded into [0, π]), and its azimuth about the vertical advances
     on average only when the cone encloses the vertical."""
-    from tumble.integrators.exact import exact_principal
+    from tumble.theory.motions import exact_principal
 
     moments = np.array([transverse, transverse, axial])
     order = np.argsort(moments, kind="stable")

@@ -1,11 +1,17 @@
 """Exact motions at any times, without stepping: the torque-free rigid body, the
-torque-free gyrostat and the heavy symmetric (Lagrange) top.
+torque-free gyrostat and the heavy symmetric (Lagrange) top. SI units; ω
+(rad/s) in body axes and the attitude a unit quaternion ``[w, x, y, z]``, body →
+space, except in :func:`exact_principal`, which works in the principal frame.
 
-ω from Jacobi elliptic functions (:func:`tumble.core.freebody.free_omega`); the
-attitude written with z-x-z Euler angles about the fixed L (Landau & Lifshitz,
-*Mechanics* §37): with L along the Z axis of a space frame R_L,
-``A = R_L Rz(φ) Rx(θ) Rz(ψ)``, where ``cos θ = L3/L`` and ``tan ψ = L1/L2``
-follow from ω, and φ is the integral of
+These closed forms are what ``method="exact"`` samples
+(:func:`tumble.integrators.drivers.run_exact`), and what
+:func:`tumble.theory.free_motion` and :func:`tumble.theory.gyroscope` evaluate.
+
+The rigid body's ω follows from Jacobi elliptic functions
+(:func:`tumble.core.freebody.free_omega`) and its attitude is written with
+z-x-z Euler angles about the fixed L (Landau & Lifshitz, *Mechanics* §37): with
+L along the Z axis of a space frame R_L, ``A = R_L Rz(φ) Rx(θ) Rz(ψ)``, where
+``cos θ = L3/L`` and ``tan ψ = L1/L2`` follow from ω, and φ is the integral of
 ``φ̇ = L (I1 ω1² + I2 ω2²)/(I1² ω1² + I2² ω2²)``
 (:func:`tumble.core.freebody.free_precession_angle`).
 """
@@ -22,7 +28,6 @@ from scipy.spatial.transform import Rotation
 from tumble.body import ZERO_MOMENT, RigidBody
 from tumble.errors import InputError, IntegrationError
 from tumble.massprops import MassProperties
-from tumble.parts import Rotor
 
 __all__ = [
     "MAX_PHASE",
@@ -166,15 +171,13 @@ def symmetric_gyrostat(
 
 
 def _axial_momentum(body: RigidBody, omega0: Array, axis: Array) -> float:
-    """The rotors' absolute momentum J (a·ω + Ω) along the unit ``axis`` (body
-    axes; kg·m²/s, each with the sign of a·axis), constant without motors."""
+    """The parts' own momentum along the unit ``axis`` (body axes; kg·m²/s): for
+    rotors, each J (a·ω + Ω) with the sign of a·axis, constant without motors
+    (every part is gyrostatic: the caller's gyrostat axis says so)."""
     omega0 = np.asarray(omega0, dtype=float)
-    values0 = body.initial_values(omega0)
     h = 0.0
-    for k, part in enumerate(body.parts):
-        assert isinstance(part, Rotor)  # the caller's gyrostat axis says so
-        own = float(part.momenta(omega0, values0[k : k + 1])[0])
-        h += own * float(part.axis @ axis)
+    for part, values in zip(body.parts, body.split_values(None, omega0), strict=True):
+        h += float(part.momentum(omega0, values) @ axis)
     return h
 
 
