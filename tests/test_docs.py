@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import contextlib
 import io
+import re
 import runpy
+import subprocess
 import sys
 from pathlib import Path
 
@@ -36,3 +38,20 @@ def test_the_readme_draws_the_layers_as_the_architecture_page_does() -> None:
         "README.md's layers differ from the contract: paste "
         "tumble_docs.architecture_layers()[0] (docs/_ext) into its Architecture section"
     )
+
+
+def test_the_architecture_page_recipes_run(tmp_path: Path) -> None:
+    # The page's extension recipes (a torque model, an integrator, a part kind),
+    # run in a fresh process: their registrations stay out of this one. Each
+    # block prints what it shows; the part kind's wheel takes energy away.
+    page = (ROOT / "docs" / "explanation" / "architecture.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"```python\n(.*?)```", page, flags=re.S)
+    assert len(blocks) == 3
+    script = tmp_path / "recipes.py"
+    script.write_text("\n\n".join(blocks), encoding="utf-8")
+    done = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    first, last = (float(x) for x in done.stdout.strip().splitlines()[-1].split())
+    assert last < first
