@@ -5,8 +5,10 @@ Each model is one class, registered under the name scenario files give it
 tumble needs, so that nothing else names a torque: its parameters (units,
 shapes, limits, per-body sweep names), the fields it packs for its compiled
 function in :mod:`tumble.core.torques` (one shared signature), what it
-depends on, whether it is conservative (and its potential), whether batches
-may give it one value per body, and which quantities the motion keeps under it.
+depends on, whether it is conservative and its potential energy (which
+:attr:`tumble.Trajectory.energy` adds), whether it is uniform gravity (a heavy
+top's closed form), whether batches may give it one value per body, and which
+quantities the motion keeps under it.
 
 * :class:`Gravity` — uniform gravity acting at the centre of mass; a torque only
   about a pivot (a free body's centre of mass feels none).
@@ -62,6 +64,7 @@ from tumble.torques.model import (
     Parameter,
     TorqueModel,
     TorqueSum,
+    from_description,
     register_torque,
 )
 from tumble.torques.user import UserTorque
@@ -83,5 +86,6 @@ __all__ = [
     "TorqueSum",
     "UserTorque",
     "bind",
+    "from_description",
     "register_torque",
 ]
