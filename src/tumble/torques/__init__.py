@@ -42,7 +42,15 @@ with ``t`` the time (s), ``omega`` (3,) the angular velocity in body axes
 (rad/s), ``quaternion`` (4,) the attitude ``[w, x, y, z]`` (body → space),
 ``params`` the float64 array given to :class:`UserTorque`, and ``out`` (3,) a
 zeroed array to fill with the torque on the body in body axes (N·m). It must
-not keep references to its arguments (they are scratch buffers).
+not keep references to its arguments (they are scratch buffers). A conservative
+torque also gives its potential energy, compiled with numba too::
+
+    @numba.njit
+    def potential(t, quaternion, params):
+        ...
+        return energy  # J
+
+passed as ``UserTorque(torque, params, potential=potential)``.
 """
 
 from __future__ import annotations
