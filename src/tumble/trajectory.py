@@ -409,7 +409,7 @@ class Trajectory:
         described = meta.get("torques")
         if described is None:
             described = [{"type": "gravity", "acceleration": meta["gravity"]}]
-        models = [m for m in (torque_from_description(entry) for entry in described) if m]
+        models = [m for m in map(torque_from_description, described) if m is not None]
         potential = data.get("potential_energy")
         return cls(
             t=data["t"],
