@@ -38,8 +38,9 @@ for name, entry in INTEGRATORS.items():
 #
 # ``method="auto"`` (the default) takes the exact solution when the body is
 # torque-free or a symmetric top under uniform gravity, the fourth-order splitting
-# when the torque is otherwise conservative (gravity about a pivot), and the
-# adaptive method otherwise. ``Trajectory.reason`` says which and why:
+# when the torque is otherwise conservative (gravity about a pivot, a user torque
+# with its potential energy), and the adaptive method otherwise.
+# ``Trajectory.reason`` says which and why:
 
 book = tb.shapes.box("1 kg", "30, 20, 10 cm")  # moments I_x < I_y < I_z
 disk = tb.shapes.thin_disk("1 kg", "10 cm")

@@ -54,11 +54,14 @@ print(top)
 # The columns are ``t`` (s), ``omega_x``, ``omega_y``, ``omega_z`` (rad/s, body
 # axes) and the attitude quaternion ``q_w``, ``q_x``, ``q_y``, ``q_z`` (body →
 # space, scalar first); a body carrying rotors or dampers adds a column for each of
-# their values. The file's key-value metadata ``tumble`` holds the body, the pivot,
-# gravity, the method and what the motion conserves, as JSON:
+# their values, and torques with a potential energy (gravity about a pivot) add
+# ``potential_energy`` (J). The file's key-value metadata ``tumble`` holds the
+# body, the pivot, the torque models (``torques``: each one's ``type`` and SI
+# values; ``gravity`` is their total uniform gravity), the method and what the
+# motion conserves, as JSON:
 
 meta = json.loads(pq.read_schema(path).metadata[b"tumble"])
-print({key: meta[key] for key in ("mass", "pivot", "gravity", "method", "dt", "conserved")})
+print({key: meta[key] for key in ("mass", "pivot", "torques", "method", "dt", "conserved")})
 
 # %%
 # ``tb.Trajectory.read_parquet`` reads the file back into a whole

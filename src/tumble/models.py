@@ -379,7 +379,6 @@ def gyrocompass(
         quaternion=quaternion,
         mass_properties=mp,
         pivot=np.array(mp.center_of_mass, dtype=float),
-        gravity=np.zeros(3),
         method="rk4",
         reason="gyrocompass model",
         dt=step,

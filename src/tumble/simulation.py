@@ -242,12 +242,12 @@ def simulate(
         quaternion=samples.quaternion,
         mass_properties=mp,
         pivot=None if pivot is None else body.reference_point,
-        gravity=g,
         method=integrator.name,
         reason=reason,
         dt=schedule.step,
         steps=samples.steps,
         conserved=body.conserved(bound.terms),
+        torque=setup.model,
         internal=body.parts,
         internal_values=samples.values,
     )
@@ -300,8 +300,9 @@ def check_recording(
 @dataclass(frozen=True, eq=False)
 class Setup:
     """What :func:`simulate` integrates and how, before any step: the body model,
-    the torque bound to it, the integrator and why, the initial state (body axes)
-    and the total gravity (m/s², space axes)."""
+    the torque bound to it, the integrator and why, the initial state (body axes),
+    the total uniform gravity (m/s², space axes) and the torque model as given
+    (``gravity`` included), which the trajectory keeps for its energy."""
 
     body: RigidBody
     torque: BoundTorque
@@ -310,6 +311,7 @@ class Setup:
     omega0: Array
     attitude0: Array
     gravity: Array
+    model: TorqueModel | None = None
 
     def fastest_rate(self) -> float:
         """The fastest rate a step must resolve, rad/s (:meth:`RigidBody.fastest_rate`)."""
@@ -359,7 +361,7 @@ def prepare(
         weight_field = Gravity(vector_to_si(gravity, "acceleration", "gravity"))
         model = weight_field if torque is None else weight_field + torque
     terms = () if model is None else model.terms
-    gravities = [term for term in terms if isinstance(term, Gravity)]
+    gravities = [g for g in (term.uniform_gravity() for term in terms) if g is not None]
     if pivot is not None and gravity is None and not gravities:
         raise InputError(
             "Expected `gravity` with `pivot`, got none (a pivot without gravity is a free "
@@ -387,5 +389,5 @@ def prepare(
             f" (its kicks hold the torque, which depends on ω here: {chosen.name} is first "
             "order in it)"
         )
-    total = sum((np.asarray(term.acceleration) for term in gravities), np.zeros(3))
-    return Setup(body, bound, chosen, reason, omega, q0, total)
+    total = sum(gravities, np.zeros(3))
+    return Setup(body, bound, chosen, reason, omega, q0, total, model)

@@ -2,8 +2,10 @@
 
 The angular momentum, the energy and the conserved quantities of a trajectory
 come from its body model (:class:`tumble.body.RigidBody`, with the parts it
-carries) and its gravity (:class:`tumble.torques.Gravity`); its drift report
-lists exactly the quantities its motion conserves (:data:`tumble.invariants.INVARIANTS`).
+carries) and its torque models (:mod:`tumble.torques`): each model that declares
+a potential energy (gravity about a pivot, a user torque with a potential) adds
+it to the energy. Its drift report lists exactly the quantities its motion
+conserves (:data:`tumble.invariants.INVARIANTS`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,8 @@ from tumble.files import replaced
 from tumble.invariants import INVARIANTS, label
 from tumble.massprops import MassProperties
 from tumble.parts import InternalPart, from_description, spin_columns, value_columns
-from tumble.torques import Gravity
+from tumble.torques import TorqueModel
+from tumble.torques import from_description as torque_from_description
 
 __all__ = ["Trajectory"]
 
@@ -52,7 +55,6 @@ class Trajectory:
     quaternion : (n, 4) unit quaternions ``[w, x, y, z]``, body → space.
     mass_properties : the body.
     pivot : None (free body) or the fixed body point, m.
-    gravity : (3,) gravitational acceleration in space coordinates, m/s².
     method : the integrator that ran; ``reason``: why it was chosen.
     dt : the integration step used (fixed-step methods) or the sampling
         interval (exact, adaptive), s.
@@ -60,8 +62,8 @@ class Trajectory:
         0 for the exact solution).
     conserved : the quantities the motion conserves (keys of
         :data:`tumble.invariants.INVARIANTS`), as :func:`tumble.simulate` found them
-        from the body and its torques; None: those of the body under its
-        gravity alone.
+        from the body and its torques; None: those of the body under the
+        models of ``torque`` that act on it.
     invariant_values : quantities a model computed itself, by name (n,) (e.g.
         the gyrocompass's ``jacobi_integral``); they count as conserved.
     internal : the parts the body carries (:mod:`tumble.parts`), in order; the
@@ -69,6 +71,12 @@ class Trajectory:
     internal_values : (n, k) their values over time, in the order of ``internal``:
         a rotor's spin rate relative to the body (rad/s), a damper sphere's
         angular velocity (rad/s, body axes, three columns).
+    torque : the torque models the body was under (:mod:`tumble.torques`), gravity
+        included, or None: their potentials enter :attr:`energy`, their uniform
+        gravity is :attr:`gravity`.
+    potential : None, or (n,) the potential energy at each sample, J, as recorded
+        (a trajectory file's ``potential_energy`` column, which holds the
+        potential of a user's function too); None: computed from ``torque``.
 
     Examples
     --------
@@ -96,7 +104,6 @@ class Trajectory:
     quaternion: Array
     mass_properties: MassProperties
     pivot: Array | None
-    gravity: Array
     method: str
     reason: str
     dt: float
@@ -105,6 +112,8 @@ class Trajectory:
     invariant_values: Mapping[str, Array] = field(default_factory=dict)
     internal: tuple[InternalPart, ...] = ()
     internal_values: Array | None = None
+    torque: TorqueModel | None = None
+    potential: Array | None = None
 
     def __post_init__(self) -> None:
         if self.internal_values is None:
@@ -119,6 +128,7 @@ class Trajectory:
             quaternion=self.quaternion[index],
             invariant_values={k: np.asarray(v)[index] for k, v in self.invariant_values.items()},
             internal_values=self._part_values[index],
+            potential=None if self.potential is None else np.asarray(self.potential)[index],
         )
 
     @property
@@ -165,13 +175,39 @@ class Trajectory:
         return self.body.angular_momentum(self.omega, self._part_values)
 
     @cached_property
+    def gravity(self) -> Array:
+        """(3,) the uniform gravitational acceleration the body was under, m/s², space
+        axes: the sum of what the models of ``torque`` declare
+        (:meth:`tumble.torques.TorqueModel.uniform_gravity`); zeros without."""
+        found = None if self.torque is None else self.torque.uniform_gravity()
+        return np.zeros(3) if found is None else np.asarray(found, dtype=float)
+
+    @cached_property
+    def potential_energy(self) -> Array:
+        """(n,) potential energy, J: the sum of the potentials U(t, q) of the torque
+        models that declare one (:meth:`tumble.torques.TorqueModel.potential_energy`:
+        gravity about the pivot, −m g · r; a user torque's ``potential``), or as
+        recorded in the file read; zeros when none does."""
+        if self.potential is not None:
+            return np.asarray(self.potential, dtype=float)
+        found = self._potential_of_models()
+        return np.zeros(len(self.t)) if found is None else found
+
+    def _potential_of_models(self) -> Array | None:
+        """The potential of the torque models at the samples, J, or None when none
+        declares one."""
+        if self.torque is None:
+            return None
+        found = self.torque.potential_energy(self.body, self.t, self.quaternion)
+        return None if found is None else np.asarray(found, dtype=float)
+
+    @cached_property
     def energy(self) -> Array:
         """(n,) total energy, J: rotational kinetic energy (about the centre of mass,
-        or about the pivot; the parts' included), plus the potential energy of
-        gravity about the pivot."""
+        or about the pivot; the parts' included), plus the potential energy of the
+        torque models (:attr:`potential_energy`)."""
         kinetic = self.body.kinetic_energy(self.omega, self._part_values)
-        potential = Gravity(self.gravity).potential_energy(self.body, self._matrices)
-        return np.asarray(kinetic + potential)
+        return np.asarray(kinetic + self.potential_energy)
 
     # ------------------------------------------------------------ invariants
     @cached_property
@@ -180,7 +216,8 @@ class Trajectory:
         :data:`tumble.invariants.INVARIANTS`."""
         names = self.conserved
         if names is None:
-            names = self.body.conserved([Gravity(self.gravity)])
+            terms = () if self.torque is None else self.torque.terms
+            names = self.body.conserved([term for term in terms if term.acts_on(self.body)])
         return tuple(dict.fromkeys((*names, *self.invariant_values)))
 
     def invariant(self, name: str) -> Array:
@@ -268,10 +305,13 @@ class Trajectory:
         """Write the samples and the run's description to a Parquet file.
 
         Columns ``t, omega_x, omega_y, omega_z, q_w, q_x, q_y, q_z`` (SI, body
-        axes, scalar-first body → space), and one column per quantity a model
-        computed itself; the body, pivot, gravity, method, step and conserved
-        quantities go in the file's metadata. Written to a temporary name and
-        renamed, so the file is never half-written.
+        axes, scalar-first body → space), the parts' values, ``potential_energy``
+        (J) when a torque model declares a potential, and one column per quantity
+        a model computed itself; the body, pivot, torque models (``torques``: each
+        one's ``type`` and SI values; a user torque by its functions' names),
+        their total uniform gravity, method, step and conserved quantities go in
+        the file's metadata. Written to a temporary name and renamed, so the file
+        is never half-written.
 
         Examples
         --------
@@ -297,6 +337,11 @@ class Trajectory:
             columns[f"q_{part}"] = self.quaternion[:, k]
         for name, values in zip(value_columns(self.internal), self._part_values.T, strict=True):
             columns[name] = values
+        potential = self.potential
+        if potential is None:
+            potential = self._potential_of_models()
+        if potential is not None:
+            columns["potential_energy"] = np.asarray(potential, dtype=float)
         for name, values in self.invariant_values.items():
             columns[f"invariant_{name}"] = np.asarray(values, dtype=float)
         mp = self.mass_properties
@@ -306,6 +351,9 @@ class Trajectory:
             "center_of_mass": mp.center_of_mass.tolist(),
             "inertia": mp.inertia.tolist(),
             "pivot": None if self.pivot is None else self.pivot.tolist(),
+            "torques": [] if self.torque is None else [t.describe() for t in self.torque.terms],
+            # The total of the models' uniform gravity: what files before
+            # `torques` held, kept for their readers.
             "gravity": self.gravity.tolist(),
             "method": self.method,
             "reason": self.reason,
@@ -321,7 +369,12 @@ class Trajectory:
 
     @classmethod
     def read_parquet(cls, path: str | os.PathLike[str]) -> Trajectory:
-        """Read a file written by :meth:`to_parquet`."""
+        """Read a file written by :meth:`to_parquet`.
+
+        The torque models that files may name come back as models; a user's
+        function cannot be stored, so a :class:`tumble.torques.UserTorque` does
+        not, but its potential energy does (the ``potential_energy`` column),
+        and so do the energy and the drift."""
         import pyarrow.parquet as pq
 
         try:
@@ -346,13 +399,18 @@ class Trajectory:
         conserved = meta.get("conserved")
         internal = tuple(from_description(entry) for entry in meta.get("internal", []))
         names = value_columns(internal)
+        # Files written before `torques` name only their gravity.
+        described = meta.get("torques")
+        if described is None:
+            described = [{"type": "gravity", "acceleration": meta["gravity"]}]
+        models = [m for m in map(torque_from_description, described) if m is not None]
+        potential = data.get("potential_energy")
         return cls(
             t=data["t"],
             omega=np.column_stack([data[f"omega_{a}"] for a in "xyz"]),
             quaternion=np.column_stack([data[f"q_{p}"] for p in "wxyz"]),
             mass_properties=MassProperties(meta["mass"], meta["center_of_mass"], meta["inertia"]),
             pivot=None if meta["pivot"] is None else np.asarray(meta["pivot"], dtype=float),
-            gravity=np.asarray(meta["gravity"], dtype=float),
             method=meta["method"],
             reason=meta["reason"],
             dt=float(meta["dt"]),
@@ -361,6 +419,8 @@ class Trajectory:
             invariant_values=own,
             internal=internal,
             internal_values=np.column_stack([data[name] for name in names]) if names else None,
+            torque=sum(models[1:], models[0]) if models else None,
+            potential=None if potential is None else np.asarray(potential, dtype=float),
         )
 
     # ------------------------------------------------------------ notebooks

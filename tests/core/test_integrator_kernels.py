@@ -1,5 +1,6 @@
-"""The splitting and adaptive kernels and the user-torque callback on small cases
-(also run with NUMBA_DISABLE_JIT=1, so the kernels run as Python)."""
+"""The splitting and adaptive kernels, the user-torque callback and the loop over a
+user's potential on small cases (also run with NUMBA_DISABLE_JIT=1, so the kernels
+run as Python)."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from tumble.core.rk4 import rk4_step
 from tumble.core.splitting import YOSHIDA_INNER, YOSHIDA_OUTER
 from tumble.core.torques import (
     combine,
+    compile_user_potential,
     compile_user_torque,
     constant_body_torque,
     linear_damping,
@@ -165,3 +167,22 @@ def test_the_user_torque_turns_a_body_torque_into_the_principal_frame() -> None:
     )  # fmt: skip
     assert status == FINITE
     assert_allclose(w2, w, atol=1e-13)
+
+
+@numba.njit
+def tilt_energy(t, quaternion, params):
+    # U = k (1 − cos θ) for a rotation by θ about any axis (cos(θ/2) = w), plus a
+    # term in t, J.
+    w = quaternion[0]
+    return params[0] * (1.0 - (2.0 * w * w - 1.0)) + params[1] * t
+
+
+def test_the_potential_loop_evaluates_the_users_function_at_each_sample() -> None:
+    angles = np.array([0.0, math.pi / 3, math.pi / 2, math.pi])
+    quaternions = np.column_stack(
+        [np.cos(angles / 2), np.sin(angles / 2), np.zeros(4), np.zeros(4)]
+    )
+    times = np.array([0.0, 1.0, 2.0, 3.0])
+    out = np.full(4, np.nan)
+    compile_user_potential(tilt_energy)(times, quaternions, np.array([2.0, 0.5]), out)
+    assert_allclose(out, 2.0 * (1.0 - np.cos(angles)) + 0.5 * times, rtol=1e-15, atol=1e-15)

@@ -152,6 +152,28 @@ def _python_callback(function):  # type: ignore[no-untyped-def]
     return callback
 
 
+def compile_user_potential(potential):  # type: ignore[no-untyped-def]
+    """A compiled loop ``energies(t, quaternion, params, out)`` that fills ``out``
+    (n,) with a user's potential energy, J, at each sample.
+
+    ``potential(t, quaternion, params) -> float`` is compiled with
+    ``numba.njit``; ``t`` (n,) s, ``quaternion`` (n, 4) C-contiguous unit
+    quaternions ``[w, x, y, z]`` (body → space, the user's body axes) and
+    ``params`` (k,) are passed through, one row of ``quaternion`` per call, so
+    a trajectory's energy costs one compiled pass rather than a Python call per
+    sample.
+    """
+
+    def energies(t, quaternion, params, out):  # type: ignore[no-untyped-def]
+        for i in range(t.size):
+            out[i] = potential(t[i], quaternion[i], params)
+
+    if numba.config.DISABLE_JIT:  # type: ignore[attr-defined]
+        return energies
+    # Not cached on disk: the closure holds the user's function, compiled per process.
+    return numba.njit(cache=False, nogil=True, error_model="numpy")(energies)
+
+
 @njit(inline="always")
 def user_torque(t, w, q, params, row, column, context):  # type: ignore[no-untyped-def]
     """A user's torque function, called through its callback.

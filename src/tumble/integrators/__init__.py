@@ -296,9 +296,9 @@ def _exact_when(torque: BoundTorque) -> str | None:
 
 
 def _only_gravity(torque: BoundTorque) -> bool:
-    from tumble.torques import Gravity
-
-    return bool(torque.terms) and all(isinstance(term, Gravity) for term in torque.terms)
+    """True when every term is uniform gravity
+    (:meth:`tumble.torques.TorqueModel.uniform_gravity`)."""
+    return bool(torque.terms) and all(term.uniform_gravity() is not None for term in torque.terms)
 
 
 def _exact_applies(body: Any, torque: BoundTorque) -> str | None:

@@ -31,7 +31,7 @@ from tumble.errors import (
 )
 from tumble.resources import DEFAULT_MAX_STEPS_TEXT
 from tumble.theory.motions import exact_principal, gyrostat_solution, lagrange_top
-from tumble.torques import BoundTorque, Gravity
+from tumble.torques import BoundTorque
 from tumble.units import to_si
 
 __all__ = [
@@ -358,11 +358,9 @@ def run_exact(integrator: Any, problem: Problem, schedule: Schedule, progress: P
     """
     body = problem.body
     if not problem.torque.torque_free:
-        terms = problem.torque.terms
-        gravity = sum(
-            (np.asarray(term.acceleration) for term in terms if isinstance(term, Gravity)),
-            np.zeros(3),
-        )
+        # Every term is uniform gravity here (the registry's rule for the closed form).
+        accelerations = (term.uniform_gravity() for term in problem.torque.terms)
+        gravity = sum((g for g in accelerations if g is not None), np.zeros(3))
         top = lagrange_top(body, gravity, problem.omega0, problem.attitude0)
         samples = Samples(*top.at(schedule.times), np.zeros((schedule.times.size, 0)), 0)
     elif body.parts:

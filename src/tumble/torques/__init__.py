@@ -5,8 +5,10 @@ Each model is one class, registered under the name scenario files give it
 tumble needs, so that nothing else names a torque: its parameters (units,
 shapes, limits, per-body sweep names), the fields it packs for its compiled
 function in :mod:`tumble.core.torques` (one shared signature), what it
-depends on, whether it is conservative (and its potential), whether batches
-may give it one value per body, and which quantities the motion keeps under it.
+depends on, whether it is conservative and its potential energy (which
+:attr:`tumble.Trajectory.energy` adds), whether it is uniform gravity (a heavy
+top's closed form), whether batches may give it one value per body, and which
+quantities the motion keeps under it.
 
 * :class:`Gravity` — uniform gravity acting at the centre of mass; a torque only
   about a pivot (a free body's centre of mass feels none).
@@ -40,7 +42,15 @@ with ``t`` the time (s), ``omega`` (3,) the angular velocity in body axes
 (rad/s), ``quaternion`` (4,) the attitude ``[w, x, y, z]`` (body → space),
 ``params`` the float64 array given to :class:`UserTorque`, and ``out`` (3,) a
 zeroed array to fill with the torque on the body in body axes (N·m). It must
-not keep references to its arguments (they are scratch buffers).
+not keep references to its arguments (they are scratch buffers). A conservative
+torque also gives its potential energy, compiled with numba too::
+
+    @numba.njit
+    def potential(t, quaternion, params):
+        ...
+        return energy  # J
+
+passed as ``UserTorque(torque, params, potential=potential)``.
 """
 
 from __future__ import annotations
@@ -62,6 +72,7 @@ from tumble.torques.model import (
     Parameter,
     TorqueModel,
     TorqueSum,
+    from_description,
     register_torque,
 )
 from tumble.torques.user import UserTorque
@@ -83,5 +94,6 @@ __all__ = [
     "TorqueSum",
     "UserTorque",
     "bind",
+    "from_description",
     "register_torque",
 ]

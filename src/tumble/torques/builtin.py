@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
 
 from tumble.core import torques as kernels
 from tumble.invariants import FREE_BODY_INVARIANTS
@@ -76,13 +77,20 @@ class Gravity(TorqueModel):
         weight = body.mass_properties.mass * np.asarray(self.acceleration)
         return np.concatenate([body.to_principal(body.lever), weight])
 
-    def potential_energy(self, body: Any, matrices: Array) -> Array:
-        """``−m g · (A r)``, r from the pivot to the centre of mass (J; zero for a
-        free body, whose energy is about its centre of mass)."""
+    def potential_energy(self, body: Any, t: Array, quaternion: Array) -> Array:
+        """``U = −m g · (A r)``, J, (n,): r the lever from the pivot to the centre of
+        mass (body axes, m), A the attitude's rotation matrix (body → space), g
+        the acceleration (space axes, m/s²); zero for a free body, whose energy is
+        taken about its centre of mass. Independent of the time ``t``."""
         if getattr(body, "pivot", None) is None:
-            return np.zeros(len(matrices))
+            return np.zeros(len(quaternion))
+        matrices = Rotation.from_quat(quaternion, scalar_first=True).as_matrix()
         height = np.einsum("nij,j->ni", matrices, body.lever)
         return np.asarray(-body.mass_properties.mass * (height @ np.asarray(self.acceleration)))
+
+    def uniform_gravity(self) -> Array:
+        """The acceleration g (3,), m/s², space axes."""
+        return np.asarray(self.acceleration, dtype=float)
 
     def conserves(self, body: Any) -> frozenset[str]:
         if not self.acts_on(body):

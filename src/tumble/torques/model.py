@@ -11,7 +11,15 @@ from numpy.typing import NDArray
 from tumble.errors import InputError, unknown_choice
 from tumble.parameters import Parameter, shown_unit
 
-__all__ = ["ACTUATORS", "TORQUES", "Parameter", "TorqueModel", "TorqueSum", "register_torque"]
+__all__ = [
+    "ACTUATORS",
+    "TORQUES",
+    "Parameter",
+    "TorqueModel",
+    "TorqueSum",
+    "from_description",
+    "register_torque",
+]
 
 Array = NDArray[np.float64]
 
@@ -36,8 +44,13 @@ class TorqueModel:
 
     A model class sets the class attributes below and implements :meth:`pack`
     (and, as needed, :meth:`acts_on`, :meth:`potential_energy`,
-    :meth:`conserves`, :meth:`context`). Its parameters are dataclass fields of
-    the same names, converted to SI on construction.
+    :meth:`conserves`, :meth:`context`, :meth:`uniform_gravity`). Its parameters
+    are dataclass fields of the same names, converted to SI on construction.
+
+    A conservative model declares its potential energy U(t, q) with
+    :meth:`potential_energy`: :attr:`tumble.Trajectory.energy` adds the
+    potentials of every model of a run to the kinetic energy, and the drift
+    report lists the energy when each model's :meth:`conserves` keeps it.
     """
 
     #: Its ``type`` in scenario files ("" for a sum).
@@ -56,7 +69,9 @@ class TorqueModel:
     #: states steps ω alone (with RK4) and gives its function a q that does not
     #: turn.
     depends_on: ClassVar[frozenset[str]] = frozenset()
-    #: True when it derives from a potential (:meth:`potential_energy`).
+    #: True when it derives from a potential that does not depend on time
+    #: (:meth:`potential_energy`), and does not depend on ω: ``"auto"`` then takes
+    #: the symplectic splitting.
     conservative: ClassVar[bool] = False
     #: True when scenario files may use it (its parameters are numbers).
     in_files: ClassVar[bool] = True
@@ -103,6 +118,17 @@ class TorqueModel:
         """The parameter values by name, SI."""
         return {p.name: getattr(self, p.name) for p in self.parameters}
 
+    def describe(self) -> dict[str, Any]:
+        """The model as JSON-ready SI values with its ``type`` (and its ``actuator``
+        when not external), to write beside a trajectory; :func:`from_description`
+        builds it back when its class is registered and may be written in files."""
+        entry: dict[str, Any] = {"type": self.name or type(self).__name__}
+        for name, value in self.values().items():
+            entry[name] = None if value is None else np.asarray(value, dtype=float).tolist()
+        if self.drives_rotors:
+            entry["actuator"] = self.actuator
+        return entry
+
     @property
     def per_body(self) -> int | None:
         """The number of bodies its per-body values are for, or None."""
@@ -144,10 +170,20 @@ class TorqueModel:
         """Non-numeric data the compiled function needs (see :class:`UserTorque`), or None."""
         return None
 
-    def potential_energy(self, body: Any, matrices: Array) -> Array:
-        """Potential energy (J) at the attitudes (n, 3, 3) (body → space), for a
-        conservative model."""
-        return np.zeros(len(matrices))
+    def potential_energy(self, body: Any, t: Array, quaternion: Array) -> Array | None:
+        """The potential energy U(t, q) from which the torque derives, J, (n,), on
+        ``body`` (:class:`tumble.body.RigidBody`) at the times ``t`` (n,), s, and
+        attitudes ``quaternion`` (n, 4), unit ``[w, x, y, z]`` rotating the body's
+        own coordinates into space coordinates; None (the default) when the
+        model declares no potential."""
+        return None
+
+    def uniform_gravity(self) -> Array | None:
+        """The acceleration (3,), m/s², space axes, when this model is uniform
+        gravity acting at the centre of mass (then a symmetric top on a pivot
+        under it alone has a closed form, and its upward vertical is −g), else
+        None (the default)."""
+        return None
 
     def conserves(self, body: Any) -> frozenset[str]:
         """Which of :data:`tumble.invariants.INVARIANTS` the motion of this body keeps
@@ -206,5 +242,34 @@ class TorqueSum(TorqueModel):
     def per_body(self) -> int | None:
         return next((term.per_body for term in self.models if term.per_body is not None), None)
 
+    def potential_energy(self, body: Any, t: Array, quaternion: Array) -> Array | None:
+        """The sum of the potentials of the terms that act on ``body`` and declare
+        one (J, (n,)); None when none does."""
+        total = None
+        for term in self.models:
+            if term.acts_on(body):
+                energy = term.potential_energy(body, t, quaternion)
+                if energy is not None:
+                    total = energy if total is None else total + energy
+        return None if total is None else np.asarray(total, dtype=float)
+
+    def uniform_gravity(self) -> Array | None:
+        """The sum of the terms' uniform gravity (m/s², space axes), or None when
+        no term is uniform gravity."""
+        found = [g for g in (term.uniform_gravity() for term in self.models) if g is not None]
+        return np.sum(found, axis=0) if found else None
+
     def __repr__(self) -> str:
         return " + ".join(repr(term) for term in self.models) if self.models else "no torque"
+
+
+def from_description(entry: dict[str, Any]) -> TorqueModel | None:
+    """A torque model from :meth:`TorqueModel.describe`'s dictionary (a trajectory
+    file's metadata), or None when its type is not a registered model that files
+    may name (a :class:`tumble.torques.UserTorque`, whose function a file cannot
+    hold)."""
+    values = dict(entry)
+    cls = TORQUES.get(str(values.pop("type", "")))
+    if cls is None or not cls.in_files:
+        return None
+    return cls(**values)
