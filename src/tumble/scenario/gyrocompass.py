@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from tumble.checks import THEORY_CHECKS, Curve, Panel, Setup
+from tumble.checks import THEORY_CHECKS, Case, Curve, Panel
 from tumble.scenario.build import at_key
 from tumble.scenario.sampling import decimate, kept
 
@@ -64,9 +64,9 @@ def run_gyrocompass(
         traj = decimate(run.trajectory, spec.output.samples)
         angle = np.asarray(run.angle)[index]
         runs[label] = traj
-        setup = Setup(mp, traj.omega[0], traj.quaternion[0], options=options)
+        case = Case(mp, traj.omega[0], traj.quaternion[0], options=options)
         name = f"θ0 = {math.degrees(amplitude):.0f}°"
-        for row in check.compare(setup, traj).rows:
+        for row in check.compare(case, traj).rows:
             row["quantity"] = f"{name}: {row['quantity']}"
             row["run"] = label
             rows.append(row)
