@@ -30,14 +30,14 @@ from tumble.scenario.build import (
     mass_properties,
     torque_model,
 )
-from tumble.scenario.files import ScenarioError, where
 from tumble.scenario.gyrocompass import run_gyrocompass
+from tumble.scenario.loaded import ScenarioError, where
 from tumble.scenario.sampling import decimate, record_every
 from tumble.scenario.schema import MAX_STEPS, MAX_STEPS_TEXT
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
-    from tumble.scenario.files import LoadedScenario
+    from tumble.scenario.loaded import LoadedScenario
     from tumble.trajectory import Trajectory
 
 __all__ = ["RunResult", "execute"]

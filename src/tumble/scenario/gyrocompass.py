@@ -19,7 +19,7 @@ from tumble.scenario.sampling import decimate, kept
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
-    from tumble.scenario.files import LoadedScenario
+    from tumble.scenario.loaded import LoadedScenario
     from tumble.trajectory import Trajectory
 
 __all__ = ["run_gyrocompass"]
