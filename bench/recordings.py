@@ -72,7 +72,7 @@ def main() -> None:
     args = parser.parse_args()
     print(describe({}))
     from tumble.identification import synthetic_phone
-    from tumble.identification.files import phyphox_csv
+    from tumble.identification.recordings import phyphox_csv
 
     phone = synthetic_phone(0, rate=args.rate)
     with tempfile.TemporaryDirectory(prefix="tumble-recordings-") as place:

@@ -16,7 +16,7 @@ from typer.testing import CliRunner
 
 from tumble.cli import app
 from tumble.identification import synthetic_phone
-from tumble.identification.files import example_recording_path, read_recording
+from tumble.identification.recordings import example_recording_path, read_recording
 
 runner = CliRunner()
 
@@ -360,7 +360,7 @@ def test_rates_too_small_for_any_body_are_refused(
 ) -> None:
     # The shipped recording with a header that says rad/s of rates in radians
     # twice over (np.radians applied to rad/s): refused, one line.
-    from tumble.identification.files import phyphox_csv
+    from tumble.identification.recordings import phyphox_csv
 
     t, omega = samples
     path = tmp_path / "twice.csv"
@@ -396,7 +396,7 @@ def test_a_recording_beyond_the_memory_budget_is_one_line(
 
 def test_a_recording_sampled_far_too_fast_is_averaged_and_says_so(tmp_path: Path) -> None:
     # The phone at 20 kHz: 74000 samples, averaged 4 at a time. Oracle: the truth.
-    from tumble.identification.files import phyphox_csv
+    from tumble.identification.recordings import phyphox_csv
 
     phone = synthetic_phone(0, rate=20_000.0)
     path = tmp_path / "fast.csv"

@@ -64,7 +64,7 @@ from tumble import InputError, MeshError
 from tumble.mesh import mesh_mass_properties, step
 from tumble.scenario import ScenarioError
 from tumble.scenario.bodies import Attitude
-from tumble.scenario.files import BUILTINS as SCENARIOS
+from tumble.scenario.loaded import BUILTINS as SCENARIOS
 from tumble.sweep import load_sweep
 from tumble.sweep.build import parse_sweep
 from tumble.sweep.engine import BUILTINS as SWEEPS

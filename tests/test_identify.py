@@ -373,7 +373,7 @@ def test_rates_too_small_for_any_body_are_refused() -> None:
     # or a header that says rad/s of rates in deg/s): they break |dω/dt| ≤ |ω|²/√3,
     # and a torque-free body fits them only with a fast spin hidden in a bias of
     # 7.4 rad/s, 35 times the rates' median: refused, naming the likely units.
-    from tumble.identification.files import example_recording_path, read_recording
+    from tumble.identification.recordings import example_recording_path, read_recording
 
     recording = read_recording(example_recording_path())
     with pytest.raises(

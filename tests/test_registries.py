@@ -26,10 +26,10 @@ from reference import attitude_error, reference
 from tumble import scenario
 from tumble.checks import (
     THEORY_CHECKS,
+    Case,
     Comparison,
     Curve,
     Panel,
-    Setup,
     TheoryCheck,
     choose_check,
     comparison_row,
@@ -405,11 +405,11 @@ class EnergyCheck(TheoryCheck):
     name = "test-energy"
     needs = "a free body"
 
-    def fits(self, setup: Setup) -> bool:
-        return setup.free
+    def fits(self, case: Case) -> bool:
+        return case.free
 
-    def compare(self, setup: Setup, trajectory: tb.Trajectory) -> Comparison:
-        expected = float(tb.kinetic_energy(setup.mass_properties, setup.omega0))
+    def compare(self, case: Case, trajectory: tb.Trajectory) -> Comparison:
+        expected = float(tb.kinetic_energy(case.mass_properties, case.omega0))
         measured = float(np.mean(trajectory.energy))
         curve = Curve("energy", trajectory.t, trajectory.energy)
         return Comparison(
@@ -436,8 +436,8 @@ def test_a_theory_check_added_here_is_named_by_scenario_files(energy_check: Theo
     assert row["quantity"] == "kinetic energy" and row["relative_error"] < 1e-13
     assert [panel.name for panel in result.panels] == ["energy"]
     with pytest.raises(tb.InputError, match=r"Expected a free body for 'test-energy', got another"):
-        choose_check("test-energy", Setup(TUMBLER, OMEGA0, Q0, torque=FORCING))
+        choose_check("test-energy", Case(TUMBLER, OMEGA0, Q0, torque=FORCING))
     with pytest.raises(
         tb.InputError, match=r"Expected `model` to be one of auto, none, .*, got 'energy'\."
     ):
-        choose_check("energy", Setup(TUMBLER, OMEGA0, Q0))
+        choose_check("energy", Case(TUMBLER, OMEGA0, Q0))

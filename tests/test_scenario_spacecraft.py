@@ -409,9 +409,9 @@ def test_the_cli_prints_one_line_and_exits_2_for_a_bad_part(tmp_path, old, new, 
 def test_a_spacecraft_check_refuses_a_setup_it_does_not_describe(name: str) -> None:
     # A bare box tumbling freely: no rotor, no damper, no orbit, no controller.
     box = tb.MassProperties(20.0, [0, 0, 0], np.diag([2.0, 3.0, 4.0]))
-    setup = tb.checks.Setup(box, np.array([0.1, 0.2, 0.3]), np.array([1.0, 0, 0, 0]))
-    trajectory = tb.simulate(box, setup.omega0, duration=1.0, dt=0.1)
+    case = tb.checks.Case(box, np.array([0.1, 0.2, 0.3]), np.array([1.0, 0, 0, 0]))
+    trajectory = tb.simulate(box, case.omega0, duration=1.0, dt=0.1)
     check = tb.checks.THEORY_CHECKS[name]
-    assert not check.fits(setup)
+    assert not check.fits(case)
     with pytest.raises(tb.InputError, match=rf"^Expected {check.needs}, got another setup\.$"):
-        check.compare(setup, trajectory)
+        check.compare(case, trajectory)

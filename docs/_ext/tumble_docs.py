@@ -185,7 +185,7 @@ def scenario_keys() -> str:
         ("[simulation]", schema.Simulation),
         ("[theory]", schema.Theory),
         ("[output]", schema.Output),
-        ("[gyrocompass]", schema.Gyrocompass),
+        ("[gyrocompass]", schema.GyrocompassSettings),
     ):
         lines += _table(f"``{key}``", model)
     lines += ["The methods of ``[simulation] method``:", ""]

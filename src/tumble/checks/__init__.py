@@ -7,7 +7,7 @@
   ``free-symmetric-top`` and ``flip-period`` (:mod:`~tumble.checks.free`),
   ``gyrocompass`` (:mod:`~tumble.checks.gyrocompass`).
 * :func:`choose_check` — the check a scenario's ``[theory] model`` names, or
-  the first that fits its setup.
+  the first that fits its case.
 * :func:`compare`, :func:`comparison_row`, :func:`comparison_table` — closed-form
   results next to the same quantities measured on a trajectory.
 
@@ -20,10 +20,10 @@ from __future__ import annotations
 from tumble.checks.attitude import LibrationCheck, SlewCheck
 from tumble.checks.base import (
     THEORY_CHECKS,
+    Case,
     Comparison,
     Curve,
     Panel,
-    Setup,
     TheoryCheck,
     choose_check,
     compare,
@@ -37,7 +37,7 @@ from tumble.checks.gyrostats import DualSpinCheck, EnergySinkCheck
 from tumble.checks.rotors import RotorLoadsCheck
 from tumble.checks.tops import GyroscopeCheck
 
-# In the order `auto` tries them: the most specific setups first.
+# In the order `auto` tries them: the most specific cases first.
 for _check in (
     DualSpinCheck(),
     EnergySinkCheck(),
@@ -53,10 +53,10 @@ for _check in (
 
 __all__ = [
     "THEORY_CHECKS",
+    "Case",
     "Comparison",
     "Curve",
     "Panel",
-    "Setup",
     "TheoryCheck",
     "choose_check",
     "compare",

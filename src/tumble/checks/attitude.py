@@ -12,7 +12,7 @@ from scipy.spatial.transform import Rotation
 
 from tumble import analysis, theory
 from tumble.analysis.common import turning_points
-from tumble.checks.base import Comparison, Curve, Panel, Setup, TheoryCheck, comparison_row
+from tumble.checks.base import Case, Comparison, Curve, Panel, TheoryCheck, comparison_row
 from tumble.errors import InputError
 from tumble.torques import AttitudeController, GravityGradient
 
@@ -29,12 +29,12 @@ NEAR_EQUILIBRIUM = 0.35
 PRINCIPAL_CONE = 1e-6
 
 
-def _only(setup: Setup, kind: type) -> Any:
-    """The one torque model of type ``kind`` of a setup with no other, no pivot
+def _only(case: Case, kind: type) -> Any:
+    """The one torque model of type ``kind`` of a case with no other, no pivot
     and no damper; None otherwise."""
-    torques = setup.torques
-    dampers = setup.parts_of("kane-damper")
-    if len(torques) != 1 or not isinstance(torques[0], kind) or setup.pivot is not None:
+    torques = case.torques
+    dampers = case.parts_of("kane-damper")
+    if len(torques) != 1 or not isinstance(torques[0], kind) or case.pivot is not None:
         return None
     return None if dampers else torques[0]
 
@@ -57,22 +57,22 @@ class LibrationCheck(TheoryCheck):
     name = "libration"
     needs = "a free rigid body under the gravity-gradient torque alone, near its equilibrium"
 
-    def _equilibrium(self, setup: Setup) -> tuple[GravityGradient, Array, Array] | None:
-        model = _only(setup, GravityGradient)
-        if model is None or not setup.rigid:
+    def _equilibrium(self, case: Case) -> tuple[GravityGradient, Array, Array] | None:
+        model = _only(case, GravityGradient)
+        if model is None or not case.rigid:
             return None
         e1, _ = model.plane()
         normal = np.array(model.orbit_normal, dtype=float)  # a writable copy, for scipy
-        start = Rotation.from_quat(setup.attitude0, scalar_first=True)
-        axes = setup.mass_properties.principal()[1]
+        start = Rotation.from_quat(case.attitude0, scalar_first=True)
+        axes = case.mass_properties.principal()[1]
         radial, off_radial = _closest_axis(axes, start.inv().apply(e1))
         up, off_normal = _closest_axis(axes, start.inv().apply(normal))
         if max(off_radial, off_normal) > NEAR_EQUILIBRIUM or abs(radial @ up) > 0.5:
             return None
         return model, radial, up
 
-    def fits(self, setup: Setup) -> bool:
-        return self._equilibrium(setup) is not None
+    def fits(self, case: Case) -> bool:
+        return self._equilibrium(case) is not None
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         """The frequency of the pitch angle (about the orbit normal from the
@@ -87,13 +87,13 @@ class LibrationCheck(TheoryCheck):
         )
         return [comparison_row("pitch libration frequency", expected, measured, "rad/s")]
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
-        found = self._equilibrium(setup)
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
+        found = self._equilibrium(case)
         if found is None:
             raise InputError(f"Expected {self.needs}, got another setup.")
         model, radial, normal = found
         rate = float(model.orbit_rate)
-        result = theory.gravity_gradient_libration(setup.mass_properties, rate, radial, normal)
+        result = theory.gravity_gradient_libration(case.mass_properties, rate, radial, normal)
         deviation = analysis.orbit_deviation(
             trajectory, rate, radial, normal, model.radial0, model.orbit_normal
         )
@@ -101,7 +101,7 @@ class LibrationCheck(TheoryCheck):
         rows: list[dict[str, Any]] = []
         pitch = deviation[:, 2]
         swings = np.ptp(pitch) > 1e-9 and result.pitch_stable
-        spin = float(setup.omega0 @ normal) - rate  # pitch rate in the orbiting frame
+        spin = float(case.omega0 @ normal) - rate  # pitch rate in the orbiting frame
         turns_over = False
         if swings:
             amplitude = result.pitch_amplitude(float(pitch[0]), spin)
@@ -148,21 +148,21 @@ class SlewCheck(TheoryCheck):
     name = "slew"
     needs = "a free body under an attitude controller alone, its error about a principal axis"
 
-    def _slew(self, setup: Setup) -> tuple[AttitudeController, Array, float] | None:
-        control = _only(setup, AttitudeController)
+    def _slew(self, case: Case) -> tuple[AttitudeController, Array, float] | None:
+        control = _only(case, AttitudeController)
         if control is None:
             return None
         target = Rotation.from_quat(control.target, scalar_first=True)
-        start = Rotation.from_quat(setup.attitude0, scalar_first=True)
+        start = Rotation.from_quat(case.attitude0, scalar_first=True)
         turn = (target.inv() * start).as_rotvec()
         angle = float(np.linalg.norm(turn))
         if angle == 0:
             return None
-        axis, off = _closest_axis(setup.mass_properties.principal()[1], turn)
+        axis, off = _closest_axis(case.mass_properties.principal()[1], turn)
         return (control, axis, angle) if off < PRINCIPAL_CONE else None
 
-    def fits(self, setup: Setup) -> bool:
-        return self._slew(setup) is not None
+    def fits(self, case: Case) -> bool:
+        return self._slew(case) is not None
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         """The exponential rate at which the pointing error (``options``: ``target``,
@@ -178,13 +178,13 @@ class SlewCheck(TheoryCheck):
             comparison_row("decay rate of the pointing error", result.decay_rate, measured, "1/s")
         ]
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
-        found = self._slew(setup)
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
+        found = self._slew(case)
         if found is None:
             raise InputError(f"Expected {self.needs}, got another setup.")
         control, axis, angle = found
         result = theory.attitude_slew(
-            setup.mass_properties, control.stiffness, control.damping, axis
+            case.mass_properties, control.stiffness, control.damping, axis
         )
         rows: list[dict[str, Any]] = []
         with contextlib.suppress(InputError):  # the run ends before the error's last decades

@@ -1,7 +1,8 @@
 """The registry of theory checks, and what a check takes and gives.
 
 A theory check is one closed form of :mod:`tumble.theory` that a simulation can
-be compared with: it says which setups it fits (:meth:`TheoryCheck.fits`),
+be compared with: it says which cases it fits (:meth:`TheoryCheck.fits`: a
+:class:`Case` is the body, its initial state, supports, torques and parts),
 which quantities it compares (the closed form next to the same quantity
 measured on the trajectory by :mod:`tumble.analysis`) and which curves show
 the comparison (:class:`Panel`). :data:`THEORY_CHECKS` holds them in the order
@@ -27,10 +28,10 @@ if TYPE_CHECKING:
 
 __all__ = [
     "THEORY_CHECKS",
+    "Case",
     "Comparison",
     "Curve",
     "Panel",
-    "Setup",
     "TheoryCheck",
     "choose_check",
     "compare",
@@ -70,8 +71,9 @@ class Panel:
 
 
 @dataclass(frozen=True, eq=False)
-class Setup:
-    """What a check needs to know of a simulation.
+class Case:
+    """What a check needs to know of a simulation: the body, its initial state, its
+    pivot and gravity, its torques and parts (not how it is integrated).
 
     Attributes
     ----------
@@ -138,18 +140,18 @@ class TheoryCheck:
 
     #: Its name in ``[theory] model``.
     name: ClassVar[str] = ""
-    #: The setup it needs, for messages.
+    #: The case it needs, for messages.
     needs: ClassVar[str] = ""
     #: The type of the :mod:`tumble.theory` result :func:`compare` hands to
     #: :meth:`rows`; () when :meth:`rows` needs more than ``axis`` and ``vertical``.
     result_type: ClassVar[Any] = ()
 
-    def fits(self, setup: Setup) -> bool:
-        """True when the closed form describes this setup."""
+    def fits(self, case: Case) -> bool:
+        """True when the closed form describes this case."""
         raise NotImplementedError
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
-        """The comparison of a trajectory of this setup with the closed form."""
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
+        """The comparison of a trajectory of this case with the closed form."""
         raise NotImplementedError
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
@@ -167,22 +169,22 @@ def register_check(check: TheoryCheck) -> TheoryCheck:
     return check
 
 
-def choose_check(name: str, setup: Setup) -> TheoryCheck | None:
+def choose_check(name: str, case: Case) -> TheoryCheck | None:
     """The check named ``name`` ("none": None; "auto": the first that fits, or None).
 
     Raises
     ------
     InputError
-        An unknown name, or a check that does not fit the setup.
+        An unknown name, or a check that does not fit the case.
     """
     if name == "none":
         return None
     if name == "auto":
-        return next((check for check in THEORY_CHECKS.values() if check.fits(setup)), None)
+        return next((check for check in THEORY_CHECKS.values() if check.fits(case)), None)
     check = THEORY_CHECKS.get(name)
     if check is None:
         raise unknown_choice(name, ["auto", "none", *THEORY_CHECKS], "`model`")
-    if not check.fits(setup):
+    if not check.fits(case):
         raise InputError(
             f"Expected {check.needs} for {name!r}, got another setup "
             '(use model = "auto" or "none").'
@@ -298,20 +300,20 @@ def axis_angles(trajectory: Trajectory, axis: Array, vertical: Array) -> tuple[A
 STEADY_TOLERANCE = 1e-12
 
 
-def steady_state(setup: Setup) -> str | None:
+def steady_state(case: Case) -> str | None:
     """Why a free rigid body's motion is steady, as a note for the report: at
     rest, or spinning about a principal axis (I ω parallel to ω); None otherwise.
 
     Euler's equations give ω̇ = 0 exactly there: the closed forms describe a
     motion that does not change, and no rate or period can be measured."""
-    omega = np.asarray(setup.omega0, dtype=float)
+    omega = np.asarray(case.omega0, dtype=float)
     scale = float(np.max(np.abs(omega)))
     if scale == 0:
         return (
             "no theory comparison: the body is at rest (ω = 0), where the free-body solution "
             "stays at rest; nothing to compare."
         )
-    moments, axes = setup.mass_properties.principal()
+    moments, axes = case.mass_properties.principal()
     along = axes.T @ (omega / scale)  # ω in principal axes, scaled: no overflow
     momentum = moments * along
     across = np.cross(momentum, along)

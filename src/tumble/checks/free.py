@@ -9,10 +9,10 @@ import numpy as np
 
 from tumble import analysis, theory
 from tumble.checks.base import (
+    Case,
     Comparison,
     Curve,
     Panel,
-    Setup,
     TheoryCheck,
     axis_angles,
     comparison_row,
@@ -42,11 +42,11 @@ class FreeSymmetricTopCheck(TheoryCheck):
     needs = "a free body with two equal principal moments and no internal parts"
     result_type = theory.FreeSymmetricTop
 
-    def fits(self, setup: Setup) -> bool:
-        moments, _ = setup.mass_properties.principal()
+    def fits(self, case: Case) -> bool:
+        moments, _ = case.mass_properties.principal()
         steps = np.abs(np.diff(moments))
         symmetric = bool(np.any(steps <= SYMMETRY_TOLERANCE * moments.sum()))
-        return setup.free and setup.rigid and symmetric
+        return case.free and case.rigid and symmetric
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         """The rate at which ω turns about the symmetry axis in the body
@@ -67,11 +67,11 @@ class FreeSymmetricTopCheck(TheoryCheck):
             ),
         ]
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
-        steady = steady_state(setup)
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
+        steady = steady_state(case)
         if steady is not None:  # no cone, no precession to measure
             return Comparison([], [], notes=(steady,))
-        result = theory.free_symmetric_top(setup.mass_properties, setup.omega0)
+        result = theory.free_symmetric_top(case.mass_properties, case.omega0)
         rows = self.rows(trajectory, result)
         t = trajectory.t
         axis = np.array(result.axis, dtype=float)
@@ -135,8 +135,8 @@ class FlipPeriodCheck(TheoryCheck):
     needs = "a free body (no pivot with gravity, no torques, no internal parts)"
     result_type = (float, int)
 
-    def fits(self, setup: Setup) -> bool:
-        return setup.free and setup.rigid
+    def fits(self, case: Case) -> bool:
+        return case.free and case.rigid
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         """The period from :func:`tumble.theory.flip_period` against the one
@@ -144,9 +144,9 @@ class FlipPeriodCheck(TheoryCheck):
         measured = analysis.flips(trajectory).period
         return [comparison_row("flip period", float(result), measured, "s")]
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
-        mp = setup.mass_properties
-        period = theory.flip_period(mp, setup.omega0)
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
+        mp = case.mass_properties
+        period = theory.flip_period(mp, case.omega0)
         duration = float(trajectory.t[-1])
         rows: list[dict[str, Any]] = []
         moments, axes = mp.principal()
@@ -171,13 +171,13 @@ class FlipPeriodCheck(TheoryCheck):
         panels = [Panel("Flips: ω along the principal axes", "ω (rad/s)", curves, name="flips")]
         notes: tuple[str, ...] = ()
         if not rows:
-            notes = (_nothing_compared(setup, period, duration),)
+            notes = (_nothing_compared(case, period, duration),)
         return Comparison(rows, panels, notes=notes)
 
 
-def _nothing_compared(setup: Setup, period: float, duration: float) -> str:
+def _nothing_compared(case: Case, period: float, duration: float) -> str:
     """Why a free body's run gave no flip period to compare."""
-    steady = steady_state(setup)
+    steady = steady_state(case)
     if steady is not None:
         return steady
     if not math.isfinite(period):

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from tumble import analysis, theory
-from tumble.checks.base import Comparison, Setup, TheoryCheck, comparison_row
+from tumble.checks.base import Case, Comparison, TheoryCheck, comparison_row
 
 if TYPE_CHECKING:
     from tumble.trajectory import Trajectory
@@ -26,8 +26,8 @@ class GyrocompassCheck(TheoryCheck):
     needs = "the gimballed gyroscope of a [gyrocompass] table"
     result_type = theory.Gyrocompass
 
-    def fits(self, setup: Setup) -> bool:
-        return "platform_rate" in setup.options and "spin_rate" in setup.options
+    def fits(self, case: Case) -> bool:
+        return "platform_rate" in case.options and "spin_rate" in case.options
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         """``options``: ``axis``, the body spin axis (default z), and ``vertical``, the
@@ -68,9 +68,9 @@ class GyrocompassCheck(TheoryCheck):
             ),
         ]
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
         """The rows of one run, its platform turning about +z (or −z for a negative rate)."""
-        rate = float(setup.options["platform_rate"])
-        result = theory.gyrocompass(setup.mass_properties, setup.options["spin_rate"], rate)
+        rate = float(case.options["platform_rate"])
+        result = theory.gyrocompass(case.mass_properties, case.options["spin_rate"], rate)
         direction = np.sign(rate) * np.array([0.0, 0.0, 1.0])
         return Comparison(self.rows(trajectory, result, vertical=direction), [])

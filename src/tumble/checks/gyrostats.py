@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble import analysis, theory
-from tumble.checks.base import Comparison, Curve, Panel, Setup, TheoryCheck, comparison_row
+from tumble.checks.base import Case, Comparison, Curve, Panel, TheoryCheck, comparison_row
 from tumble.errors import InputError
 
 if TYPE_CHECKING:
@@ -27,20 +27,20 @@ SPIN_CONE = 0.3
 MANY_SWINGS = 10
 
 
-def spin_axis(setup: Setup, candidates: Array | None = None) -> tuple[Array, float] | None:
+def spin_axis(case: Case, candidates: Array | None = None) -> tuple[Array, float] | None:
     """The principal axis (body coordinates, unit, signed like ω0) the body is spun
     about, and the spin rate along it; None when ω0 is not within ``SPIN_CONE``
     of one (of ``candidates``, columns, if given)."""
-    speed = float(np.linalg.norm(setup.omega0))
+    speed = float(np.linalg.norm(case.omega0))
     if speed == 0:
         return None
-    axes = setup.mass_properties.principal()[1] if candidates is None else candidates
-    cosines = axes.T @ setup.omega0 / speed
+    axes = case.mass_properties.principal()[1] if candidates is None else candidates
+    cosines = axes.T @ case.omega0 / speed
     k = int(np.argmax(np.abs(cosines)))
     if abs(cosines[k]) < math.cos(SPIN_CONE):
         return None
     axis = axes[:, k] * math.copysign(1.0, cosines[k])
-    return axis, float(setup.omega0 @ axis)
+    return axis, float(case.omega0 @ axis)
 
 
 def _tilt(trajectory: Trajectory, axis: Array) -> Array:
@@ -60,11 +60,11 @@ class DualSpinCheck(TheoryCheck):
     needs = "a free body spun about a principal axis, its rotors along that axis and no damper"
     result_type = theory.GyrostatStability
 
-    def _axis(self, setup: Setup) -> tuple[Array, float, float] | None:
-        rotors = setup.parts_of("rotor")
-        if not rotors or len(rotors) != len(setup.internal) or not setup.free:
+    def _axis(self, case: Case) -> tuple[Array, float, float] | None:
+        rotors = case.parts_of("rotor")
+        if not rotors or len(rotors) != len(case.internal) or not case.free:
             return None
-        spun = spin_axis(setup)
+        spun = spin_axis(case)
         if spun is None:
             return None
         axis, rate = spun
@@ -73,8 +73,8 @@ class DualSpinCheck(TheoryCheck):
         momentum = sum(rotor.inertia * rotor.speed * float(rotor.axis @ axis) for rotor in rotors)
         return axis, rate, float(momentum)
 
-    def fits(self, setup: Setup) -> bool:
-        return self._axis(setup) is not None
+    def fits(self, case: Case) -> bool:
+        return self._axis(case) is not None
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         """The nutation frequency (stable) or the growth rate of the transverse ω
@@ -97,21 +97,21 @@ class DualSpinCheck(TheoryCheck):
         measured = analysis.exponential_rate(trajectory.t, size, band)
         return [comparison_row("growth rate of the wobble", result.growth_rate, measured, "1/s")]
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
         from tumble.simulation import simulate
 
-        found = self._axis(setup)
+        found = self._axis(case)
         if found is None:
             raise InputError(f"Expected {self.needs}, got another setup.")
         axis, rate, momentum = found
-        mp = setup.mass_properties
+        mp = case.mass_properties
         held = theory.gyrostat_stability(mp, rate, momentum, axis)
         alone = theory.gyrostat_stability(mp, rate, 0.0, axis)
         # The same body with its rotors locked: torque-free, so the exact solution,
         # sampled like the run.
         duration = float(trajectory.t[-1])
         locked = simulate(
-            mp, setup.omega0, attitude0=setup.attitude0, duration=duration,
+            mp, case.omega0, attitude0=case.attitude0, duration=duration,
             dt=duration / max(len(trajectory.t) - 1, 1), method="auto",
         )  # fmt: skip
         rows = [
@@ -156,13 +156,13 @@ class EnergySinkCheck(TheoryCheck):
     needs = "a free body spun about a principal axis with one Kane damper and no rotor"
     result_type = theory.KaneDamperDecay
 
-    def fits(self, setup: Setup) -> bool:
-        dampers = setup.parts_of("kane-damper")
+    def fits(self, case: Case) -> bool:
+        dampers = case.parts_of("kane-damper")
         return (
-            setup.free
+            case.free
             and len(dampers) == 1
-            and len(setup.internal) == 1
-            and spin_axis(setup) is not None
+            and len(case.internal) == 1
+            and spin_axis(case) is not None
         )
 
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
@@ -181,13 +181,13 @@ class EnergySinkCheck(TheoryCheck):
         sign = 1.0 if result.grows else -1.0
         return [comparison_row(name, -result.decay_rate * sign, measured * sign, "1/s")]
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
-        spun = spin_axis(setup)
-        if spun is None or not self.fits(setup):
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
+        spun = spin_axis(case)
+        if spun is None or not self.fits(case):
             raise InputError(f"Expected {self.needs}, got another setup.")
         axis, rate = spun
-        damper = setup.parts_of("kane-damper")[0]
-        mp = setup.mass_properties
+        damper = case.parts_of("kane-damper")[0]
+        mp = case.mass_properties
         decay = theory.kane_damper_decay(mp, damper.inertia, damper.damping, rate, axis)
         moments = mp.principal()[0]
         momentum = float(np.linalg.norm(trajectory.angular_momentum[0]))

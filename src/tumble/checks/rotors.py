@@ -9,10 +9,10 @@ from numpy.typing import NDArray
 
 from tumble import theory
 from tumble.checks.base import (
+    Case,
     Comparison,
     Curve,
     Panel,
-    Setup,
     TheoryCheck,
     comparison_row,
 )
@@ -48,19 +48,19 @@ class RotorLoadsCheck(TheoryCheck):
     needs = "a hold-rotation torque and no other"
     result_type = ()
 
-    def fits(self, setup: Setup) -> bool:
-        torques = setup.torques
+    def fits(self, case: Case) -> bool:
+        torques = case.torques
         held = bool(torques) and all(isinstance(term, HoldRotation) for term in torques)
-        return held and setup.rigid
+        return held and case.rigid
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
-        mp = setup.mass_properties
-        point = np.asarray(setup.pivot if setup.pivot is not None else mp.center_of_mass)
-        speed = float(np.linalg.norm(setup.omega0))
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
+        mp = case.mass_properties
+        point = np.asarray(case.pivot if case.pivot is not None else mp.center_of_mass)
+        speed = float(np.linalg.norm(case.omega0))
         if speed == 0:
             raise InputError("Expected a non-zero initial ω to hold steady, got 0.")
-        axis = setup.omega0 / speed
-        result = theory.rotor_loads(mp, speed, axis, point, setup.options.get("bearings"))
+        axis = case.omega0 / speed
+        result = theory.rotor_loads(mp, speed, axis, point, case.options.get("bearings"))
         t = trajectory.t
         momentum = trajectory.angular_momentum
         times, torque = derivative(t, momentum)

@@ -10,10 +10,10 @@ from scipy.spatial.transform import Rotation
 
 from tumble import analysis, theory
 from tumble.checks.base import (
+    Case,
     Comparison,
     Curve,
     Panel,
-    Setup,
     TheoryCheck,
     axis_angles,
     comparison_row,
@@ -35,11 +35,11 @@ class GyroscopeCheck(TheoryCheck):
     needs = "a pivot with gravity and no other torque"
     result_type = theory.Gyroscope
 
-    def fits(self, setup: Setup) -> bool:
-        if not setup.heavy or setup.torques or not setup.rigid:
+    def fits(self, case: Case) -> bool:
+        if not case.heavy or case.torques or not case.rigid:
             return False
         try:  # symmetric about body z, the pivot on that axis
-            theory.gyroscope(setup.mass_properties, setup.pivot, 1.0, 0.5, 1.0)
+            theory.gyroscope(case.mass_properties, case.pivot, 1.0, 0.5, 1.0)
         except InputError:
             return False
         return True
@@ -106,16 +106,16 @@ class GyroscopeCheck(TheoryCheck):
         )
         return rows
 
-    def compare(self, setup: Setup, trajectory: Trajectory) -> Comparison:
-        g = np.asarray(setup.gravity, dtype=float)
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
+        g = np.asarray(case.gravity, dtype=float)
         up = -g / math.hypot(*g)  # hypot: no overflow of the squares
         axis = np.array([0.0, 0.0, 1.0])
         # The theory's space z is up: turn the initial attitude into such axes.
         level = Rotation.align_vectors([axis], [up])[0]
         start = level * trajectory.rotation[0]
         result = theory.gyroscope(
-            setup.mass_properties, setup.pivot, gravity=math.hypot(*g),
-            omega0=setup.omega0, attitude0=start,
+            case.mass_properties, case.pivot, gravity=math.hypot(*g),
+            omega0=case.omega0, attitude0=start,
         )  # fmt: skip
         rows = self.rows(trajectory, result, axis=axis, vertical=up)
         t = trajectory.t

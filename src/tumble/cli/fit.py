@@ -11,7 +11,7 @@ from tumble.cli.app import app, loading, run_command
 
 if TYPE_CHECKING:
     from tumble.identification import BodyFit
-    from tumble.identification.files import Recording
+    from tumble.identification.recordings import Recording
 
 __all__ = ["fit_recording", "parse_window"]
 
@@ -96,12 +96,12 @@ def fit_recording(
         with loading():
             from tumble.cli.runs import default_folder
             from tumble.identification.checks import check_loss
-            from tumble.identification.files import (
+            from tumble.identification.fit import identify
+            from tumble.identification.recordings import (
                 example_recording_path,
                 rate_unit,
                 read_recording,
             )
-            from tumble.identification.fit import identify
             from tumble.report.fit import fit_name, write_fit
 
         # The library's own checks, before the recording is read: said at once.

@@ -33,8 +33,8 @@ from tumble.config.errors import (
     unknown_key,
     where,
 )
-from tumble.config.files import Builtins, Source, parse_toml, read_source, validate_toml
 from tumble.config.locate import KeyPath, key_lines, line_of
+from tumble.config.sources import Builtins, Source, parse_toml, read_source, validate_toml
 
 if TYPE_CHECKING:
     from tumble.config.model import StrictModel

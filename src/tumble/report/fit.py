@@ -30,7 +30,7 @@ from tumble.report.charts import COLOURS, Chart, Line, Points, Sheet, Wireframe
 
 if TYPE_CHECKING:
     from tumble.identification import BodyFit
-    from tumble.identification.files import Recording
+    from tumble.identification.recordings import Recording
 
 __all__ = [
     "FIT_FIGURES",

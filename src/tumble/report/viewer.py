@@ -1,10 +1,11 @@
 """The interactive 3D viewer: one self-contained, offline HTML file.
 
 The page holds the plotly.js bundle inline, the body's mesh once (body
-coordinates) and the attitude quaternion of each frame; a small script turns the
-mesh, the principal axes and the ω and L arrows frame by frame, so the file
-stays small however fine the mesh. A body's rotors are discs with a stripe,
-turned by the body and by their own spin angle (the integral of their speed).
+coordinates) and the attitude quaternion of each frame; a small script
+(``viewer.js``, beside this module) turns the mesh, the principal axes and the
+ω and L arrows frame by frame, so the file stays small however fine the mesh. A
+body's rotors are discs with a stripe, turned by the body and by their own spin
+angle (the integral of their speed).
 For a torque-free body a second panel draws the Poinsot construction in
 ω-space: the inertia ellipsoid turning with the body and rolling on the
 invariable plane, with the polhode and the herpolhode (:func:`tumble.report.poinsot.poinsot_data`).
@@ -14,8 +15,10 @@ current frame in ``window.tumbleViewer.frame``.
 
 from __future__ import annotations
 
+import functools
 import html
 import json
+from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -175,183 +178,88 @@ p.note { margin: 0; font-size: 0.85rem; color: #555; }
 button { font-size: 0.95rem; padding: 3px 14px; }
 """
 
-_SCRIPT = """
-(function () {
-  const D = JSON.parse(document.getElementById('tumble-data').textContent);
-  const gd = document.getElementById('plot');
-  const poinsot = document.getElementById('poinsot');
-  const P = D.poinsot;
-  const slider = document.getElementById('slider');
-  const play = document.getElementById('play');
-  const clock = document.getElementById('time');
-  const n = D.t.length;
-  const state = { frame: 0, playing: false, timer: null };
-  window.tumbleViewer = state;
 
-  function rotate(q, v) {
-    const w = q[0], x = q[1], y = q[2], z = q[3];
-    // v + 2w (u × v) + 2 u × (u × v), u = (x, y, z): the rotation of v by q.
-    const tx = 2 * (y * v[2] - z * v[1]);
-    const ty = 2 * (z * v[0] - x * v[2]);
-    const tz = 2 * (x * v[1] - y * v[0]);
-    return [
-      v[0] + w * tx + (y * tz - z * ty),
-      v[1] + w * ty + (z * tx - x * tz),
-      v[2] + w * tz + (x * ty - y * tx),
-    ];
-  }
-  function segment(a, b) { return [[a[0], b[0]], [a[1], b[1]], [a[2], b[2]]]; }
+@functools.cache
+def _script() -> str:
+    """The page's script (``viewer.js``, beside this module): it reads the numbers of
+    :func:`viewer_data` and the figures, draws frame 0, and turns the body, its
+    axes, ω, L and the rotors frame by frame, with the play button and the slider."""
+    return resources.files("tumble.report").joinpath("viewer.js").read_text(encoding="utf-8")
 
-  function draw(i) {
-    const q = D.q[i];
-    const count = D.vertices.length;
-    const mx = new Array(count), my = new Array(count), mz = new Array(count);
-    for (let k = 0; k < count; k++) {
-      const p = rotate(q, D.vertices[k]);
-      mx[k] = p[0]; my[k] = p[1]; mz[k] = p[2];
-    }
-    const c = rotate(q, D.centre);
-    const xs = [mx], ys = [my], zs = [mz];
-    for (let k = 0; k < 3; k++) {
-      const s = segment(c, rotate(q, D.axis_ends[k]));
-      xs.push(s[0]); ys.push(s[1]); zs.push(s[2]);
-    }
-    for (const v of [D.omega[i], D.momentum[i]]) {
-      const s = segment([0, 0, 0], v);
-      xs.push(s[0]); ys.push(s[1]); zs.push(s[2]);
-    }
-    const trail = D.omega.slice(0, i + 1);
-    xs.push(trail.map(p => p[0])); ys.push(trail.map(p => p[1])); zs.push(trail.map(p => p[2]));
-    const traces = [0, 1, 2, 3, 4, 5, 6];
-    D.rotors.forEach(function (r, k) {
-      // Turned about its axis by its spin angle, about its centre, then with the body.
-      const half = 0.5 * r.angles[i], s = Math.sin(half);
-      const spin = [Math.cos(half), s * r.axis[0], s * r.axis[1], s * r.axis[2]];
-      const rx = [], ry = [], rz = [];
-      const c = r.position;
-      for (const v of r.vertices) {
-        const local = rotate(spin, [v[0] - c[0], v[1] - c[1], v[2] - c[2]]);
-        const p = rotate(q, [local[0] + c[0], local[1] + c[1], local[2] + c[2]]);
-        rx.push(p[0]); ry.push(p[1]); rz.push(p[2]);
-      }
-      xs.push(rx); ys.push(ry); zs.push(rz);
-      traces.push(8 + k);
-    });
-    Plotly.restyle(gd, { x: xs, y: ys, z: zs }, traces);
-    if (P) {
-      // The ellipsoid and the polhode turn with the body; the herpolhode grows on the plane.
-      const ex = [], ey = [], ez = [];
-      for (const v of P.ellipsoid) {
-        const p = rotate(q, v);
-        ex.push(p[0]); ey.push(p[1]); ez.push(p[2]);
-      }
-      const pol = P.polhode.map(v => rotate(q, v));
-      const her = P.herpolhode.slice(0, i + 1);
-      const tip = P.herpolhode[i];
-      Plotly.restyle(poinsot, {
-        x: [ex, pol.map(p => p[0]), her.map(p => p[0]), [0, tip[0]], [tip[0]]],
-        y: [ey, pol.map(p => p[1]), her.map(p => p[1]), [0, tip[1]], [tip[1]]],
-        z: [ez, pol.map(p => p[2]), her.map(p => p[2]), [0, tip[2]], [tip[2]]],
-      }, [0, 2, 3, 4, 5]);
-    }
-    state.frame = i;
-    slider.value = i;
-    clock.textContent = 't = ' + D.t[i].toFixed(3) + ' s  (' + (i + 1) + ' / ' + n + ')';
-  }
 
-  function stop() {
-    state.playing = false;
-    if (state.timer !== null) { clearInterval(state.timer); state.timer = null; }
-    play.textContent = 'Play';
-  }
-  function start() {
-    if (state.frame >= n - 1) { draw(0); }
-    state.playing = true;
-    play.textContent = 'Pause';
-    state.timer = setInterval(function () {
-      if (state.frame >= n - 1) { stop(); return; }
-      draw(state.frame + 1);
-    }, 1000 / 30);
-  }
-  play.addEventListener('click', function () { state.playing ? stop() : start(); });
-  slider.addEventListener('input', function () { stop(); draw(parseInt(slider.value, 10)); });
-
-  const figure = JSON.parse(document.getElementById('tumble-figure').textContent);
-  const config = { responsive: true, displaylogo: false };
-  const shown = [Plotly.newPlot(gd, figure.data, figure.layout, config)];
-  if (P) {
-    const second = JSON.parse(document.getElementById('tumble-poinsot').textContent);
-    shown.push(Plotly.newPlot(poinsot, second.data, second.layout, config));
-  }
-  Promise.all(shown).then(function () {
-    draw(0);
-    state.ready = true;
-  });
-})();
-"""
+#: The colours of principal axes 1, 2 and 3.
+_AXIS_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")
 
 
 def _figure(data: dict[str, Any]) -> dict[str, Any]:
-    """The plotly figure (data and layout) of frame 0; the script moves it."""
+    """The plotly figure (data and layout) of frame 0; the script moves it. The
+    script addresses the traces by their order: the body, the three principal
+    axes, ω, L, the trail of ω's tip, the fixed point, then the rotors."""
+    traces = [
+        _body_trace(data),
+        *_axis_traces(data["moments"]),
+        *_vector_traces(data),
+        *(_rotor_trace(k, rotor) for k, rotor in enumerate(data["rotors"])),
+    ]
+    return {"data": traces, "layout": _layout(data["reach"])}
+
+
+def _body_trace(data: dict[str, Any]) -> dict[str, Any]:
+    """The body's mesh (its shape, or the ellipsoid of equal inertia), see-through
+    enough to show the rotors inside it."""
     faces = data["faces"]
     vertices = np.asarray(data["vertices"])
-    half = data["reach"] * 0.5 * 1.6
-    axis_range = [-half, half]
-    colours = ("#d62728", "#2ca02c", "#1f77b4")
-    traces: list[dict[str, Any]] = [
-        {
-            "type": "mesh3d",
-            "name": "body" if data["exact_shape"] else "body (ellipsoid of equal inertia)",
-            "x": vertices[:, 0].tolist() if len(vertices) else [],
-            "y": vertices[:, 1].tolist() if len(vertices) else [],
-            "z": vertices[:, 2].tolist() if len(vertices) else [],
-            "i": faces[0],
-            "j": faces[1],
-            "k": faces[2],
-            "color": "#9fb7d9",
-            "opacity": 0.35 if data["rotors"] else 0.75,
-            "flatshading": True,
-            "lighting": {"ambient": 0.55, "diffuse": 0.7, "specular": 0.2},
-            "showlegend": True,
-            "hoverinfo": "skip",
-        }
-    ]
-    for k in range(3):
-        traces.append(
-            {
-                "type": "scatter3d",
-                "mode": "lines",
-                "name": f"principal axis {k + 1} (I{k + 1} = {data['moments'][k]:.4g} kg·m²)",
-                "x": [0, 0],
-                "y": [0, 0],
-                "z": [0, 0],
-                "line": {"color": colours[k], "width": 5},
-                "hoverinfo": "name",
-            }
+    return {
+        "type": "mesh3d",
+        "name": "body" if data["exact_shape"] else "body (ellipsoid of equal inertia)",
+        "x": vertices[:, 0].tolist() if len(vertices) else [],
+        "y": vertices[:, 1].tolist() if len(vertices) else [],
+        "z": vertices[:, 2].tolist() if len(vertices) else [],
+        "i": faces[0],
+        "j": faces[1],
+        "k": faces[2],
+        "color": "#9fb7d9",
+        "opacity": 0.35 if data["rotors"] else 0.75,
+        "flatshading": True,
+        "lighting": {"ambient": 0.55, "diffuse": 0.7, "specular": 0.2},
+        "showlegend": True,
+        "hoverinfo": "skip",
+    }
+
+
+def _segment(name: str, colour: str, width: int, **more: Any) -> dict[str, Any]:
+    """A line from the origin, of zero length until the script places it."""
+    return {
+        "type": "scatter3d",
+        "mode": "lines",
+        "name": name,
+        "x": [0, 0],
+        "y": [0, 0],
+        "z": [0, 0],
+        "line": {"color": colour, "width": width},
+        **more,
+    }
+
+
+def _axis_traces(moments: Sequence[float]) -> list[dict[str, Any]]:
+    """The principal axes, labelled with their moments (kg·m²)."""
+    return [
+        _segment(
+            f"principal axis {k + 1} (I{k + 1} = {moments[k]:.4g} kg·m²)",
+            _AXIS_COLOURS[k],
+            5,
+            hoverinfo="name",
         )
-    traces.append(
-        {
-            "type": "scatter3d",
-            "mode": "lines",
-            "name": f"ω (max {data['omega_max']:.4g} rad/s)",
-            "x": [0, 0],
-            "y": [0, 0],
-            "z": [0, 0],
-            "line": {"color": "#ff7f0e", "width": 8},
-        }
-    )
-    traces.append(
-        {
-            "type": "scatter3d",
-            "mode": "lines",
-            "name": f"L (max {data['momentum_max']:.4g} kg·m²/s)",
-            "x": [0, 0],
-            "y": [0, 0],
-            "z": [0, 0],
-            "line": {"color": "#9467bd", "width": 8},
-        }
-    )
-    traces.append(
+        for k in range(3)
+    ]
+
+
+def _vector_traces(data: dict[str, Any]) -> list[dict[str, Any]]:
+    """The ω and L arrows (labelled with their largest values), the trail of ω's
+    tip, and the fixed point (the centre of mass or the pivot) at the origin."""
+    return [
+        _segment(f"ω (max {data['omega_max']:.4g} rad/s)", "#ff7f0e", 8),
+        _segment(f"L (max {data['momentum_max']:.4g} kg·m²/s)", "#9467bd", 8),
         {
             "type": "scatter3d",
             "mode": "lines",
@@ -361,9 +269,7 @@ def _figure(data: dict[str, Any]) -> dict[str, Any]:
             "z": [0],
             "line": {"color": "#ff7f0e", "width": 2},
             "opacity": 0.6,
-        }
-    )
-    traces.append(
+        },
         {
             "type": "scatter3d",
             "mode": "markers",
@@ -372,27 +278,35 @@ def _figure(data: dict[str, Any]) -> dict[str, Any]:
             "y": [0],
             "z": [0],
             "marker": {"size": 4, "color": "#000000"},
-        }
-    )
-    for k, rotor in enumerate(data["rotors"]):
-        points = np.asarray(rotor["vertices"])
-        traces.append(
-            {
-                "type": "mesh3d",
-                "name": f"rotor {k + 1}",
-                "x": points[:, 0].tolist(),
-                "y": points[:, 1].tolist(),
-                "z": points[:, 2].tolist(),
-                "i": rotor["faces"][0],
-                "j": rotor["faces"][1],
-                "k": rotor["faces"][2],
-                "facecolor": ["#5a4a1a" if m else "#f2b134" for m in rotor["marked"]],
-                "flatshading": True,
-                "showlegend": True,
-                "hoverinfo": "name",
-            }
-        )
-    layout = {
+        },
+    ]
+
+
+def _rotor_trace(k: int, rotor: dict[str, Any]) -> dict[str, Any]:
+    """Rotor ``k``'s disc, its marked faces (the stripe that shows its angle) dark."""
+    points = np.asarray(rotor["vertices"])
+    return {
+        "type": "mesh3d",
+        "name": f"rotor {k + 1}",
+        "x": points[:, 0].tolist(),
+        "y": points[:, 1].tolist(),
+        "z": points[:, 2].tolist(),
+        "i": rotor["faces"][0],
+        "j": rotor["faces"][1],
+        "k": rotor["faces"][2],
+        "facecolor": ["#5a4a1a" if m else "#f2b134" for m in rotor["marked"]],
+        "flatshading": True,
+        "showlegend": True,
+        "hoverinfo": "name",
+    }
+
+
+def _layout(reach: float) -> dict[str, Any]:
+    """A cube of space axes 1.6 × ``reach`` (m) wide, centred on the fixed point; the
+    camera kept when the script restyles the traces."""
+    half = reach * 0.5 * 1.6
+    axis_range = [-half, half]
+    return {
         "margin": {"l": 0, "r": 0, "t": 30, "b": 0},
         "uirevision": "keep",
         "legend": {"x": 0, "y": 1, "bgcolor": "rgba(255,255,255,0.6)"},
@@ -404,7 +318,6 @@ def _figure(data: dict[str, Any]) -> dict[str, Any]:
             "camera": {"eye": {"x": 1.5, "y": -1.5, "z": 0.9}},
         },
     }
-    return {"data": traces, "layout": layout}
 
 
 def _json_script(value: Any) -> str:
@@ -475,7 +388,7 @@ def viewer_html(
             if data["poinsot"]
             else ""
         )
-        + f"<script>{_SCRIPT}</script>\n</body>\n</html>\n"
+        + f"<script>\n{_script()}</script>\n</body>\n</html>\n"
     )
 
 

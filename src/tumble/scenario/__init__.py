@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from tumble.config import read_source, validate_toml
-from tumble.scenario.files import BUILTINS, DEFAULT, LoadedScenario, ScenarioError, where
+from tumble.scenario.loaded import BUILTINS, DEFAULT, LoadedScenario, ScenarioError, where
 
 if TYPE_CHECKING:
     from tumble.scenario.execute import RunResult

@@ -28,11 +28,11 @@ from tumble.scenario.bodies import (
     PointsBody,
     ShapeBody,
 )
-from tumble.scenario.files import BUILTINS, ScenarioError, where
+from tumble.scenario.loaded import BUILTINS, ScenarioError, where
 from tumble.scenario.schema import Scenario
 
 if TYPE_CHECKING:
-    from tumble.scenario.files import LoadedScenario
+    from tumble.scenario.loaded import LoadedScenario
 
 __all__ = [
     "InitialState",

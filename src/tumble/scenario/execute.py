@@ -1,7 +1,7 @@
 """Run a scenario: simulate, then compare with the theory check that fits it.
 
 The check comes from the registry (:mod:`tumble.checks`): the one the file's
-``[theory] model`` names, or the first that fits the setup. A scenario with a
+``[theory] model`` names, or the first that fits the case. A scenario with a
 ``[gyrocompass]`` table runs the gimbal model instead
 (:mod:`tumble.scenario.gyrocompass`). The result, :class:`RunResult`, holds
 everything a report needs: the trajectories, the rows theory vs simulation,
@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble._version import __version__
-from tumble.checks import Comparison, Panel, Setup, choose_check
+from tumble.checks import Case, Comparison, Panel, choose_check
 from tumble.errors import InputError
 from tumble.scenario.build import (
     at_key,
@@ -30,14 +30,14 @@ from tumble.scenario.build import (
     mass_properties,
     torque_model,
 )
-from tumble.scenario.files import ScenarioError, where
 from tumble.scenario.gyrocompass import run_gyrocompass
+from tumble.scenario.loaded import ScenarioError, where
 from tumble.scenario.sampling import decimate, record_every
 from tumble.scenario.schema import MAX_STEPS, MAX_STEPS_TEXT
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
-    from tumble.scenario.files import LoadedScenario
+    from tumble.scenario.loaded import LoadedScenario
     from tumble.trajectory import Trajectory
 
 __all__ = ["RunResult", "execute"]
@@ -213,18 +213,18 @@ def _rigid_body(
     options: dict[str, Any] = {"method": sim.method, "dt": dt, "samples": spec.output.samples}
     if spec.theory.bearings is not None:
         options["bearings"] = spec.theory.bearings
-    setup = Setup(
+    case = Case(
         mp, state.omega, state.attitude, env.pivot, env.gravity, torque, options=options,
         internal=parts,
     )  # fmt: skip
     model = spec.theory.model
     with at_key(loaded, "theory", "model"):
-        check = choose_check(model, setup)
+        check = choose_check(model, case)
     if check is None:
         comparison = Comparison([], [], notes=(_no_check(model),))
     else:
         try:
-            comparison = check.compare(setup, traj)
+            comparison = check.compare(case, traj)
         except ScenarioError:
             raise
         except InputError as exc:
@@ -233,7 +233,7 @@ def _rigid_body(
                     f'{where(loaded, ("theory",))}: {exc} Set [theory] model = "none" to run '
                     "it without a comparison."
                 ) from None
-            # The check chosen for the setup cannot measure this state of it (an
+            # The check chosen for the case cannot measure this state of it (an
             # upright top has no azimuth): the run stands, and says why.
             note = f"no theory comparison: the {check.name} check cannot measure this run: {exc}"
             comparison, check = Comparison([], [], notes=(note,)), None
@@ -245,7 +245,7 @@ def _rigid_body(
 
 
 def _no_check(model: str) -> str:
-    """Why no check was chosen: ``[theory] model = "none"``, or none fits the setup."""
+    """Why no check was chosen: ``[theory] model = "none"``, or none fits the case."""
     if model == "none":
         return 'no theory comparison: [theory] model = "none".'
     from tumble.checks import THEORY_CHECKS

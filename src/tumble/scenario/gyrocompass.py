@@ -13,13 +13,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from tumble.checks import THEORY_CHECKS, Curve, Panel, Setup
+from tumble.checks import THEORY_CHECKS, Case, Curve, Panel
 from tumble.scenario.build import at_key
 from tumble.scenario.sampling import decimate, kept
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
-    from tumble.scenario.files import LoadedScenario
+    from tumble.scenario.loaded import LoadedScenario
     from tumble.trajectory import Trajectory
 
 __all__ = ["run_gyrocompass"]
@@ -64,9 +64,9 @@ def run_gyrocompass(
         traj = decimate(run.trajectory, spec.output.samples)
         angle = np.asarray(run.angle)[index]
         runs[label] = traj
-        setup = Setup(mp, traj.omega[0], traj.quaternion[0], options=options)
+        case = Case(mp, traj.omega[0], traj.quaternion[0], options=options)
         name = f"θ0 = {math.degrees(amplitude):.0f}°"
-        for row in check.compare(setup, traj).rows:
+        for row in check.compare(case, traj).rows:
             row["quantity"] = f"{name}: {row['quantity']}"
             row["run"] = label
             rows.append(row)

@@ -40,7 +40,7 @@ __all__ = [
     "MAX_STEPS",
     "MAX_STEPS_TEXT",
     "Environment",
-    "Gyrocompass",
+    "GyrocompassSettings",
     "Initial",
     "Output",
     "Scenario",
@@ -154,7 +154,7 @@ class Output(StrictModel):
     viewer_frames: Annotated[int, Field(ge=2, le=2000)] = 300
 
 
-class Gyrocompass(StrictModel):
+class GyrocompassSettings(StrictModel):
     """``[gyrocompass]``: the gimballed gyroscope on a turning platform.
 
     The disk is ``[body]`` (symmetric about its z axis), spinning at
@@ -168,7 +168,7 @@ class Gyrocompass(StrictModel):
     amplitudes: Annotated[list[Angle], Field(min_length=1, max_length=4)]
 
     @model_validator(mode="after")
-    def _physical(self) -> Gyrocompass:
+    def _physical(self) -> GyrocompassSettings:
         if self.spin_rate == 0 or self.platform_rate == 0:
             raise ValueError(
                 "Expected `spin_rate` and `platform_rate` ≠ 0 rad/s, got "
@@ -194,7 +194,7 @@ class Scenario(StrictModel):
     simulation: Simulation
     theory: Theory = Theory()
     output: Output = Output()
-    gyrocompass: Gyrocompass | None = None
+    gyrocompass: GyrocompassSettings | None = None
 
     @model_validator(mode="after")
     def _consistent(self) -> Scenario:

@@ -220,6 +220,62 @@ def gyroscope(
     """
     mp = as_mass_properties(mp)
     axial, transverse_com = axisymmetric_moments(mp)
+    arm = _lever_arm(mp, pivot)
+    omega, q0 = _initial_state(spin_rate, tilt, tilt_rate, precession_rate0, omega0, attitude0)
+    w = float(omega[2])
+    if w == 0:
+        raise InputError(
+            "Expected `spin_rate` ≠ 0 rad/s (a top without spin is a spherical pendulum), got 0.0."
+        )
+    g = to_si(gravity, "acceleration", "gravity")
+    if g < 0:
+        raise InputError(f"Expected `gravity` >= 0 m/s² (its magnitude), got {g!r}.")
+    start = _from_the_vertical(omega, q0)
+
+    m = mp.mass
+    transverse = transverse_com + m * arm * arm
+    # The steady precession I⊥' cos θ Ω² − I_s ω_s Ω + m g l = 0 divided by I⊥':
+    # cos θ Ω² − a Ω + b = 0 in rates, free of the mass's scale (a top of 1e308 kg
+    # or 1e-300 kg).
+    a = axial / transverse * w  # I_s ω_s / I⊥'
+    b = m / transverse * arm * g  # m g l / I⊥'
+    rates, small = _steady_precession(a, b, start.cos_tilt, start.sin_tilt)
+    if b != 0.0:
+        motion, limits, period, mean_rate = _heavy(
+            transverse, axial, m * arm, g, omega, q0, start.tilt, start.turning
+        )
+    else:
+        motion, limits, period, mean_rate = _free(transverse, axial, omega, q0, start.tilt)
+    return Gyroscope(
+        mass=m,
+        gravity=g,
+        spin_rate=w,
+        tilt=start.tilt,
+        tilt_rate=start.tilt_rate,
+        precession_rate0=start.precession_rate,
+        axial_moment=axial,
+        transverse_moment=transverse,
+        lever_arm=arm,
+        precession_rate=b / a,
+        precession_rates=rates,
+        mean_precession_rate=mean_rate,
+        nutation_frequency=abs(a),
+        small_nutation_frequencies=small,
+        nutation_amplitude=abs(b / a) * start.sin_tilt / abs(a),
+        nutation_limits=limits,
+        nutation_period=period,
+        _motion=motion,
+    )
+
+
+def _lever_arm(mp: MassProperties, pivot: Any) -> float:
+    """l, the signed distance from the pivot to the centre of mass along body +z, m.
+
+    Raises
+    ------
+    InputError
+        A pivot off the symmetry axis (the line through the centre of mass along z).
+    """
     p = vector_to_si(pivot, "length", "pivot", (3,))
     offset = mp.center_of_mass - p
     off_axis = math.hypot(float(offset[0]), float(offset[1]))
@@ -230,70 +286,61 @@ def gyroscope(
             f"{format_values(mp.center_of_mass[:2])} m), got {format_values(p)} m, "
             f"{off_axis:.6g} m off the axis."
         )
-    omega, q0 = _initial_state(spin_rate, tilt, tilt_rate, precession_rate0, omega0, attitude0)
-    w = float(omega[2])
-    if w == 0:
-        raise InputError(
-            "Expected `spin_rate` ≠ 0 rad/s (a top without spin is a spherical pendulum), got 0.0."
-        )
-    g = to_si(gravity, "acceleration", "gravity")
-    if g < 0:
-        raise InputError(f"Expected `gravity` >= 0 m/s² (its magnitude), got {g!r}.")
+    return float(offset[2])
+
+
+@dataclass(frozen=True)
+class _Start:
+    """The initial state seen from the upward vertical: ``tilt`` θ0 of body +z
+    from it (rad, in [0, π]) with its cosine and sine (from the vertical's body
+    coordinates, not from θ0), ``tilt_rate`` θ̇0 (rad/s; |ω⊥| on the vertical),
+    ``precession_rate`` φ̇0 about it (rad/s; 0 on the vertical), and whether
+    θ̇0 = 0 (``turning``: released at a turning point of the tilt)."""
+
+    tilt: float
+    cos_tilt: float
+    sin_tilt: float
+    tilt_rate: float
+    precession_rate: float
+    turning: bool
+
+
+def _from_the_vertical(omega: Array, q0: Array) -> _Start:
+    """θ0, θ̇0 and φ̇0 of ω0 (body axes, rad/s) at the attitude ``q0`` (body → space)."""
     k = Rotation.from_quat(q0, scalar_first=True).inv().apply(_UP)  # the vertical, body axes
     sin_t = math.hypot(float(k[0]), float(k[1]))
-    theta = math.atan2(sin_t, float(k[2]))
-    cos_t = float(k[2])
     along = float(omega[0] * k[0] + omega[1] * k[1])  # φ̇ sin² θ
     across = float(k[0] * omega[1] - k[1] * omega[0])  # u̇ = −θ̇ sin θ
-    tilt_rate0 = -across / sin_t if sin_t > 0 else math.hypot(omega[0], omega[1])
-    azimuth_rate0 = along / sin_t**2 if sin_t > 0 else 0.0
-
-    m = mp.mass
-    arm = float(offset[2])
-    transverse = transverse_com + m * arm * arm
-    # The steady precession I⊥' cos θ Ω² − I_s ω_s Ω + m g l = 0 divided by I⊥':
-    # cos θ Ω² − a Ω + b = 0 in rates, free of the mass's scale (a top of 1e308 kg
-    # or 1e-300 kg).
-    a = axial / transverse * w  # I_s ω_s / I⊥'
-    b = m / transverse * arm * g  # m g l / I⊥'
-    rates: tuple[float, float] | None = None
-    small: tuple[float, float] | None = None
-    discriminant = a * a - 4.0 * cos_t * b
-    if discriminant >= 0:
-        root = math.copysign(math.sqrt(discriminant), a) + a
-        slow = 2.0 * b / root
-        fast = root / (2.0 * cos_t) if cos_t != 0 else math.copysign(math.inf, root)
-        rates = (slow, fast)
-        small = (
-            math.hypot(a - 2.0 * slow * cos_t, slow * sin_t),
-            math.hypot(a - 2.0 * fast * cos_t, fast * sin_t),
-        )
-    if b != 0.0:
-        motion, limits, period, mean_rate = _heavy(
-            transverse, axial, m * arm, g, omega, q0, theta, across == 0.0
-        )
-    else:
-        motion, limits, period, mean_rate = _free(transverse, axial, omega, q0, theta)
-    return Gyroscope(
-        mass=m,
-        gravity=g,
-        spin_rate=w,
-        tilt=theta,
-        tilt_rate=tilt_rate0,
-        precession_rate0=azimuth_rate0,
-        axial_moment=axial,
-        transverse_moment=transverse,
-        lever_arm=arm,
-        precession_rate=b / a,
-        precession_rates=rates,
-        mean_precession_rate=mean_rate,
-        nutation_frequency=abs(a),
-        small_nutation_frequencies=small,
-        nutation_amplitude=abs(b / a) * sin_t / abs(a),
-        nutation_limits=limits,
-        nutation_period=period,
-        _motion=motion,
+    return _Start(
+        tilt=math.atan2(sin_t, float(k[2])),
+        cos_tilt=float(k[2]),
+        sin_tilt=sin_t,
+        tilt_rate=-across / sin_t if sin_t > 0 else math.hypot(omega[0], omega[1]),
+        precession_rate=along / sin_t**2 if sin_t > 0 else 0.0,
+        turning=across == 0.0,
     )
+
+
+def _steady_precession(
+    a: float, b: float, cos_t: float, sin_t: float
+) -> tuple[tuple[float, float] | None, tuple[float, float] | None]:
+    """The (slow, fast) steady precession rates at the tilt θ of cosine ``cos_t``
+    and sine ``sin_t``, the roots of ``cos θ Ω² − a Ω + b = 0`` with
+    a = I_s ω_s / I⊥' (rad/s) and b = m g l / I⊥' (rad²/s²), and the frequencies
+    of small nutation about each, ``√((a − 2 Ω cos θ)² + Ω² sin² θ)``, rad/s;
+    None, None where the spin is too slow for steady precession (a negative
+    discriminant)."""
+    discriminant = a * a - 4.0 * cos_t * b
+    if not discriminant >= 0:
+        return None, None
+    root = math.copysign(math.sqrt(discriminant), a) + a
+    slow = 2.0 * b / root
+    fast = root / (2.0 * cos_t) if cos_t != 0 else math.copysign(math.inf, root)
+    small = (
+        math.hypot(a - 2.0 * slow * cos_t, slow * sin_t),
+        math.hypot(a - 2.0 * fast * cos_t, fast * sin_t),
+    )
+    return (slow, fast), small
 
 
 def _initial_state(

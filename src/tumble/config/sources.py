@@ -38,7 +38,7 @@ _KINDS: dict[str, Builtins] = {}
 
 #: The modules that define the kinds of built-in files, imported when a name is
 #: unknown (a command that reads scenarios has not imported the sweeps).
-_DEFINED_IN = ("tumble.scenario.files", "tumble.sweep.engine")
+_DEFINED_IN = ("tumble.scenario.loaded", "tumble.sweep.engine")
 
 #: The byte order mark some editors begin a UTF-8 file with.
 _BYTE_ORDER_MARK = "\ufeff"

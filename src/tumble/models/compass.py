@@ -1,19 +1,13 @@
-"""Simulation models of mechanisms built around a rigid body.
+"""The gyrocompass: a spinning disk in a gimbal on a turning platform,
+:func:`gyrocompass` and what it returns, :class:`GyrocompassRun`.
 
-* :func:`gyrocompass` — a spinning disk in a gimbal on a turning platform:
-  the notes' gyrocompass (platform turning about the vertical), or a
-  gyrocompass on the rotating Earth at a given latitude, settling north.
-
-A model reduces the mechanism to its few degrees of freedom, integrates them
-with a compiled kernel (:mod:`tumble.core.gimbal`) and returns, besides its
-own coordinates, a :class:`tumble.Trajectory` of the body's full attitude and
-angular velocity, so that everything that reads trajectories (angular
-momentum, energy, Parquet files, the viewer) works on it.
-
-Conventions as in the rest of tumble: SI units inside (numbers, pint
-quantities or strings such as ``"20000 rpm"`` at the edge), quaternions
-``[w, x, y, z]`` rotating body coordinates into space coordinates, angular
-velocity in body coordinates unless a name says ``_space``.
+The gimbal angle θ and its rate are integrated by the compiled kernel of
+:mod:`tumble.core.gimbal`; the disk's attitude and body rates follow from θ,
+the spin angle and the platform's turn in closed form. The closed form of the
+small and large swings is :func:`tumble.theory.gyrocompass`; the check that
+compares the two is :class:`tumble.checks.gyrocompass.GyrocompassCheck`, and a
+scenario's ``[gyrocompass]`` table runs this model
+(:mod:`tumble.scenario.gyrocompass`).
 """
 
 from __future__ import annotations
@@ -289,30 +283,116 @@ def gyrocompass(
     if c < 0:
         raise InputError(f"Expected `damping` >= 0 N·m·s, got {c!r}.")
     record_every = check_record_every(record_every)
-
-    if latitude is None:
-        lam = None
-        mount = np.eye(3)
-        omega_platform = np.array([0.0, 0.0, rate])  # in platform axes (AB, ·, θ = 0)
-    else:
-        lam = to_si(latitude, "angle", "latitude")
-        if not -0.5 * math.pi <= lam <= 0.5 * math.pi:
-            raise InputError(
-                f"Expected `latitude` in [-π/2, π/2] rad (−90° to 90°, positive north), "
-                f"got {lam!r}."
-            )
-        mount = _EARTH_MOUNT
-        # Ω_P = Ω_E (0, cos λ, sin λ) in (east, north, up); AB points down.
-        omega_platform = mount.T @ np.array([0.0, rate * math.cos(lam), rate * math.sin(lam)])
-    along_ab, big_omega = float(omega_platform[0]), float(omega_platform[2])
+    platform = _platform(rate, latitude)
+    big_omega = platform.rate
     params = _params(axial, transverse, spin, big_omega, c)
-
+    # The fastest rate of θ, c / I_AB + √(θ̇0² + 4 |I_s ω_s Ω| / I_AB + Ω²), rad/s.
     fastest = params[2] + math.sqrt(
         theta_rate0 * theta_rate0 + 4.0 * abs(params[0] * big_omega) + big_omega * big_omega
     )
+    schedule = _schedule(total_time, dt, fastest, record_every, samples)
+    out = _integrate(np.array([theta0, theta_rate0, 0.0]), params, schedule, progress)
+
+    times, theta, theta_rate = schedule.times, out[:, 0], out[:, 1]
+    # ψ = ω_s t − χ, the fast part reduced first so the angle keeps its digits.
+    psi = np.remainder(spin * times, 2 * math.pi) - out[:, 2]
+    jacobi = _jacobi_integral(platform, axial, transverse, spin, theta, theta_rate)
+    trajectory = Trajectory(
+        t=times,
+        omega=_body_rates(platform, spin, theta, theta_rate, psi),
+        quaternion=_attitude(platform, times, theta, psi),
+        mass_properties=mp,
+        pivot=np.array(mp.center_of_mass, dtype=float),
+        method="rk4",
+        reason="gyrocompass model",
+        dt=schedule.step,
+        steps=schedule.n_steps,
+        # The platform does work on the disk: of what a free disk conserves, only
+        # the Jacobi integral survives, and only without damping.
+        conserved=(),
+        invariant_values={} if c else {"jacobi_integral": readonly(jacobi)},
+    )
+    return GyrocompassRun(
+        trajectory=trajectory,
+        angle=readonly(theta),
+        angle_rate=readonly(theta_rate),
+        jacobi_integral=readonly(jacobi),
+        spin_rate=spin,
+        platform_angular_velocity=readonly(platform.angular_velocity_space),
+        effective_platform_rate=platform.rate,
+        gimbal_axis=readonly(platform.mount[:, 0]),
+        reference_direction=readonly(platform.mount[:, 2]),
+        axial_moment=axial,
+        gimbal_moment=transverse,
+        damping=c,
+        latitude=platform.latitude,
+    )
+
+
+@dataclass(frozen=True)
+class _Platform:
+    """The platform carrying the gimbal: ``mount``, its axes (columns: the gimbal
+    axis AB, the third axis, the direction θ = 0) in space axes; ``angular_velocity``
+    Ω_P (3,) in those platform axes, rad/s, constant; ``latitude`` λ, rad, or None."""
+
+    mount: Array
+    angular_velocity: Array
+    latitude: float | None
+
+    @property
+    def along_gimbal_axis(self) -> float:
+        """Ω_AB, the component of Ω_P along AB, rad/s (it drops out of θ's equation)."""
+        return float(self.angular_velocity[0])
+
+    @property
+    def rate(self) -> float:
+        """Ω, the component of Ω_P along the direction θ = 0, rad/s."""
+        return float(self.angular_velocity[2])
+
+    @property
+    def angular_velocity_space(self) -> Array:
+        """Ω_P (3,) in space axes, rad/s."""
+        return np.asarray(self.mount @ self.angular_velocity)
+
+
+def _platform(rate: float, latitude: Any) -> _Platform:
+    """The platform turning at ``rate`` (rad/s) about the vertical (``latitude`` None),
+    or the Earth turning at ``rate`` about its axis, seen at ``latitude``.
+
+    Raises
+    ------
+    InputError
+        A latitude outside [−90°, 90°].
+    """
+    if latitude is None:
+        # In platform axes (AB, ·, θ = 0), which are the space axes.
+        return _Platform(np.eye(3), np.array([0.0, 0.0, rate]), None)
+    lam = to_si(latitude, "angle", "latitude")
+    if not -0.5 * math.pi <= lam <= 0.5 * math.pi:
+        raise InputError(
+            f"Expected `latitude` in [-π/2, π/2] rad (−90° to 90°, positive north), got {lam!r}."
+        )
+    # Ω_P = Ω_E (0, cos λ, sin λ) in (east, north, up); AB points down.
+    up_north = np.array([0.0, rate * math.cos(lam), rate * math.sin(lam)])
+    return _Platform(_EARTH_MOUNT, _EARTH_MOUNT.T @ up_north, lam)
+
+
+def _schedule(
+    total_time: float, dt: Any, fastest: float, record_every: int, samples: int | None
+) -> Schedule:
+    """The steps over ``total_time`` s: ``dt``, or by default 1/200 of a turn at
+    ``fastest`` rad/s; every ``record_every``-th kept, or about ``samples`` of them.
+
+    Raises
+    ------
+    InputError
+        Both ``record_every`` and ``samples``, or ``samples`` not an integer >= 1.
+    RequestTooLargeError
+        Samples that would not fit in the memory budget.
+    """
     step = time_step(dt, fastest, total_time)
     if dt is not None:
-        warn_if_coarse(step, fastest, "the fastest rate of the gimbal angle")
+        warn_if_coarse(step, fastest, "the fastest rate of the gimbal angle", stacklevel=4)
     if samples is not None:
         if record_every != 1:
             raise InputError(
@@ -328,10 +408,16 @@ def gyrocompass(
         "Record less often (record_every or samples), or ask for a shorter duration or a "
         "larger dt.",
     )  # fmt: skip
-    schedule = Schedule.build(total_time, step, record_every)
-    times, n_steps, step = schedule.times, schedule.n_steps, schedule.step
-    y = np.array([theta0, theta_rate0, 0.0])
-    out = np.empty((len(times), 3))
+    return Schedule.build(total_time, step, record_every)
+
+
+def _integrate(
+    y: Array, params: Array, schedule: Schedule, progress: Callable[[int, int], object] | None
+) -> Array:
+    """(n, 3) θ (rad), θ̇ (rad/s) and χ = ∫ Ω cos θ dt (rad) at the schedule's
+    times, by the kernel's RK4 from ``y`` = (θ0, θ̇0, 0), which it overwrites."""
+    n_steps, step, record_every = schedule.n_steps, schedule.step, schedule.record_every
+    out = np.empty((len(schedule.times), 3))
     out[0] = y
     step_in_chunks(
         lambda done, count: gimbal.rk4_run(y, params, step, count, done, record_every, out),
@@ -341,14 +427,15 @@ def gyrocompass(
     )
     if n_steps % record_every != 0:
         out[-1] = y
+    return out
 
-    theta, theta_rate, chi = out[:, 0], out[:, 1], out[:, 2]
-    # ψ = ω_s t − χ, the fast part reduced first so the angle keeps its digits.
-    psi = np.remainder(spin * times, 2 * math.pi) - chi
-    omega_space = mount @ omega_platform
+
+def _attitude(platform: _Platform, times: Array, theta: Array, psi: Array) -> Array:
+    """(n, 4) the disk's attitude ``[w, x, y, z]``, body → space: the platform's
+    turn, its mount, θ about AB (body x), ψ about the spin axis (body z)."""
     attitude = (
-        Rotation.from_rotvec(np.outer(times, omega_space))
-        * Rotation.from_matrix(mount)
+        Rotation.from_rotvec(np.outer(times, platform.angular_velocity_space))
+        * Rotation.from_matrix(platform.mount)
         * Rotation.from_rotvec(np.outer(theta, [1.0, 0.0, 0.0]))
         * Rotation.from_rotvec(np.outer(psi, [0.0, 0.0, 1.0]))
     )
@@ -356,50 +443,36 @@ def gyrocompass(
     # Same hemisphere from sample to sample, as a stepped attitude would be.
     flips = np.einsum("ij,ij->i", quaternion[1:], quaternion[:-1]) < 0
     signs = np.concatenate(([1.0], np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)))
-    quaternion *= signs[:, None]
+    return quaternion * signs[:, None]
 
-    # In the gimbal's axes the disk turns at (θ̇ + Ω_AB, Ω sin θ, ω_s); body axes
-    # follow by the spin angle ψ about z.
-    gx = theta_rate + along_ab
-    gy = big_omega * np.sin(theta)
+
+def _body_rates(
+    platform: _Platform, spin: float, theta: Array, theta_rate: Array, psi: Array
+) -> Array:
+    """(n, 3) the disk's ω in its body axes, rad/s: in the gimbal's axes it turns
+    at (θ̇ + Ω_AB, Ω sin θ, ω_s); the body axes follow by the spin angle ψ about z."""
+    gx = theta_rate + platform.along_gimbal_axis
+    gy = platform.rate * np.sin(theta)
     cos_psi, sin_psi = np.cos(psi), np.sin(psi)
-    omega = np.column_stack(
-        (cos_psi * gx + sin_psi * gy, cos_psi * gy - sin_psi * gx, np.full(times.size, spin))
+    return np.column_stack(
+        (cos_psi * gx + sin_psi * gy, cos_psi * gy - sin_psi * gx, np.full(theta.size, spin))
     )
+
+
+def _jacobi_integral(
+    platform: _Platform,
+    axial: float,
+    transverse: float,
+    spin: float,
+    theta: Array,
+    theta_rate: Array,
+) -> Array:
+    """(n,) the energy in the platform's frame, J (see :class:`GyrocompassRun`)."""
+    along_ab, big_omega = platform.along_gimbal_axis, platform.rate
     spin_momentum = axial * spin
-    jacobi = (
+    return (
         0.5 * transverse * (theta_rate * theta_rate - along_ab * along_ab)
         - 0.5 * transverse * (big_omega * np.sin(theta)) ** 2
         - spin_momentum * big_omega * np.cos(theta)
         + 0.5 * spin_momentum * spin
-    )
-    trajectory = Trajectory(
-        t=times,
-        omega=omega,
-        quaternion=quaternion,
-        mass_properties=mp,
-        pivot=np.array(mp.center_of_mass, dtype=float),
-        method="rk4",
-        reason="gyrocompass model",
-        dt=step,
-        steps=n_steps,
-        # The platform does work on the disk: of what a free disk conserves, only
-        # the Jacobi integral survives, and only without damping.
-        conserved=(),
-        invariant_values={} if c else {"jacobi_integral": readonly(jacobi)},
-    )
-    return GyrocompassRun(
-        trajectory=trajectory,
-        angle=readonly(theta),
-        angle_rate=readonly(theta_rate),
-        jacobi_integral=readonly(jacobi),
-        spin_rate=spin,
-        platform_angular_velocity=readonly(omega_space),
-        effective_platform_rate=big_omega,
-        gimbal_axis=readonly(mount[:, 0]),
-        reference_direction=readonly(mount[:, 2]),
-        axial_moment=axial,
-        gimbal_moment=transverse,
-        damping=c,
-        latitude=lam,
     )

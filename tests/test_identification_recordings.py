@@ -16,7 +16,7 @@ from numpy.testing import assert_allclose, assert_array_equal
 
 from tumble.errors import InputError
 from tumble.identification import synthetic_phone
-from tumble.identification.files import (
+from tumble.identification.recordings import (
     PHYPHOX_COLUMNS,
     example_recording_path,
     phyphox_csv,
