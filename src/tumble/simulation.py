@@ -37,7 +37,7 @@ from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties, as_mass_properties
 from tumble.parts import check_parts, value_columns
 from tumble.resources import DEFAULT_MAX_STEPS, check_memory
-from tumble.torques import BoundTorque, Gravity, TorqueModel, bind
+from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
 from tumble.trajectory import Trajectory
 from tumble.units import to_si, vector_to_si
 
@@ -358,7 +358,9 @@ def prepare(
     q0 = as_attitude(attitude0)
     model = torque
     if gravity is not None:
-        weight_field = Gravity(vector_to_si(gravity, "acceleration", "gravity"))
+        # The registry's uniform gravity: the `gravity` keyword is one of its models.
+        field = vector_to_si(gravity, "acceleration", "gravity")
+        weight_field = TORQUES["gravity"](field)  # type: ignore[call-arg]
         model = weight_field if torque is None else weight_field + torque
     terms = () if model is None else model.terms
     gravities = [g for g in (term.uniform_gravity() for term in terms) if g is not None]
