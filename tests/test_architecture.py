@@ -128,3 +128,31 @@ def test_modules_above_the_core_hold_at_most_about_500_lines() -> None:
         if "core" not in path.relative_to(PACKAGE).parts
     }
     assert {name: lines for name, lines in long.items() if lines > 520} == {}
+
+
+def test_no_module_names_a_concrete_part_or_torque_outside_its_package() -> None:
+    # Everything reads the registries (tumble.parts.PARTS, tumble.torques.TORQUES):
+    # outside tumble/parts and tumble/torques no module imports a registered
+    # class, so none can construct it or dispatch on it (isinstance, issubclass,
+    # type() ==). The package root's table of public names is where they are
+    # offered to users.
+    from tumble.parts import PARTS
+    from tumble.torques import TORQUES
+
+    concrete = {cls.__name__ for cls in (*PARTS.values(), *TORQUES.values())}
+    source = Path(tumble.config.__file__).parents[1]
+    found = []
+    for path in sorted(source.rglob("*.py")):
+        inside = path.relative_to(source).parts
+        if inside[0] in {"parts", "torques"} or inside == ("__init__.py",):
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom):
+                names = {alias.name for alias in node.names}
+            elif isinstance(node, ast.Attribute):
+                names = {node.attr}
+            else:
+                continue
+            for name in sorted(names & concrete):
+                found.append(f"{'/'.join(inside)}:{node.lineno}: {name}")
+    assert found == []
