@@ -233,3 +233,38 @@ def test_a_part_kind_added_here_runs_in_a_scenario_file_and_the_report(
     assert read.describe() == traj.internal[0].describe()
     assert_allclose(back.rotor_speed, traj.rotor_speed, rtol=0, atol=0)
     assert_allclose(back.energy, traj.energy, rtol=1e-14)
+
+
+def test_the_registry_refuses_an_incomplete_kind_and_names_the_known_ones() -> None:
+    @dataclass(frozen=True, eq=False)
+    class Nameless(InternalPart):
+        size = 1
+        value_labels = ("speed",)
+
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected a part kind with `kind`, `label`, `equations`, got Nameless without\.$",
+    ):
+        register_part(Nameless)
+
+    @dataclass(frozen=True, eq=False)
+    class Mislabelled(ViscousWheel):
+        kind = "test-mislabelled"
+        value_labels = ("speed", "angle")
+
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected 1 `value_labels` of Mislabelled \(its `size`\), got 2\.$",
+    ):
+        register_part(Mislabelled)
+    assert "test-mislabelled" not in PARTS
+    # A trajectory file naming a kind that is not registered (here: this
+    # module's wheel, outside its fixture) is refused with the known kinds.
+    from tumble.parts import from_description
+
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected `type` to be one of kane-damper, spring-mass-damper, rotor, got "
+        r"'test-viscous-wheel'\.",
+    ):
+        from_description({"type": "test-viscous-wheel", "axis": [0, 0, 1]})
