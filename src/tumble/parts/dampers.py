@@ -187,7 +187,7 @@ class SpringMassDamper(InternalPart):
     value_labels = ("displacement", "velocity")
     value_unit = "m, m/s"
     parameters = (
-        Parameter("mass", "mass", (), "the sliding point mass, in [body] at `position`", 0.0,
+        Parameter("mass", "mass", (), "the sliding point mass, in [body] at its rest point", 0.0,
                   strict=True),
         Parameter("position", "length", (3,), "its rest point, body coordinates"),
         Parameter("direction", "dimensionless", (3,), "the direction it slides along, body "
