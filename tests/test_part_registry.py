@@ -29,7 +29,7 @@ from tumble import scenario
 from tumble.core._jit import njit
 from tumble.core.parts import PartEquations
 from tumble.parameters import Parameter
-from tumble.parts import PARTS, FilePart, InternalPart, PartDrawing, register_part
+from tumble.parts import PARTS, InternalPart, PartDrawing, register_part
 from tumble.report import write_run
 from tumble.trajectory import Trajectory
 
@@ -113,10 +113,6 @@ class ViscousWheel(InternalPart):
     def pack(self, frame: Any, parts: tuple[InternalPart, ...]) -> list[Any]:
         turned = np.asarray(frame.to_principal(self.axis), dtype=float)
         return [*(turned[..., i] for i in range(3)), self.inertia, self.coupling]
-
-    @classmethod
-    def from_table(cls, values: dict[str, Any]) -> FilePart:
-        return FilePart(cls(values["axis"], values["inertia"], values["coupling"]))
 
     def drawing(
         self, reach: float, centre: np.ndarray, position: Any = None, radius: Any = None,
@@ -219,10 +215,18 @@ def test_a_part_kind_added_here_runs_in_a_scenario_file_and_the_report(
     omega, speed = reference(4.0, traj.t)
     assert np.max(np.abs(traj.omega - omega)) < 1e-9  # RK4 at 1 ms, as above
     assert np.max(np.abs(traj.rotor_speed[:, 0] - speed)) < 1e-9
-    # A key the kind does not have is named, with the kind's own keys.
+    # A key the kind does not have is named, with the kind's own keys; one it
+    # needs is asked for with what it is.
     bad = text.replace('coupling = "', 'couplng = "').replace("\n        ", "\n")
     with pytest.raises(scenario.ScenarioError, match=r"`internal\[0\]\.couplng`.*coupling"):
         scenario.parse(bad)
+    missing = "\n".join(line for line in text.splitlines() if "coupling" not in line)
+    with pytest.raises(
+        scenario.ScenarioError,
+        match=r"`internal\[0\]\.coupling`: Expected `coupling` \(the viscous coupling c\) for a "
+        r"test-viscous-wheel, which is missing\.",
+    ):
+        scenario.parse(missing.replace("\n        ", "\n"))
     # The report draws the wheel, and the trajectory file keeps it: read back,
     # the part and its values are the same.
     folder = write_run(result, tmp_path / "run")
@@ -258,6 +262,18 @@ def test_the_registry_refuses_an_incomplete_kind_and_names_the_known_ones() -> N
     ):
         register_part(Mislabelled)
     assert "test-mislabelled" not in PARTS
+
+    @dataclass(frozen=True, eq=False)
+    class Undrawn(ViscousWheel):
+        kind = "test-undrawn"
+        drawing = InternalPart.drawing
+
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected a `drawing` of Undrawn, which spins \(`spin` = 0\): the viewer turns "
+        r"a disc at its speed, got none\.$",
+    ):
+        register_part(Undrawn)
     # A trajectory file naming a kind that is not registered (here: this
     # module's wheel, outside its fixture) is refused with the known kinds.
     from tumble.parts import from_description
@@ -268,3 +284,13 @@ def test_the_registry_refuses_an_incomplete_kind_and_names_the_known_ones() -> N
         r"'test-viscous-wheel'\.",
     ):
         from_description({"type": "test-viscous-wheel", "axis": [0, 0, 1]})
+
+
+def test_an_internal_table_without_a_type_names_the_kinds() -> None:
+    text = '[scenario]\nname = "t"\n[body]\nshape = "solid-sphere"\nmass = 1\nradius = 1\n[[internal]]\ninertia = 0.1\n'
+    with pytest.raises(
+        scenario.ScenarioError,
+        match=r"`internal\[0\]\.type`: Expected `type` \(kane-damper, spring-mass-damper, rotor\), "
+        r"which is missing\.",
+    ):
+        scenario.parse(text + "[simulation]\nduration = 1\n")

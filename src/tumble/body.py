@@ -33,7 +33,7 @@ from scipy.spatial.transform import Rotation
 from tumble.errors import InputError
 from tumble.invariants import FREE_BODY_INVARIANTS, largest_rate, reduce_invariants
 from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, principal_decomposition
-from tumble.parts import InternalPart, kernel_layout, pack_parts
+from tumble.parts import InternalPart, pack_parts
 
 __all__ = ["ZERO_MOMENT", "BodyBatch", "RigidBody"]
 
@@ -180,16 +180,20 @@ class RigidBody:
 
     # ------------------------------------------------------------ parts
     @cached_property
-    def layout(self) -> Any:
-        """The kernels' layout of its parts (:func:`tumble.parts.kernel_layout`)."""
-        return kernel_layout(self, self.parts)
+    def _packed(self) -> tuple[Any, Array]:
+        layout, packed = pack_parts(self, self.parts)
+        packed.flags.writeable = False
+        return layout, packed
 
-    @cached_property
+    @property
+    def layout(self) -> Any:
+        """The kernels' layout of its parts (:func:`tumble.parts.pack_parts`)."""
+        return self._packed[0]
+
+    @property
     def packed_parts(self) -> Array:
         """(rows, 1) its parts packed for the kernels (:func:`tumble.parts.pack_parts`)."""
-        packed = pack_parts(self, self.parts)
-        packed.flags.writeable = False
-        return packed
+        return self._packed[1]
 
     def initial_values(self, omega0: Array) -> Array:
         """(..., m) the parts' values at t = 0 for the body's ω0 (..., 3)

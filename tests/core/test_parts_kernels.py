@@ -10,7 +10,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from tumble.core import parts
-from tumble.core._jit import FINITE
+from tumble.core._jit import FINITE, njit
 from tumble.core.dampers import DAMPER_EQUATIONS
 from tumble.core.parts import part_model
 from tumble.core.rotor import ROTOR_EQUATIONS
@@ -153,3 +153,24 @@ def test_a_state_that_blows_up_is_reported_with_its_step() -> None:
     status, _ = run_steps(parts.parts_rk4_step, layout, y, moments, packed, 0.1, 5)
     assert status == 1
     assert_allclose(y, [0.1, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0])  # left as before the step
+
+
+@njit(inline="always")
+def _doubled_momentum(y, k, parts, row, rows, pc):  # type: ignore[no-untyped-def]
+    h = 2.0 * y[k]
+    return h * parts[row, pc], h * parts[row + 1, pc], h * parts[row + 2, pc]
+
+
+def test_kinds_that_share_their_rates_compile_apart() -> None:
+    # A kind with the rotor's rates but its own momentum: the kernels' cache keys
+    # name every function of a kind, so it never gets the rotor's compiled code.
+    doubled = ROTOR_EQUATIONS._replace(momentum=_doubled_momentum)
+    rotor_layout, doubled_layout = (rotor(),), ((doubled, 1, 11),)
+    assert parts.layout_identity(rotor_layout) != parts.layout_identity(doubled_layout)
+    # H = (0, 0, 3), h = 1 along axis 3, moments (1, 1, 2): ω3 = (3 − h) / 2 for
+    # the rotor, (3 − 2 h) / 2 for the kind that counts its momentum twice.
+    states = np.array([[0.0, 0.0, 3.0, 1.0, 0.0, 0.0, 0.0, 1.0]]).T.copy()
+    moments = np.array([[1.0, 1.0, 2.0]]).T.copy()
+    packed = np.array(rotor_rows((0, 0, 1), 0.5))[:, None]
+    assert parts.velocities(rotor_layout)(states, moments, packed)[0, 2] == 1.0
+    assert parts.velocities(doubled_layout)(states, moments, packed)[0, 2] == 0.5

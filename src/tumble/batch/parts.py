@@ -16,7 +16,7 @@ from tumble.core._jit import FINITE
 from tumble.errors import InputError, IntegrationError
 from tumble.integrators import INTEGRATORS, Integrator
 from tumble.integrators.drivers import PROGRESS_CHUNK
-from tumble.parts import kernel_layout, pack_parts, spin_columns
+from tumble.parts import pack_parts, spin_columns
 from tumble.torques import TorqueModel, bind
 from tumble.units import vector_to_si
 
@@ -84,9 +84,9 @@ class PartsBatch:
         y = np.concatenate(
             [bodies.to_principal(momentum).T, bodies.attitude_to_principal(q0).T, *blocks]
         )
-        layout = kernel_layout(bodies, parts)
-        packed = np.ascontiguousarray(pack_parts(bodies, parts))
-        return cls(bodies, parts, np.ascontiguousarray(y), packed, layout, method)
+        layout, packed = pack_parts(bodies, parts)
+        return cls(bodies, parts, np.ascontiguousarray(y), np.ascontiguousarray(packed), layout,
+                   method)  # fmt: skip
 
     def values(self, y: Array) -> tuple[Array, Array, Array]:
         """ω (N, 3) and the attitude (N, 4), body axes, and the parts' values

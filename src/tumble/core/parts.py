@@ -103,21 +103,24 @@ LayoutEntry = tuple[PartEquations, int, int]
 class PartModel(NamedTuple):
     """The compiled functions of one layout: ``velocity(y, inverse, parts, pc) ->
     ω``, ``momentum(y, parts, pc) -> Σ momentum``, ``rates(y, dy, parts, pc, w,
-    v, hold)`` and ``kick(y, parts, pc, w, v, hold, h)``; ``splittable`` when
-    every part has a kick."""
+    v, hold)`` and ``kick(y, parts, pc, w, v, hold, h)`` (the kicks of the parts
+    that have one: the splitting kernels take a layout only when every part
+    kicks and none moves mass, :attr:`tumble.parts.InternalPart.splittable`)."""
 
     velocity: Any
     momentum: Any
     rates: Any
     kick: Any
-    splittable: bool
 
 
 def layout_identity(layout: tuple[LayoutEntry, ...]) -> str:
     """A stable description of a layout, for the kernels' cache keys: each part's
-    equations (their source stamps), state size and rows."""
+    equations (the source stamp of every one of its functions: two kinds that
+    share their rates but not their momentum compile apart), state size and
+    rows."""
     return ";".join(
-        f"{file_stamp(equations.rates)}:{size}:{rows}" for equations, size, rows in layout
+        ",".join(file_stamp(f) for f in equations if f is not None) + f":{size}:{rows}"
+        for equations, size, rows in layout
     )
 
 
@@ -244,8 +247,7 @@ def part_model(layout: tuple[LayoutEntry, ...]) -> PartModel:
     velocity = (
         _diagonal_velocity(momentum) if inertia is None else _solved_velocity(momentum, inertia)
     )
-    splittable = inertia is None and all(entry[0].kick is not None for entry in layout)
-    return PartModel(velocity, momentum, rates, kick, splittable)
+    return PartModel(velocity, momentum, rates, kick)
 
 
 # ------------------------------------------------------------------ the rates
@@ -470,7 +472,7 @@ def single_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unt
     or the global number of the first step that was not finite (the state is
     left as it was before it).
     """
-    velocity, momentum, rates, kick, _ = part_model(layout)
+    velocity, momentum, rates, kick = part_model(layout)
     key = layout_identity(layout)
 
     @specialise(njit, f"parts.single|{file_stamp(step)}|{key}|{identity}")
@@ -490,7 +492,7 @@ def batch_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unty
     (``y`` (7 + m, N), ``moments`` (3, N); ``parts`` and ``params`` shared or one
     column per body) advanced in place, one body per thread at a time; ``status``
     (N,) receives each body's status (a body keeps its last finite state)."""
-    velocity, momentum, rates, kick, _ = part_model(layout)
+    velocity, momentum, rates, kick = part_model(layout)
     key = layout_identity(layout)
 
     # One body per call of a compiled function of its own, as in
@@ -530,7 +532,7 @@ def adaptive_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped
     to the rows of ``out`` (m, 7 + m') and the status as there). The parts'
     inputs are read at the middle of (t_start, t_stop): the driver ends each
     call at the next switch of a schedule."""
-    velocity, _, rates, _, _ = part_model(layout)
+    velocity, _, rates, _ = part_model(layout)
     key = layout_identity(layout)
 
     @njit(inline="always", cache=False)

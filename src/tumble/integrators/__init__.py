@@ -171,7 +171,7 @@ class Integrator:
         attitude: bool = True,
     ) -> Any:
         """The compiled kernel ``role`` specialised for ``torque`` (and, for bodies
-        carrying parts, their ``layout``: :meth:`tumble.parts.PartSet.layout`), built
+        carrying parts, their ``layout``: :func:`tumble.parts.pack_parts`), built
         once per process; compiled on first call, or loaded from the on-disk
         cache. Hints for a stepping integrator's metrics kernel, which the other
         kernels ignore: ``principal_axis``, the axis 0, 1 or 2 that every nominal

@@ -75,7 +75,7 @@ class Problem:
 
     @property
     def layout(self) -> Any:
-        """The parts' layout for their kernels (:func:`tumble.parts.kernel_layout`)."""
+        """The parts' layout for their kernels (:func:`tumble.parts.pack_parts`)."""
         return self.body.layout
 
 

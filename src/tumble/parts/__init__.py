@@ -28,7 +28,9 @@ What a part contributes, with ω the body's angular velocity (body axes):
 :class:`InternalPart` with its parameters, state, energy and momentum, its
 packed rows (:meth:`InternalPart.pack`) and its compiled equations
 (:class:`tumble.core.parts.PartEquations`), decorated with
-:func:`register_part`. The equations of motion are in :mod:`tumble.core.parts`.
+:func:`register_part`. The body's equations of motion with parts are in
+:mod:`tumble.core.parts`, each kind's in its own module (:mod:`tumble.core.rotor`,
+:mod:`tumble.core.dampers`).
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ from tumble.parts.base import (
     FilePart,
     InternalPart,
     PartDrawing,
+    Siblings,
     TableKeyError,
     internal_rate,
     part_class,
@@ -47,7 +50,6 @@ from tumble.parts.dampers import KaneDamper, SpringMassDamper
 from tumble.parts.packing import (
     check_parts,
     from_description,
-    kernel_layout,
     pack_parts,
     spin_columns,
     switch_times,
@@ -62,12 +64,12 @@ __all__ = [
     "KaneDamper",
     "PartDrawing",
     "Rotor",
+    "Siblings",
     "SpringMassDamper",
     "TableKeyError",
     "check_parts",
     "from_description",
     "internal_rate",
-    "kernel_layout",
     "pack_parts",
     "part_class",
     "register_part",

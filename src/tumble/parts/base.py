@@ -5,7 +5,7 @@ A part kind is one module under :mod:`tumble.parts`: a subclass of
 the kernels, its energy and momentum, how it is drawn and read from files)
 whose ``equations`` are compiled functions (:class:`tumble.core.parts.PartEquations`),
 registered once with :func:`register_part`. Everything else in tumble — the
-body model, the integrators, the batch driver, scenario and sweep files,
+body model, the integrators, the batch driver, scenario files,
 trajectory files, the report — reads the registry :data:`PARTS`.
 """
 
@@ -30,6 +30,7 @@ __all__ = [
     "FilePart",
     "InternalPart",
     "PartDrawing",
+    "Siblings",
     "TableKeyError",
     "internal_rate",
     "limit",
@@ -72,10 +73,10 @@ class PartDrawing:
 
 @dataclass(frozen=True)
 class FilePart:
-    """A part read from a table of a scenario or sweep file: the part, the solid
-    tumble adds to the body for it (a MassProperties in body coordinates, or
-    None: already in ``[body]``), and where and how large to draw it (m;
-    None: at the centre of mass, sized to the body)."""
+    """A part read from a table of a scenario file: the part, the solid tumble
+    adds to the body for it (a MassProperties in body coordinates, or None:
+    already in ``[body]``), and where and how large to draw it (m; None: where
+    and as large as the part's :meth:`~InternalPart.drawing` chooses)."""
 
     part: InternalPart
     solid: Any = None
@@ -103,7 +104,8 @@ def register_part(cls: type[InternalPart]) -> type[InternalPart]:
     Raises
     ------
     InputError
-        A class without a ``kind``, ``label``, ``size`` or ``equations``.
+        A class without a ``kind``, ``label``, ``size`` or ``equations``, whose
+        ``value_labels`` are not ``size``, or that spins and does not draw itself.
     """
     missing = [name for name in ("kind", "label", "size", "equations") if not getattr(cls, name)]
     if missing:
@@ -115,6 +117,11 @@ def register_part(cls: type[InternalPart]) -> type[InternalPart]:
         raise InputError(
             f"Expected {cls.size} `value_labels` of {cls.__name__} (its `size`), got "
             f"{len(cls.value_labels)}."
+        )
+    if cls.spin is not None and cls.drawing is InternalPart.drawing:
+        raise InputError(
+            f"Expected a `drawing` of {cls.__name__}, which spins (`spin` = {cls.spin}): the "
+            "viewer turns a disc at its speed, got none."
         )
     PARTS[cls.kind] = cls
     return cls
@@ -131,6 +138,38 @@ def part_class(kind: Any) -> type[InternalPart]:
     if not isinstance(kind, str) or kind not in PARTS:
         raise unknown_choice(kind, PARTS, "`type`")
     return PARTS[kind]
+
+
+def _required_fields(cls: type) -> set[str]:
+    """The names of a dataclass's constructor arguments without a default."""
+    import dataclasses
+
+    if not dataclasses.is_dataclass(cls):
+        return set()
+    return {
+        f.name for f in dataclasses.fields(cls)
+        if f.init and f.default is dataclasses.MISSING
+        and f.default_factory is dataclasses.MISSING
+    }  # fmt: skip
+
+
+class Siblings(tuple[Any, ...]):
+    """The parts of one body, as :meth:`InternalPart.pack` receives them: a tuple,
+    with :meth:`shared` for what several parts of a kind compute once per packing
+    (the rotors' allocation matrix)."""
+
+    _shared: dict[str, Any]
+
+    def __new__(cls, parts: Any) -> Siblings:
+        self = super().__new__(cls, parts)
+        self._shared = {}
+        return self
+
+    def shared(self, key: str, make: Any) -> Any:
+        """``make()``, computed once per packing under ``key``."""
+        if key not in self._shared:
+            self._shared[key] = make()
+        return self._shared[key]
 
 
 class InternalPart:
@@ -155,7 +194,7 @@ class InternalPart:
     value_unit: ClassVar[str] = "rad/s"
     #: Its constructor's parameters, in SI (what :meth:`describe` writes).
     parameters: ClassVar[tuple[Parameter, ...]] = ()
-    #: The keys of its tables in scenario and sweep files besides ``type`` (by
+    #: The keys of its tables in scenario files besides ``type`` (by
     #: default its parameters and ``position``, where it is drawn), each converted
     #: to SI before :meth:`from_table`.
     file_keys: ClassVar[tuple[Parameter, ...]] = ()
@@ -252,10 +291,10 @@ class InternalPart:
 
     @classmethod
     def from_table(cls, values: dict[str, Any]) -> FilePart:
-        """The part from a table of a scenario or sweep file, its values converted
-        to SI (:meth:`keys_in_files`), with what tumble adds to the body for it.
-        By default the values are the constructor's (``position`` places its
-        drawing).
+        """The part from a table of a scenario file, its values converted to SI
+        (:meth:`keys_in_files`), with what tumble adds to the body for it. By
+        default the values are the constructor's (``position`` places its
+        drawing), each of its parameters without a default required.
 
         Raises
         ------
@@ -266,6 +305,13 @@ class InternalPart:
         """
         values = dict(values)
         position = values.pop("position", None)
+        for parameter in cls.parameters:
+            if parameter.name not in values and parameter.name in _required_fields(cls):
+                raise TableKeyError(
+                    parameter.name,
+                    f"Expected `{parameter.name}` ({parameter.description}) for a {cls.kind}, "
+                    "which is missing.",
+                )
         return FilePart(cls(**values), position=position)
 
     # ------------------------------------------------------------ for the kernels
@@ -275,8 +321,8 @@ class InternalPart:
         frame: ``frame`` is the body (:class:`tumble.body.RigidBody`) or the
         bodies (:class:`tumble.body.BodyBatch`), whose ``to_principal`` turns body
         vectors (3,) into its principal platform axes ((3,) or (N, 3)); ``parts``
-        all the parts of the body, itself included (a rotor's share of a torque
-        depends on its siblings)."""
+        all the parts of the body, itself included (:class:`Siblings`: a rotor's
+        share of a torque depends on its siblings, computed once for all)."""
         raise NotImplementedError
 
     def to_kernel(self, momenta: Array, frame: Any) -> Array:

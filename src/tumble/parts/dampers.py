@@ -166,7 +166,7 @@ class SpringMassDamper(InternalPart):
     (no pivot) and carry one spring–mass damper at most. The model is exact:
     the body's centre of mass moves with the mass, and the kinetic energy about
     it is ``½ ωᵀ (I_p + Δ(x)) ω + ẋ ω·g + ½ μ ẋ²`` with μ = m (M − m) / M
-    (:mod:`tumble.core.parts`).
+    (:mod:`tumble.core.dampers`).
     """
 
     mass: Any

@@ -4,19 +4,18 @@ their layout and packed rows for the kernels (:mod:`tumble.core.parts`)."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.core.parts import LayoutEntry
+from tumble.core.parts import LayoutEntry, PartEquations
 from tumble.errors import InputError
-from tumble.parts.base import PARTS, InternalPart, part_class
+from tumble.parts.base import PARTS, InternalPart, Siblings, part_class
 
 __all__ = [
     "check_parts",
     "from_description",
-    "kernel_layout",
     "pack_parts",
     "spin_columns",
     "switch_times",
@@ -93,26 +92,26 @@ def from_description(entry: dict[str, Any]) -> InternalPart:
 
 
 # ------------------------------------------------------------------ for the kernels
-def pack_parts(frame: Any, parts: tuple[InternalPart, ...]) -> Array:
-    """The parts packed for the kernels (:mod:`tumble.core.parts`), (rows, 1) for one
-    body or (rows, N) for a batch: each part's :meth:`~InternalPart.pack` in
-    order, in the principal frame of ``frame`` (a :class:`tumble.body.RigidBody`
-    or :class:`tumble.body.BodyBatch`)."""
-    rows = [row for part in parts for row in part.pack(frame, parts)]
+def pack_parts(
+    frame: Any, parts: tuple[InternalPart, ...]
+) -> tuple[tuple[LayoutEntry, ...], Array]:
+    """The kernels' layout of ``parts`` (:func:`tumble.core.parts.part_model`: each
+    part's equations, state size and number of packed rows) and the parts packed
+    for them, (rows, 1) for one body or (rows, N) for a batch: each part's
+    :meth:`~InternalPart.pack` in order, in the principal frame of ``frame`` (a
+    :class:`tumble.body.RigidBody` or :class:`tumble.body.BodyBatch`)."""
+    siblings = Siblings(parts)
+    blocks = [part.pack(frame, siblings) for part in parts]
+    layout: tuple[LayoutEntry, ...] = tuple(
+        (cast(PartEquations, type(part).equations), part.size, len(block))
+        for part, block in zip(parts, blocks, strict=True)
+    )
+    rows = [row for block in blocks for row in block]
     columns = max((np.size(row) for row in rows), default=1)
     packed = np.empty((len(rows), columns))
     for k, row in enumerate(rows):
         packed[k] = row
-    return packed
-
-
-def kernel_layout(frame: Any, parts: tuple[InternalPart, ...]) -> tuple[LayoutEntry, ...]:
-    """The kernels' layout of ``parts`` (:func:`tumble.core.parts.part_model`): each
-    part's equations, state size and number of packed rows."""
-    return tuple(
-        (type(part).equations, part.size, len(part.pack(frame, parts)))  # type: ignore[misc]
-        for part in parts
-    )
+    return layout, packed
 
 
 def switch_times(parts: tuple[InternalPart, ...], end: float) -> Array:

@@ -16,6 +16,7 @@ from tumble.parts.base import (
     FilePart,
     InternalPart,
     PartDrawing,
+    Siblings,
     limit,
     positive,
     register_part,
@@ -158,8 +159,16 @@ class Rotor(InternalPart):
         matrix (the pseudo-inverse of the rotors' axes as columns), then its
         schedule: :data:`tumble.core.rotor.ROTOR_FIELDS`."""
         rotors = [part for part in parts if isinstance(part, Rotor)]
-        turned = np.stack([np.asarray(frame.to_principal(r.axis), dtype=float) for r in rotors], -2)
-        allocation = np.linalg.pinv(np.swapaxes(turned, -1, -2))  # (..., k, 3)
+
+        def axes_and_allocation() -> tuple[Array, Array]:
+            turned = np.stack([np.asarray(frame.to_principal(r.axis), dtype=float)
+                               for r in rotors], -2)  # fmt: skip
+            return turned, np.linalg.pinv(np.swapaxes(turned, -1, -2))  # (..., k, 3)
+
+        if isinstance(parts, Siblings):
+            turned, allocation = parts.shared("rotor allocation", axes_and_allocation)
+        else:
+            turned, allocation = axes_and_allocation()
         k = next(j for j, part in enumerate(rotors) if part is self)
         times, torques = self.schedule
         return [

@@ -135,6 +135,18 @@ class RotorDrawing:
     thickness: float
 
 
+def disc_drawing(drawing: Any) -> RotorDrawing | None:
+    """A part's drawing (:class:`tumble.parts.PartDrawing`) as a turning disc, or
+    None when it is not a disc that spins."""
+    if drawing is None or drawing.shape != "disc" or drawing.spin is None:
+        return None
+    axis = np.asarray(drawing.axis, dtype=float)
+    return RotorDrawing(
+        np.asarray(drawing.position, dtype=float), axis / np.linalg.norm(axis),
+        float(drawing.radius), float(drawing.thickness),
+    )  # fmt: skip
+
+
 def rotor_mesh(drawing: RotorDrawing) -> tuple[Array, NDArray[np.int64], NDArray[np.bool_]]:
     """A disc with a stripe along one radius (to see it turn), in body coordinates at
     its place: vertices, faces, and which faces belong to the stripe."""

@@ -21,6 +21,7 @@ from tumble.report.geometry import (
     RotorDrawing,
     box,
     cylinder,
+    disc_drawing,
     equal_inertia_ellipsoid,
     revolve,
     sphere,
@@ -139,34 +140,27 @@ def _concatenate(pieces: list[tuple[Array, NDArray[np.int64]]]) -> tuple[Array, 
 
 def part_drawings(
     parts: Any, centre: Array, geometry: Geometry
-) -> tuple[Geometry, list[RotorDrawing]]:
+) -> tuple[Geometry, list[RotorDrawing | None]]:
     """The body's mesh with the parts drawn as balls added to it, and the discs of
-    the parts that spin, in the order of their speeds (:class:`RotorDrawing`),
-    from each part's :meth:`~tumble.parts.InternalPart.drawing`. ``parts`` are
-    parts as read from a file (:class:`tumble.parts.FilePart`) or bare parts;
-    ``centre`` the body's centre of mass (body coordinates, m)."""
+    the parts that spin, one per column of the rotors' speeds (None for one not
+    drawn as a disc), from each part's :meth:`~tumble.parts.InternalPart.drawing`.
+    ``parts`` are parts as read from a file (:class:`tumble.parts.FilePart`) or
+    bare parts; ``centre`` the body's centre of mass (body coordinates, m)."""
     vertices = geometry.vertices
     reach = float(np.max(np.ptp(vertices, axis=0))) if len(vertices) else 1.0
     pieces = [(geometry.vertices, geometry.faces)]
-    rotors = []
+    rotors: list[RotorDrawing | None] = []
     for entry in parts:
         part = getattr(entry, "part", entry)
         drawing = part.drawing(
             reach, centre, getattr(entry, "position", None), getattr(entry, "radius", None),
             getattr(entry, "thickness", None),
         )  # fmt: skip
-        if drawing is None:
-            continue
-        if drawing.shape == "ball":
+        if part.spin is not None:
+            rotors.append(disc_drawing(drawing))
+        elif drawing is not None and drawing.shape == "ball":
             ball, faces = sphere(drawing.radius, rings=8, sections=12)
             pieces.append((ball + drawing.position, faces))
-        elif drawing.spin is not None:
-            axis = np.asarray(drawing.axis, dtype=float)
-            rotors.append(
-                RotorDrawing(
-                    drawing.position, axis / np.linalg.norm(axis), drawing.radius, drawing.thickness
-                )
-            )
     if len(pieces) > 1:
         vertices, faces = _concatenate(pieces)
         geometry = Geometry(vertices, faces, geometry.exact)

@@ -54,33 +54,32 @@ def _geometry(traj: Trajectory, geometry: Geometry | None) -> tuple[Array, NDArr
     return geometry.vertices, geometry.faces, geometry.exact
 
 
-def _rotor_drawings(traj: Trajectory, reach: float) -> list[RotorDrawing]:
-    """Discs for the trajectory's parts that spin (its rotors), as each part draws
-    itself (:meth:`tumble.parts.InternalPart.drawing`): at the centre of mass,
-    sized to the body."""
-    from tumble.report.geometry import RotorDrawing
+def _rotor_drawings(traj: Trajectory, reach: float) -> list[RotorDrawing | None]:
+    """Discs for the trajectory's parts that spin (its rotors, one per column of
+    ``rotor_speed``), as each part draws itself
+    (:meth:`tumble.parts.InternalPart.drawing`): at the centre of mass, sized to
+    the body; None for one that does not draw itself as a disc."""
+    from tumble.report.geometry import disc_drawing
 
     centre = traj.mass_properties.center_of_mass
-    drawings = [part.drawing(reach, centre) for part in traj.internal]
     return [
-        RotorDrawing(d.position, np.asarray(d.axis), d.radius, d.thickness)
-        for d in drawings
-        if d is not None and d.shape == "disc" and d.spin is not None
+        disc_drawing(part.drawing(reach, centre)) for part in traj.internal if part.spin is not None
     ]
 
 
 def _rotor_data(
     traj: Trajectory,
-    drawings: Sequence[RotorDrawing],
+    drawings: Sequence[RotorDrawing | None],
     origin: Array,
     index: Any,
 ) -> list[dict[str, Any]]:
-    """Each rotor's mesh (body coordinates about the fixed point), axis and spin
-    angle at each frame (rad, the integral of its speed, modulo 2π)."""
+    """Each drawn rotor's mesh (body coordinates about the fixed point), axis and
+    spin angle at each frame (rad, the integral of its speed, modulo 2π);
+    ``drawings`` one per column of the rotors' speeds, None for one not drawn."""
     speeds = traj.rotor_speed
     if len(drawings) != speeds.shape[1]:
         raise ValueError(f"Expected {speeds.shape[1]} rotor drawings, got {len(drawings)}.")
-    if not drawings:
+    if not any(drawings):
         return []  # without importing scipy.integrate (0.1 s)
     from scipy.integrate import cumulative_trapezoid
 
@@ -88,6 +87,8 @@ def _rotor_data(
 
     rotors = []
     for k, drawing in enumerate(drawings):
+        if drawing is None:
+            continue
         vertices, faces, marked = rotor_mesh(drawing)
         angles = cumulative_trapezoid(speeds[:, k], traj.t, initial=0.0)[index] % (2 * np.pi)
         rotors.append(
@@ -107,7 +108,7 @@ def viewer_data(
     traj: Trajectory,
     geometry: Geometry | None = None,
     frames: int = 300,
-    rotors: Sequence[RotorDrawing] | None = None,
+    rotors: Sequence[RotorDrawing | None] | None = None,
 ) -> dict[str, Any]:
     """The numbers the viewer's script needs (SI, space axes; the fixed point at the
     origin); ``rotors`` places the trajectory's rotors (default: discs at the
@@ -331,7 +332,7 @@ def viewer_html(
     *,
     frames: int = 300,
     title: str = "",
-    rotors: Sequence[RotorDrawing] | None = None,
+    rotors: Sequence[RotorDrawing | None] | None = None,
 ) -> str:
     """The viewer page of a trajectory, as one self-contained HTML string.
 
