@@ -155,8 +155,8 @@ def _required_fields(cls: type) -> set[str]:
 
 class Siblings(tuple[Any, ...]):
     """The parts of one body, as :meth:`InternalPart.pack` receives them: a tuple,
-    with :meth:`shared` for what several parts of a kind compute once per packing
-    (the rotors' allocation matrix)."""
+    with :meth:`~tumble.parts.Siblings.shared` for what several parts of a kind
+    compute once per packing (the rotors' allocation matrix)."""
 
     _shared: dict[str, Any]
 
@@ -192,11 +192,12 @@ class InternalPart:
     #: Labels of its values, and their unit.
     value_labels: ClassVar[tuple[str, ...]] = ()
     value_unit: ClassVar[str] = "rad/s"
-    #: Its constructor's parameters, in SI (what :meth:`describe` writes).
+    #: Its constructor's parameters, in SI (what
+    #: :meth:`~tumble.parts.InternalPart.describe` writes).
     parameters: ClassVar[tuple[Parameter, ...]] = ()
     #: The keys of its tables in scenario files besides ``type`` (by
     #: default its parameters and ``position``, where it is drawn), each converted
-    #: to SI before :meth:`from_table`.
+    #: to SI before :meth:`~tumble.parts.InternalPart.from_table`.
     file_keys: ClassVar[tuple[Parameter, ...]] = ()
     #: Its compiled equations.
     equations: ClassVar[PartEquations | None] = None
@@ -206,7 +207,7 @@ class InternalPart:
     splittable: ClassVar[bool] = False
     #: True for a part that may make a gyrostat (a rotor without a motor: its
     #: momentum along a body-fixed principal axis is constant), whose free
-    #: motion the exact integrator solves (:attr:`gyrostatic_axis`).
+    #: motion the exact integrator solves (:attr:`~tumble.parts.InternalPart.gyrostatic_axis`).
     gyrostatic: ClassVar[bool] = False
     #: The index of its value that is its spin rate relative to the body (rad/s)
     #: about a body-fixed axis (a wheel's), or None: what ``rotor_speed`` reads.
@@ -263,8 +264,10 @@ class InternalPart:
 
     def describe(self) -> dict[str, Any]:
         """The part as JSON-ready SI values (with ``type``), to write beside a
-        trajectory; :meth:`from_description` reads it back. By default its
-        :attr:`parameters`' values (arrays as lists, infinities as None)."""
+        trajectory; :meth:`~tumble.parts.InternalPart.from_description` reads it
+        back. By default the values of its
+        :attr:`~tumble.parts.InternalPart.parameters` (arrays as lists,
+        infinities as None)."""
         values: dict[str, Any] = {"type": self.kind}
         for parameter in self.parameters:
             value = getattr(self, parameter.name)
@@ -277,13 +280,15 @@ class InternalPart:
 
     @classmethod
     def from_description(cls, values: dict[str, Any]) -> InternalPart:
-        """The part from :meth:`describe`'s dictionary, less its ``type``."""
+        """The part from the dictionary of
+        :meth:`~tumble.parts.InternalPart.describe`, less its ``type``."""
         return cls(**values)
 
     @classmethod
     def keys_in_files(cls) -> tuple[Parameter, ...]:
-        """The keys of its tables in files: :attr:`file_keys`, or its parameters
-        and ``position``."""
+        """The keys of its tables in files:
+        :attr:`~tumble.parts.InternalPart.file_keys`, or its parameters and
+        ``position``."""
         if cls.file_keys:
             return cls.file_keys
         where = Parameter("position", "length", (3,), "where it is drawn, body coordinates")
@@ -292,8 +297,8 @@ class InternalPart:
     @classmethod
     def from_table(cls, values: dict[str, Any]) -> FilePart:
         """The part from a table of a scenario file, its values converted to SI
-        (:meth:`keys_in_files`), with what tumble adds to the body for it. By
-        default the values are the constructor's (``position`` places its
+        (:meth:`~tumble.parts.InternalPart.keys_in_files`), with what tumble adds
+        to the body for it. By default the values are the constructor's (``position`` places its
         drawing), each of its parameters without a default required.
 
         Raises
@@ -321,18 +326,19 @@ class InternalPart:
         frame: ``frame`` is the body (:class:`tumble.body.RigidBody`) or the
         bodies (:class:`tumble.body.BodyBatch`), whose ``to_principal`` turns body
         vectors (3,) into its principal platform axes ((3,) or (N, 3)); ``parts``
-        all the parts of the body, itself included (:class:`Siblings`: a rotor's
+        all the parts of the body, itself included (:class:`~tumble.parts.Siblings`: a rotor's
         share of a torque depends on its siblings, computed once for all)."""
         raise NotImplementedError
 
     def to_kernel(self, momenta: Array, frame: Any) -> Array:
-        """Its momenta (..., size) (:meth:`momenta`, body axes) in the kernels' frame
-        (the same for scalars; vectors turned by ``frame.to_principal``)."""
+        """Its momenta (..., size) (:meth:`~tumble.parts.InternalPart.momenta`, body
+        axes) in the kernels' frame (the same for scalars; vectors turned by
+        ``frame.to_principal``)."""
         return momenta
 
     def from_kernel(self, block: Array, frame: Any) -> Array:
         """Its momenta (n, size) in body axes from the kernels' frame (the inverse
-        of :meth:`to_kernel`)."""
+        of :meth:`~tumble.parts.InternalPart.to_kernel`)."""
         return block
 
     def switch_times(self) -> Array:
@@ -342,9 +348,10 @@ class InternalPart:
 
     @property
     def gyrostatic_axis(self) -> Array | None:
-        """For a part that may make a gyrostat (:attr:`gyrostatic`), the unit axis
-        (body axes) along which its momentum is constant in free motion; None
-        when it is not constant (a motor drives it)."""
+        """For a part that may make a gyrostat
+        (:attr:`~tumble.parts.InternalPart.gyrostatic`), the unit axis (body axes)
+        along which its momentum is constant in free motion; None when it is not
+        constant (a motor drives it)."""
         return None
 
     def drawing(
@@ -361,7 +368,7 @@ class InternalPart:
         platform inertia is ``platform_inertia`` ((3, 3), kg·m², body axes): the
         rate at which it relaxes or oscillates by itself, and the rate at which it
         pulls the platform along. (0, 0) for a part with no stiffness or damping
-        of its own. :func:`internal_rate` combines the parts' rates."""
+        of its own. :func:`~tumble.parts.internal_rate` combines the parts' rates."""
         return 0.0, 0.0
 
     @property

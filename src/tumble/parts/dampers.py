@@ -175,9 +175,10 @@ class SpringMassDamper(InternalPart):
     stiffness: Any
     damping: Any = 0.0
     displacement: Any = 0.0
-    #: Set by :meth:`attached` (the reduced mass μ, kg, and the rest position d0
-    #: from the centre of mass of the rest of the body, m, body axes): what the
-    #: part knows of the body that carries it; None for a bare part.
+    #: Set by :meth:`~tumble.parts.SpringMassDamper.attached` (the reduced mass
+    #: μ, kg, and the rest position d0 from the centre of mass of the rest of the
+    #: body, m, body axes): what the part knows of the body that carries it; None
+    #: for a bare part.
     geometry: Any = field(default=None, init=False, repr=False)
 
     kind = "spring-mass-damper"
