@@ -47,7 +47,7 @@ class Gravity(TorqueModel):
     >>> import numpy as np
     >>> import tumble as tb
     >>> tb.torques.Gravity()
-    Gravity([0.0, 0.0, -9.81] m/s^2)
+    Gravity([0.0, 0.0, -9.81] m/s²)
     >>> ball = tb.shapes.solid_sphere(2.0, 0.1)
     >>> swing = tb.simulate(ball, [0.05, 0, 0], pivot=[0, 0, 0.2], torque=tb.torques.Gravity(),
     ...                     duration=3.0, dt=0.005)
