@@ -12,7 +12,7 @@ trajectory files, the report — reads the registry :data:`PARTS`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import MISSING, dataclass, fields, is_dataclass
 from typing import Any, ClassVar, Literal
 
 import numpy as np
@@ -142,14 +142,11 @@ def part_class(kind: Any) -> type[InternalPart]:
 
 def _required_fields(cls: type) -> set[str]:
     """The names of a dataclass's constructor arguments without a default."""
-    import dataclasses
-
-    if not dataclasses.is_dataclass(cls):
+    if not is_dataclass(cls):
         return set()
     return {
-        f.name for f in dataclasses.fields(cls)
-        if f.init and f.default is dataclasses.MISSING
-        and f.default_factory is dataclasses.MISSING
+        f.name for f in fields(cls)
+        if f.init and f.default is MISSING and f.default_factory is MISSING
     }  # fmt: skip
 
 
