@@ -1,10 +1,12 @@
-"""Shared test settings: hypothesis profiles."""
+"""Shared test settings: hypothesis profiles, and the markers that split the
+suite between ``make check`` and ``make test`` (see the Makefile)."""
 
 from __future__ import annotations
 
 import os
 from datetime import timedelta
 
+import pytest
 from hypothesis import HealthCheck, settings
 
 # No deadline: the first call of a kernel compiles it (about a second), which
@@ -36,3 +38,12 @@ settings.register_profile(
 settings.load_profile(
     os.environ.get("TUMBLE_HYPOTHESIS") or ("ci" if os.environ.get("CI") else "default")
 )
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Mark ``site`` every test that reads the built site (through the ``site``
+    fixture of tests/test_site.py), so that ``make test`` runs them after ``make
+    docs`` and the rest of the suite alongside it."""
+    for item in items:
+        if "site" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.site)
