@@ -6,10 +6,10 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
 # The tests run in one pytest-xdist worker per core (JOBS=1 for one process, to
-# use a debugger). Idle workers take tests from busy ones: a few tests compile
-# kernels for a minute, and they must not leave one core working alone at the end.
+# use a debugger), a file at a time: the tests of a file share compiled kernels,
+# and two workers would each compile those they reach at the same moment.
 JOBS   ?= $(shell nproc 2>/dev/null || echo 2)
-XDIST  := $(if $(filter 1,$(JOBS)),-p no:xdist,-n $(JOBS) --dist worksteal)
+XDIST  := $(if $(filter 1,$(JOBS)),-p no:xdist,-n $(JOBS) --dist loadfile)
 
 # apt-get as root, else through sudo (never prompting: CI has no terminal).
 SUDO   := $(shell [ "$$(id -u)" = 0 ] || echo "sudo -n")
