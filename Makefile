@@ -10,6 +10,8 @@ STAMP  := $(VENV)/.installed
 # and two workers would each compile those they reach at the same moment.
 JOBS   ?= $(shell nproc 2>/dev/null || echo 2)
 XDIST  := $(if $(filter 1,$(JOBS)),-p no:xdist,-n $(JOBS) --dist loadfile)
+# Without the JIT nothing is compiled: the tests go to the workers one by one.
+NOJIT  := NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q $(if $(filter 1,$(JOBS)),-p no:xdist,-n $(JOBS))
 
 # apt-get as root, else through sudo (never prompting: CI has no terminal).
 SUDO   := $(shell [ "$$(id -u)" = 0 ] || echo "sudo -n")
@@ -69,9 +71,8 @@ pytest-site: docs
 
 # The compiled core once more as plain Python, so coverage and tracebacks see the kernels.
 pytest-nojit: setup
-	NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q $(XDIST) tests/core
-	NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q $(XDIST) tests/test_sweep.py \
-	  -k "quarter or symmetric or single_body or nutation"
+	$(NOJIT) tests/core
+	$(NOJIT) tests/test_sweep.py -k "quarter or symmetric or single_body or nutation"
 
 # The suite less the slow tests (kills, long fuzzing, large sweeps of kernel
 # variants) and the site's: for the loop of editing.
@@ -84,9 +85,9 @@ check: setup
 	@$(MAKE) --no-print-directory lint typecheck contracts pytest-fast
 
 # Every check. The site and the tests run side by side (the site's tests after
-# it), so that both cores stay busy; -Oline keeps each line of output whole.
+# it), so that both cores stay busy.
 test: setup
-	@$(MAKE) --no-print-directory -j3 -Oline docs pytest lint typecheck contracts doctest \
+	@$(MAKE) --no-print-directory -j3 docs pytest lint typecheck contracts doctest \
 	  pytest-nojit pytest-site
 
 bench: setup
