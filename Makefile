@@ -1,13 +1,23 @@
-# Two commands: `make demo` and `make test`. Both set everything up first.
+# `make demo` runs the built-in scenario; `make check` is the quick loop while
+# editing; `make test` (what CI runs) is every check. All set everything up first.
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
+# The tests run in one pytest-xdist worker per core (JOBS=1 for one process, to
+# use a debugger), a file at a time: the tests of a file share compiled kernels,
+# and two workers would each compile those they reach at the same moment.
+JOBS   ?= $(shell nproc 2>/dev/null || echo 2)
+XDIST  := $(if $(filter 1,$(JOBS)),-p no:xdist,-n $(JOBS) --dist loadfile)
+# Without the JIT nothing is compiled: the tests go to the workers one by one.
+NOJIT  := NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q $(if $(filter 1,$(JOBS)),-p no:xdist,-n $(JOBS))
+
 # apt-get as root, else through sudo (never prompting: CI has no terminal).
 SUDO   := $(shell [ "$$(id -u)" = 0 ] || echo "sudo -n")
 
-.PHONY: setup browser demo docs doctest test lint typecheck contracts pytest pytest-nojit bench clean
+.PHONY: setup browser demo docs doctest check test lint typecheck contracts pytest pytest-fast \
+	pytest-site pytest-nojit bench clean
 
 setup: $(STAMP) browser
 
@@ -51,16 +61,34 @@ typecheck: setup
 contracts: setup
 	$(BIN)/lint-imports
 
+# The whole suite but the tests of the built site (pytest-site), which need make docs.
 pytest: setup
-	$(BIN)/pytest -q
+	$(BIN)/pytest -q $(XDIST) -m "not site"
+
+# The tests of the site (links, the browser, the reference): they read docs/_build/html.
+pytest-site: docs
+	$(BIN)/pytest -q -m site
 
 # The compiled core once more as plain Python, so coverage and tracebacks see the kernels.
 pytest-nojit: setup
-	NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q tests/core
-	NUMBA_DISABLE_JIT=1 $(BIN)/pytest -q tests/test_sweep.py -k "quarter or symmetric or single_body or nutation"
+	$(NOJIT) tests/core
+	$(NOJIT) tests/test_sweep.py -k "quarter or symmetric or single_body or nutation"
 
-# docs before pytest: the tests of the site (links, the browser, the reference) read it.
-test: lint typecheck contracts docs doctest pytest pytest-nojit
+# The suite less the slow tests (kills, long fuzzing, large sweeps of kernel
+# variants) and the site's: for the loop of editing.
+pytest-fast: setup
+	$(BIN)/pytest -q $(XDIST) -m "not slow and not site"
+
+# While editing: lint, types, contracts and the fast tests (3 minutes once
+# numba's cache is filled; the first run compiles the kernels).
+check: setup
+	@$(MAKE) --no-print-directory lint typecheck contracts pytest-fast
+
+# Every check. The site and the tests run side by side (the site's tests after
+# it), so that both cores stay busy.
+test: setup
+	@$(MAKE) --no-print-directory -j3 docs pytest lint typecheck contracts doctest \
+	  pytest-nojit pytest-site
 
 bench: setup
 	$(BIN)/python -m pip install --quiet -e '.[dev,bench]'

@@ -1,10 +1,12 @@
-"""Shared test settings: hypothesis profiles."""
+"""Shared test settings: hypothesis profiles, and the markers that split the
+suite between ``make check`` and ``make test`` (see the Makefile)."""
 
 from __future__ import annotations
 
 import os
 from datetime import timedelta
 
+import pytest
 from hypothesis import HealthCheck, settings
 
 # No deadline: the first call of a kernel compiles it (about a second), which
@@ -36,3 +38,21 @@ settings.register_profile(
 settings.load_profile(
     os.environ.get("TUMBLE_HYPOTHESIS") or ("ci" if os.environ.get("CI") else "default")
 )
+
+
+#: Files that compile the most kernels, run first. The Makefile's parallel workers
+#: take whole files (pytest-xdist's --dist loadfile: tests of one file share their
+#: kernels, and a worker that compiles one alone does not compile it twice); the
+#: sweep tests compile a third of the suite's kernels, a quarter of a first run,
+#: and started last they would run on one worker while the other stood idle.
+FIRST = ("test_sweep.py",)
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Mark ``site`` every test that reads the built site (through the ``site``
+    fixture of tests/test_site.py), so that ``make test`` runs them after ``make
+    docs`` and the rest of the suite alongside it; run the files of ``FIRST`` first."""
+    for item in items:
+        if "site" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.site)
+    items.sort(key=lambda item: item.path.name not in FIRST)

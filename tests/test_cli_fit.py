@@ -355,6 +355,7 @@ def test_every_loss_of_the_library_is_taken_and_named_in_the_help(
     assert given == list(LOSSES)
 
 
+@pytest.mark.slow  # the fits tried before the refusal: 10 s and more
 def test_rates_too_small_for_any_body_are_refused(
     samples: tuple[np.ndarray, np.ndarray], tmp_path: Path
 ) -> None:
@@ -394,6 +395,7 @@ def test_a_recording_beyond_the_memory_budget_is_one_line(
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow  # 74000 samples written, read, averaged and fitted: 10 s and more
 def test_a_recording_sampled_far_too_fast_is_averaged_and_says_so(tmp_path: Path) -> None:
     # The phone at 20 kHz: 74000 samples, averaged 4 at a time. Oracle: the truth.
     from tumble.identification.recordings import phyphox_csv

@@ -165,6 +165,7 @@ def test_ratios_with_large_errors_are_refused() -> None:
         tb.identify(t, w, window=(t[0], t[-1]))
 
 
+@pytest.mark.slow  # the fits tried before the refusal: 10 s and more
 def test_a_noisy_symmetric_body_with_a_bias_is_refused() -> None:
     # The same trade-off with noise: the fit can slide along it to a wrong ratio
     # whose local error looks small; a body symmetric within its errors is refused.
@@ -222,6 +223,7 @@ def test_bad_windows_are_refused(window: object, message: str) -> None:
         tb.identify(t, w, window=window)
 
 
+@pytest.mark.slow  # the fits tried before the refusal: 10 s and more
 def test_a_window_that_is_not_free_flight_is_refused() -> None:
     phone = synthetic_phone(0)
     # The hand's part breaks |dω/dt| ≤ |ω|²/√3, and the refusal says what may.
@@ -246,6 +248,7 @@ def test_an_unknown_loss_is_refused() -> None:
         tb.identify(t, w, loss="square")
 
 
+@pytest.mark.slow  # a plain and a robust fit of the same recording: 10 s and more
 def test_a_robust_loss_ignores_outliers() -> None:
     # Oracle: the truth. 1 % of the samples knocked by 2 rad/s (impacts, glitches):
     # plain least squares is pulled off; soft_l1 keeps the truth within its errors.
@@ -368,6 +371,7 @@ def test_the_samples_refused_are_shown_as_plain_numbers() -> None:
 
 
 # ------------------------------------------------------------------ rates in the wrong unit
+@pytest.mark.slow  # the fits tried before the refusals: 10 s and more
 def test_rates_too_small_for_any_body_are_refused() -> None:
     # The shipped recording in rad/s divided by 180/π (np.radians applied twice,
     # or a header that says rad/s of rates in deg/s): they break |dω/dt| ≤ |ω|²/√3,
@@ -440,6 +444,7 @@ def test_every_free_body_keeps_the_bound(
 
 
 # ------------------------------------------------------------------ recordings sampled far too fast
+@pytest.mark.slow  # 2.2 million samples averaged, then fitted: 10 s and more
 def test_a_recording_sampled_far_too_fast_is_averaged_with_a_note() -> None:
     # The phone at 590 kHz: 2.2 million samples, averaged in blocks of far less
     # than a degree of turn. Oracle: the truth, within 3 standard errors.

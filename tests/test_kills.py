@@ -107,6 +107,7 @@ def run_to_the_end(args: tuple[str | Path, ...], cwd: Path) -> tuple[str, float]
     return out, time.monotonic() - start
 
 
+@pytest.mark.slow  # KILLS starts of tumble, each killed or run to its end
 def test_killed_runs(tmp_path: Path) -> None:
     rng = np.random.default_rng(1)
     source = scenario(tmp_path, RUN, 500.0, "busy.toml")
@@ -138,6 +139,7 @@ def sweep_store(folder: Path) -> tuple[set[int], dict[str, np.ndarray]]:
     return done, {name: np.asarray(group[name][:]) for name in ARRAYS}
 
 
+@pytest.mark.slow  # KILLS starts of tumble, each killed or run to its end
 def test_killed_sweeps(tmp_path: Path) -> None:
     rng = np.random.default_rng(2)
     source = scenario(tmp_path, SWEEP, 300.0, "small.toml")
@@ -174,6 +176,7 @@ def test_killed_sweeps(tmp_path: Path) -> None:
     assert counts["killed"] >= KILLS // 4
 
 
+@pytest.mark.slow  # KILLS starts of tumble, each killed or run to its end
 def test_killed_fits(tmp_path: Path) -> None:
     rng = np.random.default_rng(3)
     out = tmp_path / "out"

@@ -272,6 +272,7 @@ def test_the_conversion_ends_with_the_process_that_started_it(
         parent.wait()
 
 
+@pytest.mark.slow  # waits out a conversion's time limit
 def test_a_conversion_stopped_at_its_time_limit_leaves_no_process(tmp_path: Path) -> None:
     glb = tmp_path / "out.glb"
     parent = subprocess.Popen(

@@ -887,7 +887,10 @@ def _measured_by(  # type: ignore[no-untyped-def]
     return w, q, out
 
 
-@pytest.mark.parametrize(("method", "principal"), [("rk4", 0), ("strang", 2)])
+# RK4 measures in its stepping loop, a splitting through its whole-block advance.
+# The methods and axes are those of the sweeps above and of the tests below, so
+# that these kernels (a minute or more each to compile) are compiled once for all.
+@pytest.mark.parametrize(("method", "principal"), [("rk4", 1), ("splitting", 2)])
 def test_the_kernel_for_nominal_axes_on_a_principal_axis_measures_as_the_kernel_for_any(
     method: str, principal: int
 ) -> None:
@@ -956,13 +959,15 @@ def test_the_kernel_for_nominal_axes_on_a_principal_axis_measures_as_the_kernel_
     assert_array_equal(measure_batch(integrator, batch, dt, steps, axis), measures[1])
 
 
-@pytest.mark.parametrize(("principal", "damped"), [(None, False), (1, True)])
+@pytest.mark.parametrize(("principal", "forced"), [(None, False), (1, True)])
 def test_the_metrics_kernel_without_the_attitude_measures_as_the_kernel_with_it(
-    principal: int | None, damped: bool
+    principal: int | None, forced: bool
 ) -> None:
     # Oracle: the kernel with the attitude (itself checked against numpy above) on
-    # the same bodies, torque-free or under a linear damping (which reads ω, not
-    # the attitude). Euler's equations do not read q, so ω is the same
+    # the same bodies, torque-free or under a body torque and a linear damping
+    # (which read ω, not the attitude; the torques of the small sweep above, so
+    # that the kernel with the attitude is compiled once for both). Euler's
+    # equations do not read q, so ω is the same
     # arithmetic in both kernels; the compiler may contract and order it apart in
     # the loop without the quaternion (bit for bit here when measured), and the
     # bodies near the intermediate axis would grow an ε into some 1e3 ε over
@@ -987,7 +992,12 @@ def test_the_metrics_kernel_without_the_attitude_measures_as_the_kernel_with_it(
         axis = _on_principal_axis(principal, n)
     q0 = np.vstack([np.ones(n), np.zeros((3, n))])
     integrator = get_integrator("rk4", batch=True)
-    model = tb.torques.LinearDamping(rng.uniform(0.01, 0.1, n)) if damped else None
+    model = (
+        tb.torques.ConstantBodyTorque(rng.uniform(-0.05, 0.05, (n, 3)))
+        + tb.torques.LinearDamping(rng.uniform(0.01, 0.1, n))
+        if forced
+        else None
+    )
     torque = bind(model, BodyBatch(moments), bodies=n)
     states, measures = [], []
     for attitude in (True, False):

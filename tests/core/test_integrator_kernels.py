@@ -11,7 +11,7 @@ import numpy as np
 from numpy.testing import assert_allclose
 
 from tumble.core import adaptive, splitting, stepping
-from tumble.core._jit import FINITE
+from tumble.core._jit import FINITE, file_stamp
 from tumble.core.adaptive import ACCEPTED, STEP_UNDERFLOW
 from tumble.core.rk4 import rk4_step
 from tumble.core.splitting import YOSHIDA_INNER, YOSHIDA_OUTER
@@ -30,11 +30,12 @@ FORCED = combine([(constant_body_torque, 0), (linear_damping, 3)])
 USER = combine([(user_torque, 0)])
 
 
-def splitting_run(
-    w, q, inertia, params, dt, n_steps, first, every, out_w, out_q, order, torque=FORCED
-):
+def splitting_run(w, q, inertia, params, dt, n_steps, first, every, out_w, out_q, order):
     step = splitting.strang_step if order == 2 else splitting.yoshida_step
-    run = stepping.single_kernel(step, torque, f"test.{id(torque)}", splitting.MOMENTUM)
+    # The kernel's key names the torque, FORCED, and this file, which defines it:
+    # the same in every process, so that numba's cache serves the next run.
+    identity = f"{file_stamp(splitting_run)}|forced"
+    run = stepping.single_kernel(step, FORCED, identity, splitting.MOMENTUM)
     return run(w, q, inertia, params, 0.0, dt, n_steps, first, every, out_w, out_q)
 
 

@@ -67,6 +67,7 @@ for flag in sys.argv[1:]:
 
 
 @pytest.mark.skipif(numba.config.DISABLE_JIT, reason="nothing is compiled without the JIT")
+@pytest.mark.slow  # processes of their own, which compile from nothing
 def test_kernels_compiled_in_separate_processes_keep_their_own_bodies(tmp_path: Path) -> None:
     # numba names symbols after the qualified name and a per-process counter:
     # without a name of its own per identity, the third process ran the body

@@ -10,7 +10,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from tumble.core import parts
-from tumble.core._jit import FINITE, njit
+from tumble.core._jit import FINITE, file_stamp, njit
 from tumble.core.dampers import DAMPER_EQUATIONS
 from tumble.core.parts import part_model
 from tumble.core.rotor import ROTOR_EQUATIONS
@@ -101,8 +101,11 @@ def test_the_schedule_is_read_at_the_hold_time() -> None:
     ]  # fmt: skip
 
 
-def run_steps(step, layout, y, moments, packed, dt, n, torque=FREE):
-    run = parts.single_kernel(step, torque, FREE, layout, f"test.{id(step)}.{id(torque)}")
+def run_steps(step, layout, y, moments, packed, dt, n):
+    # The kernel's key names the step and the layout (single_kernel adds them) and
+    # the torque: FREE, of this file. The same in every process, so that numba's
+    # cache serves the next run of the tests.
+    run = parts.single_kernel(step, FREE, FREE, layout, f"{file_stamp(run_steps)}|free")
     out = np.empty((n + 1, y.size))
     out[0] = y
     params = np.zeros((3, 1))
