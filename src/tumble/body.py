@@ -22,6 +22,9 @@ from __future__ import annotations
 
 import itertools
 import math
+import operator
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -35,7 +38,7 @@ from tumble.invariants import FREE_BODY_INVARIANTS, largest_rate, reduce_invaria
 from tumble.massprops import PHYSICAL_TOLERANCE, MassProperties, principal_decomposition
 from tumble.parts import InternalPart, kernel_layout, pack_parts
 
-__all__ = ["ZERO_MOMENT", "BodyBatch", "RigidBody"]
+__all__ = ["BODY_CACHE_SIZE", "ZERO_MOMENT", "BodyBatch", "RigidBody", "body_model"]
 
 Array = NDArray[np.float64]
 
@@ -113,6 +116,11 @@ class RigidBody:
 
     @cached_property
     def _principal(self) -> tuple[Array, Array]:
+        if self.pivot is None and not self.parts:
+            # The platform is the body: its decomposition, computed once per body. Copies,
+            # writable: the kernels' arguments keep the type they were compiled for.
+            moments, axes = self.mass_properties.principal()
+            return np.array(moments), np.array(axes)
         return principal_decomposition(self.platform_inertia)
 
     @property
@@ -212,15 +220,28 @@ class RigidBody:
         """(7 + m,) the state the parts' kernels integrate (:mod:`tumble.core.parts`):
         H, q (principal-platform frame), then the parts' momenta, from ω0 (rad/s,
         body axes) and the attitude (body → space)."""
-        omega0 = np.asarray(omega0, dtype=float)
-        pieces = [
-            part.to_kernel(part.momenta(omega0, part.initial_values(omega0)), self)
-            for part in self.parts
-        ]
-        momentum = self.to_principal(self.angular_momentum(omega0))
+        total, momenta = self._initial_momenta(omega0)
+        pieces = [part.to_kernel(own, self) for part, own in zip(self.parts, momenta, strict=True)]
+        momentum = self.to_principal(total)
         return np.concatenate(
             [momentum, self.attitude_to_principal(np.asarray(attitude0, dtype=float)), *pieces]
         )
+
+    def _initial_momenta(self, omega0: Array) -> tuple[Array, list[Array]]:
+        """The angular momentum (3,) at t = 0 (body axes, kg·m²/s) and each part's
+        momenta (:meth:`tumble.parts.InternalPart.momenta`) for ω0 (3,), rad/s:
+        what :meth:`fastest_rate` and :meth:`kernel_state` both read, computed
+        once for the last ω0 asked."""
+        omega0 = np.asarray(omega0, dtype=float)
+        key = (omega0.shape, omega0.tobytes())
+        last = self.__dict__.get("_last_start")
+        if last is not None and last[0] == key:
+            return last[1], list(last[2])
+        momenta = tuple(part.momenta(omega0, part.initial_values(omega0)) for part in self.parts)
+        total = self.angular_momentum(omega0)
+        total.flags.writeable = False
+        self.__dict__["_last_start"] = (key, total, momenta)
+        return total, list(momenta)
 
     def from_kernel_state(self, states: Array) -> tuple[Array, Array, Array]:
         """ω (n, 3) and the attitude (n, 4), body axes, and the parts' values
@@ -374,9 +395,9 @@ class RigidBody:
         principal = self.to_principal(omega)
         # Norms by hypot: no overflow of the squares of a body of 1e300 kg.
         if self.parts:
-            omega = np.asarray(omega, dtype=float)
-            momentum = math.hypot(*self.angular_momentum(omega)) + sum(
-                math.hypot(*part.momenta(omega, part.initial_values(omega))) for part in self.parts
+            total, momenta = self._initial_momenta(omega)
+            momentum = math.hypot(*total.tolist()) + sum(
+                math.hypot(*np.ravel(own).tolist()) for own in momenta
             )
             rate = momentum / moments[0]
         # principal_decomposition makes repeated moments exactly equal: I⊥ = I2 for
@@ -392,9 +413,17 @@ class RigidBody:
         the platform, 1/s, and the kinds of parts it comes from (0 and none
         without such parts): what an explicit step must keep within its
         stability interval (:func:`tumble.parts.internal_rate`)."""
+        rate, names = self._internal_rate
+        return rate, list(names)
+
+    @cached_property
+    def _internal_rate(self) -> tuple[float, tuple[str, ...]]:
         from tumble.parts import internal_rate
 
-        return internal_rate(self.parts, self.platform_inertia)
+        if not self.parts:
+            return 0.0, ()
+        rate, names = internal_rate(self.parts, self.platform_inertia)
+        return rate, tuple(names)
 
     def pendulum_rate(self, weight: float) -> float:
         """√(m g l / I1), rad/s: an upper estimate of the rate of the swing that a
@@ -403,6 +432,60 @@ class RigidBody:
         if self.pivot is None:
             return 0.0
         return math.sqrt(weight * float(np.linalg.norm(self.lever)) / self.moments[0])
+
+
+#: How many body models :func:`body_model` keeps: the most recently asked for.
+BODY_CACHE_SIZE = 64
+
+_BODIES: OrderedDict[tuple[Any, ...], tuple[MassProperties, tuple[Any, ...], RigidBody]] = (
+    OrderedDict()
+)
+_BODIES_LOCK = threading.Lock()
+
+
+def body_model(
+    mp: MassProperties, pivot: Array | None = None, parts: tuple[InternalPart, ...] = ()
+) -> RigidBody:
+    """The :class:`RigidBody` of ``mp`` about ``pivot`` ((3,) body coordinates, m,
+    or None: the centre of mass) carrying ``parts``, built once and shared by the
+    calls that ask for the same body: its principal frame, its parts' layout and
+    every other derived value are computed once for a run of simulations.
+
+    The last :data:`BODY_CACHE_SIZE` are kept, keyed by the identity of ``mp``
+    and of each part *and* by the values of ``mp`` and ``pivot``: mass
+    properties and parts are immutable (frozen, their arrays read-only), and an
+    entry holds them, so that no other object can take their identities while
+    it lives; the values in the key guard against arrays made writable and
+    changed in place. The pivot is copied (read-only) into the model.
+
+    Raises
+    ------
+    InputError
+        As :class:`RigidBody` (never cached).
+    """
+    point = None if pivot is None else np.array(pivot, dtype=float)
+    key = (
+        id(mp),
+        mp.mass,
+        mp.center_of_mass.tobytes(),
+        mp.inertia.tobytes(),
+        None if point is None else point.tobytes(),
+        tuple(map(id, parts)),
+    )
+    with _BODIES_LOCK:
+        entry = _BODIES.get(key)
+        if entry is not None:
+            _BODIES.move_to_end(key)
+    if entry is not None and entry[0] is mp and all(map(operator.is_, entry[1], parts)):
+        return entry[2]
+    if point is not None:
+        point.flags.writeable = False
+    body = RigidBody(mp, point, tuple(parts))
+    with _BODIES_LOCK:
+        _BODIES[key] = (mp, tuple(parts), body)
+        while len(_BODIES) > BODY_CACHE_SIZE:
+            _BODIES.popitem(last=False)
+    return body
 
 
 @dataclass(frozen=True, eq=False)

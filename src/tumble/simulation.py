@@ -15,12 +15,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.body import RigidBody
+from tumble.body import RigidBody, body_model
 from tumble.errors import InputError, RequestTooLargeError
 from tumble.integrators import INTEGRATORS, Integrator, auto_choice, get_integrator
 from tumble.integrators.drivers import (
@@ -209,8 +210,7 @@ def simulate(
     if integrator.kind == "adaptive" and method == "auto":
         reason += f" (rtol {rtol:g}, atol {atol:g})"
 
-    g = setup.gravity
-    weight = mp.mass * math.hypot(*g)
+    weight = setup.weight
     fastest = setup.fastest_rate()
     step = time_step(dt, fastest, total_time)
     internal, names = body.internal_rate()
@@ -291,8 +291,10 @@ def check_recording(
     values = 8 + part_values
     check_memory(
         samples * values * PEAK_PER_VALUE,
-        f"{samples:.3g} recorded samples of {values} values ({duration:.3g} s at dt = "
-        f"{step:.3g} s, every {record_every} step{'s' if record_every > 1 else ''})",
+        lambda: (
+            f"{samples:.3g} recorded samples of {values} values ({duration:.3g} s at dt = "
+            f"{step:.3g} s, every {record_every} step{'s' if record_every > 1 else ''})"
+        ),
         advice,
     )
 
@@ -313,12 +315,15 @@ class Setup:
     gravity: Array
     model: TorqueModel | None = None
 
+    @cached_property
+    def weight(self) -> float:
+        """The body's weight under :attr:`gravity`, N (0 without gravity)."""
+        return self.body.mass_properties.mass * math.hypot(*self.gravity.tolist())
+
     def fastest_rate(self) -> float:
         """The fastest rate a step must resolve, rad/s (:meth:`RigidBody.fastest_rate`)."""
-        body = self.body
-        weight = body.mass_properties.mass * math.hypot(*self.gravity)
-        return body.fastest_rate(
-            self.omega0, weight, exact_spin=self.integrator.exact_symmetric_spin
+        return self.body.fastest_rate(
+            self.omega0, self.weight, exact_spin=self.integrator.exact_symmetric_spin
         )
 
     def step_size(self, dt: Any, duration: float) -> float:
@@ -370,7 +375,7 @@ def prepare(
             "rotation about that point: pass gravity=[0, 0, 0] to mean it)."
         )
     parts = check_parts(internal)
-    body = RigidBody(mp, None if pivot is None else vector_to_si(pivot, "length", "pivot"), parts)
+    body = body_model(mp, None if pivot is None else vector_to_si(pivot, "length", "pivot"), parts)
     body.check_simulable()
     bound = bind(model, body, omega)
     if chosen is None:
