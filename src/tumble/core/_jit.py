@@ -22,6 +22,7 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import os
+import weakref
 from collections.abc import Callable
 from functools import cache, partial
 from pathlib import Path
@@ -74,8 +75,25 @@ def core_stamp() -> str:
 
 def file_stamp(function: Any) -> str:
     """``module.qualname@mtime:size`` of a (compiled) function's source file, or its
-    name alone when it has no file (then its kernels are not cached on disk)."""
+    name alone when it has no file (then its kernels are not cached on disk).
+
+    Read once per function and process, as :func:`core_stamp`: it describes the
+    code this process loaded (and binding a torque to a body asks for it at
+    every simulation)."""
     python = getattr(function, "py_func", function)
+    try:
+        stamp = _STAMPS.get(python)
+    except TypeError:  # neither hashable nor weakly referable: read each time
+        return _read_stamp(python)
+    if stamp is None:
+        stamp = _STAMPS[python] = _read_stamp(python)
+    return stamp
+
+
+_STAMPS: weakref.WeakKeyDictionary[Any, str] = weakref.WeakKeyDictionary()
+
+
+def _read_stamp(python: Any) -> str:
     name = f"{python.__module__}.{python.__qualname__}"
     try:
         status = os.stat(python.__code__.co_filename)

@@ -394,6 +394,9 @@ def check_finite_motion(times: Array, samples: Samples) -> None:
     IntegrationError
         Naming the first such time.
     """
+    arrays = (samples.omega, samples.quaternion, samples.values)
+    if all(np.isfinite(array).all() for array in arrays):
+        return
     finite = np.isfinite(samples.omega).all(axis=1) & np.isfinite(samples.quaternion).all(axis=1)
     finite &= np.isfinite(samples.values).all(axis=1)
     if not finite.all():
