@@ -147,6 +147,14 @@ class RigidBody:
         return Rotation.from_matrix(self.axes)
 
     @cached_property
+    def _principal_quaternions(self) -> tuple[Array, Array]:
+        """The scalar-first quaternions of :attr:`principal_rotation` and of its
+        inverse (the conjugate, as scipy's ``inv``): each attitude's change of
+        axes multiplies by one of them."""
+        turn = np.asarray(self.principal_rotation.as_quat(scalar_first=True), dtype=float)
+        return turn, turn * np.array([1.0, -1.0, -1.0, -1.0])
+
+    @cached_property
     def lever(self) -> Array:
         """(3,) from the reference point to the centre of mass, body axes, m."""
         return np.asarray(self.mass_properties.center_of_mass - self.reference_point)
@@ -178,13 +186,13 @@ class RigidBody:
         """Quaternions body → space (..., 4) as principal → space (``q ⊗ q_axes``)."""
         if self._axes_are_body_axes:  # the principal axes are the body's: q ⊗ 1 = q
             return np.array(quaternions, dtype=float)
-        return compose(quaternions, self.principal_rotation)
+        return _turned(quaternions, self._principal_quaternions[0])
 
     def attitude_from_principal(self, quaternions: Array) -> Array:
         """Quaternions principal → space (..., 4) as body → space."""
         if self._axes_are_body_axes:
             return np.array(quaternions, dtype=float)
-        return compose(quaternions, self.principal_rotation.inv())
+        return _turned(quaternions, self._principal_quaternions[1])
 
     # ------------------------------------------------------------ parts
     @cached_property
@@ -556,12 +564,17 @@ def compose(quaternions: Array, rotation: Rotation) -> Array:
     """Scalar-first quaternions of ``R(q) · rotation``: a compiled loop for one
     rotation (the samples of a trajectory), scipy for one rotation per row."""
     if rotation.single:
-        from tumble.core.quaternion import multiply_right
-
-        stack = np.ascontiguousarray(np.atleast_2d(quaternions), dtype=float)
-        r = np.asarray(rotation.as_quat(scalar_first=True), dtype=float)
-        out = multiply_right(stack, r)
-        return np.asarray(out[0] if np.ndim(quaternions) == 1 else out)
+        return _turned(quaternions, np.asarray(rotation.as_quat(scalar_first=True), dtype=float))
     return np.asarray(
         (Rotation.from_quat(quaternions, scalar_first=True) * rotation).as_quat(scalar_first=True)
     )
+
+
+def _turned(quaternions: Array, turn: Array) -> Array:
+    """Scalar-first quaternions (4,) or (n, 4) times the unit quaternion ``turn``
+    (4,) on the right, renormalised (:func:`tumble.core.quaternion.multiply_right`)."""
+    from tumble.core.quaternion import multiply_right
+
+    stack = np.ascontiguousarray(np.atleast_2d(quaternions), dtype=float)
+    out = multiply_right(stack, turn)
+    return np.asarray(out[0] if np.ndim(quaternions) == 1 else out)
