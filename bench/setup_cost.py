@@ -11,6 +11,7 @@ times, for tiny runs,
 * the same body by the closed form (``method="exact"``), 11 samples;
 * the body carrying one rotor, 10 RK4 steps;
 * the body under a torque (gravity gradient), 10 RK4 steps;
+* a body whose axes are not principal (products of inertia), 10 RK4 steps;
 
 each a median over ``--repeat`` calls after a warm-up, and each stage the same
 way, by calling the functions ``simulate`` calls with the same arguments; what
@@ -45,7 +46,8 @@ TARGET_US = 50.0
 
 #: The cases: simulate's keywords besides the body and ω0.
 CASES = ("free body, rk4, 10 steps", "free body, exact, 11 samples",
-         "one rotor, rk4, 10 steps", "gravity gradient, rk4, 10 steps")  # fmt: skip
+         "one rotor, rk4, 10 steps", "gravity gradient, rk4, 10 steps",
+         "axes not principal, rk4, 10 steps")  # fmt: skip
 
 STAGES = (
     "validation and units",
@@ -117,7 +119,12 @@ def case_stages(case: str) -> tuple[Timer, dict[str, Timer]]:
     # has the cache, built each call where it has not.
     model = getattr(body_module, "body_model", None) or body_module.RigidBody
 
-    mp = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    inertia = (
+        [[1.5, -0.5, 0.0], [-0.5, 1.5, 0.0], [0.0, 0.0, 3.0]]
+        if "axes" in case
+        else np.diag([1.0, 2.0, 3.0])
+    )
+    mp = tb.MassProperties(1.0, [0, 0, 0], inertia)
     omega0 = [0.1, 1.0, 0.1]
     method, parts, torque = "rk4", [], None
     if "exact" in case:

@@ -114,7 +114,12 @@ def bind(
     per_body = any(block.shape[1] > 1 for block in blocks)
     width = columns if per_body else 1
     params = np.ascontiguousarray(
-        np.vstack([np.broadcast_to(block, (len(block), width)) for block in blocks])
+        np.vstack(
+            [
+                block if block.shape[1] == width else np.broadcast_to(block, (len(block), width))
+                for block in blocks
+            ]
+        )
         if blocks
         else np.zeros((1, width))
     )
