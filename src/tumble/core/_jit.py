@@ -22,9 +22,8 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import os
-import weakref
 from collections.abc import Callable
-from functools import cache, partial
+from functools import cache, lru_cache, partial
 from pathlib import Path
 from typing import Any
 
@@ -82,17 +81,12 @@ def file_stamp(function: Any) -> str:
     every simulation)."""
     python = getattr(function, "py_func", function)
     try:
-        stamp = _STAMPS.get(python)
-    except TypeError:  # neither hashable nor weakly referable: read each time
         return _read_stamp(python)
-    if stamp is None:
-        stamp = _STAMPS[python] = _read_stamp(python)
-    return stamp
+    except TypeError:  # not hashable: read each time
+        return _read_stamp.__wrapped__(python)
 
 
-_STAMPS: weakref.WeakKeyDictionary[Any, str] = weakref.WeakKeyDictionary()
-
-
+@lru_cache(maxsize=1024)
 def _read_stamp(python: Any) -> str:
     name = f"{python.__module__}.{python.__qualname__}"
     try:
