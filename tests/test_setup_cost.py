@@ -134,3 +134,28 @@ def test_a_small_request_is_checked_against_a_budget_that_is_set(
         r"0\.01 s, every 1 step\): about 3 KiB\. Record less often",
     ):
         tb.simulate(BODY, [0.0, 1.0, 0.0], duration=0.1, dt=0.01, method="rk4")
+
+
+def test_what_a_run_returns_is_its_own_to_change() -> None:
+    pivot = [0.0, 0.0, -0.2]
+    runs = [
+        tb.simulate(BODY, [0.0, 1.0, 0.0], pivot=pivot, gravity=[0, 0, -9.81], duration=0.1)
+        for _ in range(2)
+    ]
+    assert runs[0].pivot is not runs[1].pivot
+    runs[0].pivot[2] = 5.0  # the shared model keeps its own
+    assert body_model(BODY, pivot).reference_point.tolist() == pivot
+    assert runs[1].pivot.tolist() == pivot
+
+
+def test_the_orbit_plane_is_found_once_and_handed_out_as_copies() -> None:
+    from scipy.spatial.transform import Rotation
+
+    orbit = tb.torques.GravityGradient(0.001, orbit_normal=[0, 1, 1], radial0=[1, 0, 0])
+    e1, e2 = orbit.plane()
+    assert e1.flags.writeable and e2.flags.writeable
+    assert np.allclose(
+        Rotation.from_rotvec([0, 0, 0.1]).apply(e1),
+        Rotation.from_rotvec([0, 0, 0.1]).apply(orbit.plane()[0]),
+    )
+    assert np.isclose(e1 @ e2, 0.0) and np.isclose(np.linalg.norm(e2), 1.0)

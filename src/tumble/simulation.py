@@ -241,7 +241,8 @@ def simulate(
         omega=samples.omega,
         quaternion=samples.quaternion,
         mass_properties=mp,
-        pivot=None if pivot is None else body.reference_point,
+        # A copy: the model, shared by the calls for this body, keeps its own read-only.
+        pivot=None if pivot is None else np.array(body.reference_point),
         method=integrator.name,
         reason=reason,
         dt=schedule.step,

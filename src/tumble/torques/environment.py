@@ -62,8 +62,9 @@ class GravityGradient(TorqueModel):
             )
 
     def plane(self) -> tuple[Array, Array]:
-        """(e1, e2): r = e1 cos n t + e2 sin n t, space axes (read-only)."""
-        return self._plane
+        """(e1, e2): r = e1 cos n t + e2 sin n t, space axes."""
+        e1, e2 = self._plane
+        return e1.copy(), e2.copy()
 
     @cached_property
     def _plane(self) -> tuple[Array, Array]:
@@ -89,7 +90,7 @@ class GravityGradient(TorqueModel):
                 "Expected a free body for GravityGradient (the torque is about the centre of "
                 "mass), got a pivot."
             )
-        e1, e2 = self.plane()
+        e1, e2 = self._plane  # found once per model
         # The whole inertia (parts locked: a spinning wheel's mass distribution is
         # the same) in the kernels' axes: (1 or N, 3, 3).
         tensors = np.asarray(body.inertia_principal, dtype=float).reshape(-1, 3, 3)
