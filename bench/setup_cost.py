@@ -100,20 +100,23 @@ def case_stages(case: str) -> tuple[Timer, dict[str, Timer]]:
     from tumble.kinematics import as_attitude
     from tumble.massprops import as_mass_properties
     from tumble.parts import check_parts, value_columns
-    from tumble.simulation import check_recording, prepare
+    from tumble.simulation import prepare
     from tumble.torques import bind
     from tumble.trajectory import Trajectory
     from tumble.units import to_si, vector_to_si
 
-    problem_class = first("tumble.integrators.drivers:Problem", "tumble.integrators.run:Problem")
+    problem_class = first(
+        "tumble.integrators.problem:Problem", "tumble.integrators.drivers:Problem"
+    )
     schedule_class = first(
-        "tumble.integrators.drivers:Schedule", "tumble.integrators.schedule:Schedule"
+        "tumble.integrators.problem:Schedule", "tumble.integrators.drivers:Schedule"
     )
-    time_step = first(
-        "tumble.integrators.drivers:time_step", "tumble.integrators.schedule:time_step"
-    )
+    time_step = first("tumble.integrators.steps:time_step", "tumble.integrators.drivers:time_step")
     warn_if_coarse = first(
-        "tumble.integrators.drivers:warn_if_coarse", "tumble.integrators.schedule:warn_if_coarse"
+        "tumble.integrators.steps:warn_if_coarse", "tumble.integrators.drivers:warn_if_coarse"
+    )
+    check_recording = first(
+        "tumble.integrators.limits:check_recording", "tumble.simulation:check_recording"
     )
     # The body model as simulate builds it: shared between calls where the tree
     # has the cache, built each call where it has not.

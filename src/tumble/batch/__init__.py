@@ -23,11 +23,8 @@ from tumble.core._jit import FINITE
 from tumble.core.metrics import N_METRICS
 from tumble.errors import InputError, IntegrationError
 from tumble.integrators import Integrator, get_integrator
-from tumble.integrators.drivers import (
-    PROGRESS_CHUNK,
-    whole_steps,
-)
 from tumble.integrators.limits import check_internal_stability, check_record_every
+from tumble.integrators.steps import PROGRESS_CHUNK, whole_steps
 from tumble.massprops import PHYSICAL_TOLERANCE, check_symmetric
 from tumble.parts import check_parts, internal_rate, value_columns
 from tumble.resources import check_memory
