@@ -35,7 +35,7 @@ from scipy.spatial.transform import Rotation
 import tumble as tb
 from tumble import models, theory
 from tumble.errors import CoarseStepWarning, IntegrationError
-from tumble.integrators import drivers
+from tumble.integrators import steps
 from tumble.models import EARTH_ROTATION_RATE, gyrocompass
 
 ODE = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-12}
@@ -488,7 +488,7 @@ def test_trajectory_describes_the_disk_and_records_every_kth_step(
 ) -> None:
     moved = DISK.transformed(translation=[0.1, -0.2, 0.3])
     full = gyrocompass(moved, 40.0, 2.0, 0.5, duration=0.5, dt=1e-3)
-    monkeypatch.setattr(drivers, "PROGRESS_CHUNK", 7)
+    monkeypatch.setattr(steps, "PROGRESS_CHUNK", 7)
     calls: list[tuple[int, int]] = []
     every = gyrocompass(
         moved, 40.0, 2.0, 0.5, duration=0.5, dt=1e-3, record_every=3,

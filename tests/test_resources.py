@@ -13,6 +13,7 @@ import tumble as tb
 from tumble.batch import PEAK_PER_VALUE as BATCH_PEAK
 from tumble.batch import PER_BODY, PER_RECORD
 from tumble.errors import RequestTooLargeError
+from tumble.integrators.limits import PEAK_PER_VALUE
 from tumble.resources import (
     BUDGET_VARIABLE,
     format_bytes,
@@ -20,7 +21,6 @@ from tumble.resources import (
     memory_budget,
     usable_memory,
 )
-from tumble.simulation import PEAK_PER_VALUE
 
 BOX = tb.shapes.box(1.0, [0.1, 0.2, 0.3])
 

@@ -438,7 +438,7 @@ def test_the_step_warning_fires_when_and_only_when_the_step_is_coarse(name: str)
     # "Coarse": fewer than MIN_STEPS_PER_TURN steps per turn of the fastest rate
     # the motion reaches (from the exact solution). 10 % either side of that step
     # must be silent and warn.
-    from tumble.integrators.drivers import MIN_STEPS_PER_TURN
+    from tumble.integrators.steps import MIN_STEPS_PER_TURN
 
     body, omega0 = STEP_BODIES[name], STEP_STARTS[0]
     limit = 2 * math.pi / largest_rate_reached(body, omega0) / MIN_STEPS_PER_TURN

@@ -904,7 +904,8 @@ def test_the_kernel_for_nominal_axes_on_a_principal_axis_measures_as_the_kernel_
     # b_k|b_k| times L_k², |L|² contracted into FMAs otherwise): see each
     # tolerance. Axes of both senses; bodies that flip and bodies that do not; a
     # block and a ragged remainder.
-    from tumble.batch import Batch, _principal_axis_of, measure_batch
+    from tumble.batch import Batch, measure_batch
+    from tumble.batch.driver import _principal_axis_of
     from tumble.body import BodyBatch
     from tumble.integrators import get_integrator
     from tumble.torques import bind
@@ -1102,7 +1103,7 @@ def test_only_a_stepping_integrators_metrics_kernel_is_specialised_for_a_princip
 
 
 def test_nominal_axes_lie_on_a_principal_axis_only_where_two_rows_are_zero() -> None:
-    from tumble.batch import _principal_axis_of
+    from tumble.batch.driver import _principal_axis_of
 
     on_axis_3 = np.zeros((3, 4))
     on_axis_3[2] = [1.0, -1.0, 1.0, 0.5]
@@ -1237,7 +1238,7 @@ def test_the_measures_scale_exactly_with_the_moments(
     # axis not divided by |L₀| first. Nominal axes in any direction, and on
     # principal axis 2 (row 1), measured by the kernel for such axes (whose flips
     # follow L2 itself, |L|-sized).
-    from tumble.batch import _principal_axis_of
+    from tumble.batch.driver import _principal_axis_of
     from tumble.core.metrics import ENERGY_DEVIATION, MOMENTUM_DEVIATION
 
     n = 150

@@ -117,10 +117,11 @@ def largest_rate(moments: NDArray[np.float64], omega: NDArray[np.float64]) -> fl
 
     free of the scale of the moments (no I³ to overflow or underflow).
     """
-    i1, i2, i3 = (float(m) for m in moments)
-    omega = np.asarray(omega, dtype=float)
+    # In Python floats: three of them, where numpy's calls would cost more than the sums.
+    i1, i2, i3 = np.asarray(moments, dtype=float).tolist()
+    rates = np.asarray(omega, dtype=float).tolist()
     # ω scaled by a power of two to order one, so that its squares cannot overflow.
-    exponent = math.frexp(float(np.max(np.abs(omega))))[1]
-    x = np.ldexp(omega, -exponent) ** 2
+    exponent = math.frexp(max(map(abs, rates)))[1]
+    x1, x2, x3 = (math.ldexp(w, -exponent) ** 2 for w in rates)
     gain = (i2 - i1) / i1 * ((i3 - i2) / i3) if i1 > 0.0 else 0.0
-    return math.ldexp(math.sqrt(float(x.sum()) + float(x[1]) * max(gain, 0.0)), exponent)
+    return math.ldexp(math.sqrt(x1 + x2 + x3 + x2 * max(gain, 0.0)), exponent)

@@ -149,10 +149,10 @@ def as_attitude(value: Any, name: str = "attitude0") -> Array:
     """A unit quaternion ``[w, x, y, z]`` (body → space) from None (the identity),
     a quaternion (4,) of any non-zero length (normalised here) or a single scipy
     ``Rotation``."""
-    from scipy.spatial.transform import Rotation
-
     if value is None:
         return np.array([1.0, 0.0, 0.0, 0.0])
+    from scipy.spatial.transform import Rotation
+
     if isinstance(value, Rotation):
         if not value.single:
             raise InputError(f"Expected `{name}` to be a single rotation, got {len(value)}.")

@@ -15,35 +15,33 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.body import RigidBody
+from tumble.body import RigidBody, body_model
 from tumble.errors import InputError, RequestTooLargeError
 from tumble.integrators import INTEGRATORS, Integrator, auto_choice, get_integrator
-from tumble.integrators.drivers import (
-    MAX_STEPS,
-    Problem,
-    Schedule,
-    recorded_samples,
-    time_step,
-    warn_if_coarse,
-    whole_steps,
+from tumble.integrators.limits import (
+    check_internal_stability,
+    check_record_every,
+    check_recording,
 )
-from tumble.integrators.limits import check_internal_stability, check_record_every
+from tumble.integrators.problem import Problem, Samples, Schedule
+from tumble.integrators.steps import MAX_STEPS, time_step, warn_if_coarse
 from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties, as_mass_properties
 from tumble.parts import check_parts, value_columns
-from tumble.resources import DEFAULT_MAX_STEPS, check_memory
+from tumble.resources import DEFAULT_MAX_STEPS
 from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
 from tumble.trajectory import Trajectory
 from tumble.units import to_si, vector_to_si
 
 Array = NDArray[np.float64]
 
-__all__ = ["PEAK_PER_VALUE", "Setup", "check_recording", "prepare", "simulate"]
+__all__ = ["Setup", "prepare", "simulate"]
 
 
 def simulate(
@@ -188,13 +186,32 @@ def simulate(
         mp, omega0, attitude0=attitude0, pivot=pivot, gravity=gravity, torque=torque,
         method=method, internal=internal,
     )  # fmt: skip
-    body, bound, integrator, omega = setup.body, setup.torque, setup.integrator, setup.omega0
+    total_time = _duration(duration)
+    _check_run_options(rtol, atol, progress)
+    schedule = setup.schedule(
+        total_time, dt, record_every, rtol=rtol, atol=atol, max_steps=max_steps
+    )  # fmt: skip
+    integrator = setup.integrator
+    problem = Problem(setup.body, setup.torque, setup.omega0, setup.attitude0)
+    samples = integrator.run(integrator, problem, schedule, progress)
     reason = setup.reason
+    if integrator.kind == "adaptive" and method == "auto":
+        reason += f" (rtol {rtol:g}, atol {atol:g})"
+    return _trajectory(mp, pivot, setup, schedule, samples, reason)
+
+
+def _duration(duration: Any) -> float:
+    """``duration`` in s, > 0."""
     total_time = to_si(duration, "time", "duration")
     if total_time <= 0:
         raise InputError(f"Expected `duration` > 0 s, got {total_time!r}.")
-    # Checked whatever the method, though only the adaptive one reads them: a
-    # value that cannot be right is refused, not ignored.
+    return total_time
+
+
+def _check_run_options(rtol: Any, atol: Any, progress: Any) -> None:
+    """Refuse tolerances that are not positive numbers (checked whatever the
+    method, though only the adaptive one reads them: a value that cannot be
+    right is refused, not ignored), and a ``progress`` that is not callable."""
     for name, value in (("rtol", rtol), ("atol", atol)):
         if isinstance(value, bool) or not (
             isinstance(value, float | int) and math.isfinite(value) and value > 0
@@ -206,51 +223,6 @@ def simulate(
         raise InputError(
             f"Expected `progress` to be None or a function (done, total), got {progress!r}."
         )
-    if integrator.kind == "adaptive" and method == "auto":
-        reason += f" (rtol {rtol:g}, atol {atol:g})"
-
-    g = setup.gravity
-    weight = mp.mass * math.hypot(*g)
-    fastest = setup.fastest_rate()
-    step = time_step(dt, fastest, total_time)
-    internal, names = body.internal_rate()
-    if dt is None and integrator.kind == "stepping" and internal > 0:
-        # The default step resolves the parts' own motion too: one step per 1/rate,
-        # well within the stability interval (2.78 for RK4).
-        step = min(step, 1.0 / internal)
-    check_recording(total_time, step, record_every, len(value_columns(body.parts)))
-    most = _most_steps(max_steps)
-    schedule = Schedule.build(total_time, step, record_every, rtol=rtol, atol=atol, most_steps=most)
-    if integrator.kind == "stepping" and schedule.n_steps > most:
-        raise RequestTooLargeError(
-            f"Expected at most max_steps = {most:.6g} steps, got duration / dt = "
-            f"{total_time:.6g} s / {schedule.step:.3g} s = {schedule.n_steps} steps: use a "
-            "larger dt or a shorter duration, or raise `max_steps=`."
-        )
-    check_internal_stability(internal, names, integrator.kind, schedule.step, total_time, most)
-    if dt is not None and integrator.kind == "stepping":
-        if integrator.exact_free_motion:  # only the torque needs resolving
-            warn_if_coarse(schedule.step, body.pendulum_rate(weight), "the pendulum swing")
-        else:
-            warn_if_coarse(schedule.step, fastest, "the fastest rotation")
-
-    problem = Problem(body, bound, omega, setup.attitude0)
-    samples = integrator.run(integrator, problem, schedule, progress)
-    return Trajectory(
-        t=schedule.times,
-        omega=samples.omega,
-        quaternion=samples.quaternion,
-        mass_properties=mp,
-        pivot=None if pivot is None else body.reference_point,
-        method=integrator.name,
-        reason=reason,
-        dt=schedule.step,
-        steps=samples.steps,
-        conserved=body.conserved(bound.terms),
-        torque=setup.model,
-        internal=body.parts,
-        internal_values=samples.values,
-    )
 
 
 def _most_steps(max_steps: Any) -> float:
@@ -262,38 +234,27 @@ def _most_steps(max_steps: Any) -> float:
     return float(max_steps)
 
 
-#: Memory a recorded sample takes while a run ends, per value kept (t, ω, q
-#: and the parts' values, 8 bytes each): the kernels' output, its conversion to
-#: body axes and the trajectory's arrays (measured: 1.9 times the 8 bytes for a
-#: rigid body, 2.8 with a rotor, 3.1 with a damper).
-PEAK_PER_VALUE = 4 * 8
-
-
-def check_recording(
-    duration: float,
-    step: float,
-    record_every: int,
-    part_values: int,
-    advice: str = "Record less often (record_every), or ask for a shorter duration or a larger dt.",
-) -> None:
-    """Refuse a run whose recorded samples cannot fit in the memory budget
-    (:mod:`tumble.resources`), or of more than 2^53 steps, before any work.
-
-    ``advice`` says how to ask for less.
-
-    Raises
-    ------
-    RequestTooLargeError
-        With the estimate and the advice.
-    """
-    whole_steps(duration, step)  # at most 2^53 steps
-    samples = recorded_samples(duration, step, record_every)
-    values = 8 + part_values
-    check_memory(
-        samples * values * PEAK_PER_VALUE,
-        f"{samples:.3g} recorded samples of {values} values ({duration:.3g} s at dt = "
-        f"{step:.3g} s, every {record_every} step{'s' if record_every > 1 else ''})",
-        advice,
+def _trajectory(
+    mp: MassProperties, pivot: Any, setup: Setup, schedule: Schedule, samples: Samples, reason: str
+) -> Trajectory:
+    """The :class:`~tumble.trajectory.Trajectory` of a run: its samples (body axes)
+    with the body, the integrator and why, and what the motion conserves."""
+    body = setup.body
+    return Trajectory(
+        t=schedule.times,
+        omega=samples.omega,
+        quaternion=samples.quaternion,
+        mass_properties=mp,
+        # A copy: the model, shared by the calls for this body, keeps its own read-only.
+        pivot=None if pivot is None else np.array(body.reference_point),
+        method=setup.integrator.name,
+        reason=reason,
+        dt=schedule.step,
+        steps=samples.steps,
+        conserved=body.conserved(setup.torque.terms),
+        torque=setup.model,
+        internal=body.parts,
+        internal_values=samples.values,
     )
 
 
@@ -313,18 +274,69 @@ class Setup:
     gravity: Array
     model: TorqueModel | None = None
 
+    @cached_property
+    def weight(self) -> float:
+        """The body's weight under :attr:`gravity`, N (0 without gravity)."""
+        return self.body.mass_properties.mass * math.hypot(*self.gravity.tolist())
+
     def fastest_rate(self) -> float:
         """The fastest rate a step must resolve, rad/s (:meth:`RigidBody.fastest_rate`)."""
-        body = self.body
-        weight = body.mass_properties.mass * math.hypot(*self.gravity)
-        return body.fastest_rate(
-            self.omega0, weight, exact_spin=self.integrator.exact_symmetric_spin
+        return self.body.fastest_rate(
+            self.omega0, self.weight, exact_spin=self.integrator.exact_symmetric_spin
         )
 
     def step_size(self, dt: Any, duration: float) -> float:
         """The step :func:`simulate` takes (s) for ``dt`` (None: the default,
         1/``DEFAULT_STEPS_PER_TURN`` of a turn of the fastest rotation)."""
         return time_step(dt, self.fastest_rate(), duration)
+
+    def schedule(
+        self, duration: float, dt: Any, record_every: int, *, rtol: float, atol: float,
+        max_steps: int | None,
+    ) -> Schedule:  # fmt: skip
+        """The steps and recorded times of a run of ``duration`` s (arguments as
+        :func:`simulate`'s), checked before any work: the samples within the
+        memory budget, the steps within ``max_steps``, a fixed step within the
+        stability of the parts' own motion; a ``dt`` given too coarse for the
+        fastest rotation (or, for the splittings around the exact free motion,
+        for the pendulum swing) warns.
+
+        Raises
+        ------
+        InputError
+            A ``dt`` that is not a positive time, a ``max_steps`` that is not an
+            integer >= 1 or None.
+        RequestTooLargeError, IntegrationError
+            As :func:`simulate`.
+        """
+        integrator, body = self.integrator, self.body
+        fastest = self.fastest_rate()
+        step = time_step(dt, fastest, duration)
+        internal, names = body.internal_rate()
+        if dt is None and integrator.kind == "stepping" and internal > 0:
+            # The default step resolves the parts' own motion too: one step per 1/rate,
+            # well within the stability interval (2.78 for RK4).
+            step = min(step, 1.0 / internal)
+        check_recording(duration, step, record_every, len(value_columns(body.parts)))
+        most = _most_steps(max_steps)
+        schedule = Schedule.build(
+            duration, step, record_every, rtol=rtol, atol=atol, most_steps=most
+        )
+        if integrator.kind == "stepping" and schedule.n_steps > most:
+            raise RequestTooLargeError(
+                f"Expected at most max_steps = {most:.6g} steps, got duration / dt = "
+                f"{duration:.6g} s / {schedule.step:.3g} s = {schedule.n_steps} steps: use a "
+                "larger dt or a shorter duration, or raise `max_steps=`."
+            )
+        check_internal_stability(internal, names, integrator.kind, schedule.step, duration, most)
+        if dt is not None and integrator.kind == "stepping":
+            # The warning names the line that called simulate: four frames up.
+            if integrator.exact_free_motion:  # only the torque needs resolving
+                rate, what = body.pendulum_rate(self.weight), "the pendulum swing"
+            else:
+                rate, what = fastest, "the fastest rotation"
+            warn_if_coarse(schedule.step, rate, what, stacklevel=4)
+        return schedule
 
 
 def prepare(
@@ -356,29 +368,49 @@ def prepare(
     chosen = None if method == "auto" else get_integrator(method)
     omega = vector_to_si(omega0, "angular_velocity", "omega0")
     q0 = as_attitude(attitude0)
-    model = torque
-    if gravity is not None:
-        # The registry's uniform gravity: the `gravity` keyword is one of its models.
-        field = vector_to_si(gravity, "acceleration", "gravity")
-        weight_field = TORQUES["gravity"](field)  # type: ignore[call-arg]
-        model = weight_field if torque is None else weight_field + torque
-    terms = () if model is None else model.terms
-    gravities = [g for g in (term.uniform_gravity() for term in terms) if g is not None]
+    model, gravities = _torque_model(torque, gravity)
     if pivot is not None and gravity is None and not gravities:
         raise InputError(
             "Expected `gravity` with `pivot`, got none (a pivot without gravity is a free "
             "rotation about that point: pass gravity=[0, 0, 0] to mean it)."
         )
     parts = check_parts(internal)
-    body = RigidBody(mp, None if pivot is None else vector_to_si(pivot, "length", "pivot"), parts)
+    body = body_model(mp, None if pivot is None else vector_to_si(pivot, "length", "pivot"), parts)
     body.check_simulable()
     bound = bind(model, body, omega)
+    chosen, reason = _integrator_for(chosen, body, bound)
+    total = sum(gravities, np.zeros(3))
+    return Setup(body, bound, chosen, reason, omega, q0, total, model)
+
+
+def _torque_model(
+    torque: TorqueModel | None, gravity: Any
+) -> tuple[TorqueModel | None, list[Array]]:
+    """The torque model a run is under, the ``gravity`` keyword as the registry's
+    uniform gravity (m/s², space axes) added to ``torque``, and the uniform
+    gravities its terms declare."""
+    model = torque
+    if gravity is not None:
+        field = vector_to_si(gravity, "acceleration", "gravity")
+        weight_field = TORQUES["gravity"](field)  # type: ignore[call-arg]
+        model = weight_field if torque is None else weight_field + torque
+    terms = () if model is None else model.terms
+    return model, [g for g in (term.uniform_gravity() for term in terms) if g is not None]
+
+
+def _integrator_for(
+    chosen: Integrator | None, body: RigidBody, bound: BoundTorque
+) -> tuple[Integrator, str]:
+    """The integrator that runs this body under this torque, and why: the one
+    asked for (None: ``"auto"``'s choice), refused with the methods that would
+    integrate it when it does not."""
     if chosen is None:
         chosen, reason = auto_choice(bound, body)
     else:
         reason = "requested"
         why = chosen.refuses(body, bound)
         if why is not None:
+            parts = body.parts
             kinds = sorted({part.kind for part in parts})
             able = [n for n, entry in INTEGRATORS.items() if entry.refuses(body, bound) is None]
             what = f"a body carrying {', '.join(kinds)} parts" if parts else "this motion"
@@ -391,5 +423,4 @@ def prepare(
             f" (its kicks hold the torque, which depends on ω here: {chosen.name} is first "
             "order in it)"
         )
-    total = sum(gravities, np.zeros(3))
-    return Setup(body, bound, chosen, reason, omega, q0, total, model)
+    return chosen, reason

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from tumble._version import __version__
-from tumble.body import RigidBody
+from tumble.body import RigidBody, body_model
 from tumble.errors import InputError, unknown_choice
 from tumble.files import replaced
 from tumble.invariants import INVARIANTS, label
@@ -140,7 +140,7 @@ class Trajectory:
     def body(self) -> RigidBody:
         """The body model: the body turning about its centre of mass or the pivot,
         with its parts."""
-        return RigidBody(self.mass_properties, self.pivot, self.internal)
+        return body_model(self.mass_properties, self.pivot, self.internal)
 
     @cached_property
     def rotor_speed(self) -> Array:

@@ -298,6 +298,10 @@ def to_si(value: Any, kind: str, name: str) -> float:
         ...
     tumble.errors.InputError: Expected `radius` to be a length in m, got 3 kg (dimensions [mass]).
     """
+    if type(value) in _PLAIN_SCALARS:  # a plain number, SI already: no parsing
+        result = _plain_float(value)
+        if math.isfinite(result):
+            return result
     typed = value
     value = _parse(value, name)
     if isinstance(value, pint.Quantity):
@@ -352,21 +356,11 @@ def vector_to_si(
     >>> vector_to_si([[1, 0, 0], [0, 1, 0]], "length", "positions", (-1, 3)).shape
     (2, 3)
     """
-    value = _parse_vector_string(value, name) if isinstance(value, str) else value
-    if isinstance(value, pint.Quantity):
-        array = np.asarray(_quantity_to_si(value, kind, name), dtype=float)
-    elif isinstance(value, np.ndarray) and value.dtype != object:
-        if value.dtype.kind not in "iuf":
-            raise InputError(
-                f"Expected `{name}` to hold real numbers, got an array of dtype {value.dtype}."
-            )
-        array = np.asarray(value, dtype=float)
-    elif isinstance(value, Sequence | np.ndarray):
-        array = _nested_to_si(value, kind, name)
-    else:
-        raise InputError(
-            f"Expected `{name}` to be an array of shape {_shape_text(shape)}, got {quoted(value)}."
-        )
+    array = _plain_vector(value) if len(shape) == 1 else None
+    if array is not None and shape[0] in (-1, len(array)) and all(map(math.isfinite, value)):
+        return array
+    if array is None:
+        array = _array_to_si(value, kind, name, shape)
     if array.ndim != len(shape) or any(
         s != -1 and s != a for s, a in zip(shape, array.shape, strict=True)
     ):
@@ -376,6 +370,51 @@ def vector_to_si(
     if not np.all(np.isfinite(array)):
         raise InputError(f"Expected `{name}` to be finite, got {_not_finite(array)}.")
     return array
+
+
+def _array_to_si(value: Any, kind: str, name: str, shape: tuple[int, ...]) -> NDArray[np.float64]:
+    """The general path of :func:`vector_to_si`: strings, quantities, arrays and
+    nested sequences to a float64 array in SI (its shape not checked yet)."""
+    value = _parse_vector_string(value, name) if isinstance(value, str) else value
+    if isinstance(value, pint.Quantity):
+        return np.asarray(_quantity_to_si(value, kind, name), dtype=float)
+    if isinstance(value, np.ndarray) and value.dtype != object:
+        if value.dtype.kind not in "iuf":
+            raise InputError(
+                f"Expected `{name}` to hold real numbers, got an array of dtype {value.dtype}."
+            )
+        return np.asarray(value, dtype=float)
+    if isinstance(value, Sequence | np.ndarray):
+        return _nested_to_si(value, kind, name)
+    raise InputError(
+        f"Expected `{name}` to be an array of shape {_shape_text(shape)}, got {quoted(value)}."
+    )
+
+
+#: The types of the scalars taken as SI numbers without a look at units
+#: (``bool`` is not one of them: it is refused).
+_PLAIN_SCALARS = frozenset({float, int, np.float64, np.int64})
+
+
+def _plain_float(value: float | int) -> float:
+    """``float(value)``, NaN for an integer beyond float range (which the general
+    path then refuses with its message)."""
+    try:
+        return float(value)
+    except OverflowError:
+        return math.nan
+
+
+def _plain_vector(value: Any) -> NDArray[np.float64] | None:
+    """A list or tuple of plain numbers (:data:`_PLAIN_SCALARS`) as a float64 array,
+    or None for anything else (strings, quantities, nestings, arrays): the fast path
+    of :func:`vector_to_si` for the vectors most calls pass."""
+    if type(value) not in (list, tuple) or not all(type(v) in _PLAIN_SCALARS for v in value):
+        return None
+    try:
+        return np.array(value, dtype=float)
+    except OverflowError:  # an integer beyond float range: the general path says so
+        return None
 
 
 def _nested_to_si(value: Any, kind: str, name: str) -> NDArray[np.float64]:

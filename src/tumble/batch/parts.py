@@ -15,7 +15,7 @@ from tumble.body import ZERO_MOMENT, BodyBatch
 from tumble.core._jit import FINITE
 from tumble.errors import InputError, IntegrationError
 from tumble.integrators import INTEGRATORS, Integrator
-from tumble.integrators.drivers import PROGRESS_CHUNK
+from tumble.integrators.steps import PROGRESS_CHUNK
 from tumble.parts import pack_parts, spin_columns
 from tumble.torques import TorqueModel, bind
 from tumble.units import vector_to_si

@@ -23,7 +23,7 @@ import contextlib
 import hashlib
 import os
 from collections.abc import Callable
-from functools import cache, partial
+from functools import cache, lru_cache, partial
 from pathlib import Path
 from typing import Any
 
@@ -74,8 +74,20 @@ def core_stamp() -> str:
 
 def file_stamp(function: Any) -> str:
     """``module.qualname@mtime:size`` of a (compiled) function's source file, or its
-    name alone when it has no file (then its kernels are not cached on disk)."""
+    name alone when it has no file (then its kernels are not cached on disk).
+
+    Read once per function and process, as :func:`core_stamp`: it describes the
+    code this process loaded (and binding a torque to a body asks for it at
+    every simulation)."""
     python = getattr(function, "py_func", function)
+    try:
+        return _read_stamp(python)
+    except TypeError:  # not hashable: read each time
+        return _read_stamp.__wrapped__(python)
+
+
+@lru_cache(maxsize=1024)
+def _read_stamp(python: Any) -> str:
     name = f"{python.__module__}.{python.__qualname__}"
     try:
         status = os.stat(python.__code__.co_filename)

@@ -262,6 +262,9 @@ def get_integrator(name: str, *, batch: bool = False) -> Integrator:
     InputError
         A name :func:`check_method` refuses, or ``"auto"``, which names none.
     """
+    entry = INTEGRATORS.get(name) if type(name) is str else None
+    if entry is not None and (entry.supports_batch or not batch):
+        return entry
     check_method(name, batch=batch)
     if name == "auto":
         raise InputError(

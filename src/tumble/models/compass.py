@@ -23,16 +23,10 @@ from scipy.spatial.transform import Rotation
 
 from tumble.core import gimbal
 from tumble.errors import InputError
-from tumble.integrators.drivers import (
-    Schedule,
-    step_in_chunks,
-    time_step,
-    warn_if_coarse,
-    whole_steps,
-)
-from tumble.integrators.limits import check_record_every
+from tumble.integrators.limits import check_record_every, check_recording
+from tumble.integrators.problem import Schedule
+from tumble.integrators.steps import step_in_chunks, time_step, warn_if_coarse, whole_steps
 from tumble.massprops import MassProperties, as_mass_properties, axisymmetric_moments, readonly
-from tumble.simulation import check_recording
 from tumble.trajectory import Trajectory
 from tumble.units import to_si
 

@@ -164,9 +164,10 @@ def check_steps(loaded: LoadedScenario, total: int) -> None:
 def _rigid_body(
     loaded: LoadedScenario, mp: MassProperties, parts: tuple[Any, ...], progress: Progress
 ) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str | None, list[str]]:
-    from tumble.integrators.drivers import whole_steps
+    from tumble.integrators.limits import check_recording
+    from tumble.integrators.steps import whole_steps
     from tumble.parts import value_columns
-    from tumble.simulation import check_recording, prepare, simulate
+    from tumble.simulation import prepare, simulate
 
     spec = loaded.spec
     state = initial_state(spec)

@@ -402,7 +402,7 @@ class PlanBuilder:
                 )
 
     def warn_coarse(self, ranges: dict[str, tuple[float, float]], dt: float) -> None:
-        from tumble.integrators.drivers import warn_if_coarse
+        from tumble.integrators.steps import warn_if_coarse
 
         # Warned from parse_sweep's caller: this method, plan(), parse_sweep, caller.
         warn_if_coarse(dt, ranges["spin_rate"][1], "the fastest spin", stacklevel=5)

@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from tumble.body import ZERO_MOMENT, RigidBody
+from tumble.body import ZERO_MOMENT, RigidBody, body_model
 from tumble.errors import InputError, IntegrationError
 from tumble.massprops import MassProperties
 
@@ -49,7 +49,7 @@ def exact_solution(
     """The exact torque-free motion of ``mp`` about its centre of mass at ``times``
     (s): ω (n, 3) in body axes, rad/s, and the attitude (n, 4) body → space, from
     ω0 (body axes, rad/s) and the unit quaternion ``attitude0``."""
-    body = RigidBody(mp)
+    body = body_model(mp)
     moments = body.moments
     if moments[0] <= ZERO_MOMENT * moments[2]:
         raise InputError(
@@ -92,8 +92,14 @@ def _order_one(moments: Array, rates: Array) -> tuple[int, int]:
     the moments and rates) stay far from float64's limits for any mass and any
     rate it holds. Scaling by powers of two is exact.
     """
-    largest_rate = float(np.max(np.abs(rates)))
-    return math.frexp(float(np.max(moments)))[1], math.frexp(largest_rate)[1]
+    largest_rate = _largest([abs(rate) for rate in np.asarray(rates, dtype=float).tolist()])
+    largest_moment = _largest(np.asarray(moments, dtype=float).tolist())
+    return math.frexp(largest_moment)[1], math.frexp(largest_rate)[1]
+
+
+def _largest(values: list[float]) -> float:
+    """``np.max`` of a few floats (NaN if any is NaN), without numpy's call."""
+    return math.nan if any(math.isnan(v) for v in values) else max(values)
 
 
 #: The largest phase (rad) a closed form is evaluated at: beyond 2^53 rad,

@@ -82,6 +82,9 @@ def bind(
         Per-body values outside a batch or for the wrong number of bodies.
     """
     models = () if model is None else model.terms
+    if not models:  # torque-free: nothing to pack
+        free = _combined([])
+        return BoundTorque((), np.zeros((1, 1)), 0.0, "free", free, free)
     order = {cls: k for k, cls in enumerate(TORQUES.values())}
     acting = sorted(
         (term for term in models if term.acts_on(body)),
@@ -111,7 +114,12 @@ def bind(
     per_body = any(block.shape[1] > 1 for block in blocks)
     width = columns if per_body else 1
     params = np.ascontiguousarray(
-        np.vstack([np.broadcast_to(block, (len(block), width)) for block in blocks])
+        np.vstack(
+            [
+                block if block.shape[1] == width else np.broadcast_to(block, (len(block), width))
+                for block in blocks
+            ]
+        )
         if blocks
         else np.zeros((1, width))
     )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -62,6 +63,11 @@ class GravityGradient(TorqueModel):
 
     def plane(self) -> tuple[Array, Array]:
         """(e1, e2): r = e1 cos n t + e2 sin n t, space axes."""
+        e1, e2 = self._plane
+        return e1.copy(), e2.copy()
+
+    @cached_property
+    def _plane(self) -> tuple[Array, Array]:
         normal = np.asarray(self.orbit_normal, dtype=float)
         normal = normal / np.linalg.norm(normal)
         radial = np.asarray(self.radial0, dtype=float)
@@ -74,7 +80,9 @@ class GravityGradient(TorqueModel):
                 f"{normal.tolist()}."
             )
         e1 = radial / size
-        return e1, np.cross(normal, e1)
+        e2 = np.cross(normal, e1)
+        e1.flags.writeable = e2.flags.writeable = False
+        return e1, e2
 
     def pack(self, body: Any, omega0: Array | None) -> Array:
         if getattr(body, "pivot", None) is not None:
@@ -82,15 +90,14 @@ class GravityGradient(TorqueModel):
                 "Expected a free body for GravityGradient (the torque is about the centre of "
                 "mass), got a pivot."
             )
-        e1, e2 = self.plane()
+        e1, e2 = self._plane  # found once per model
         # The whole inertia (parts locked: a spinning wheel's mass distribution is
         # the same) in the kernels' axes: (1 or N, 3, 3).
         tensors = np.asarray(body.inertia_principal, dtype=float).reshape(-1, 3, 3)
-        columns = tensors.shape[0]
-        rate = np.broadcast_to(np.asarray(self.orbit_rate, dtype=float), (columns,))
-        plane = np.broadcast_to(np.concatenate([e1, e2])[:, None], (6, columns))
-        inertia = np.stack(
-            [tensors[:, 0, 0], tensors[:, 1, 1], tensors[:, 2, 2], tensors[:, 0, 1],
-             tensors[:, 0, 2], tensors[:, 1, 2]]
-        )  # fmt: skip
-        return np.vstack([rate[None, :], plane, inertia])
+        packed = np.empty((len(self.fields), tensors.shape[0]))
+        packed[0] = np.broadcast_to(np.asarray(self.orbit_rate, dtype=float), packed.shape[1:])
+        packed[1:4] = e1[:, None]
+        packed[4:7] = e2[:, None]
+        for row, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)), start=7):
+            packed[row] = tensors[:, i, j]
+        return packed

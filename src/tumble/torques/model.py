@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, ClassVar
 
 import numpy as np
@@ -129,9 +130,10 @@ class TorqueModel:
             entry["actuator"] = self.actuator
         return entry
 
-    @property
+    @cached_property
     def per_body(self) -> int | None:
-        """The number of bodies its per-body values are for, or None."""
+        """The number of bodies its per-body values are for, or None (read once: a
+        model's values do not change)."""
         counts = {
             int(np.shape(value)[0])
             for parameter, value in zip(self.parameters, self.values().values(), strict=True)

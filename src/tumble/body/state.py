@@ -1,0 +1,107 @@
+"""The state of the parts a body carries, and its mapping to and from the
+kernels' state (:mod:`tumble.core.parts`).
+"""
+
+from __future__ import annotations
+
+import itertools
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.parts import pack_parts
+
+if TYPE_CHECKING:
+    from tumble.body.protocol import BodyModel
+
+__all__ = ["PartsState"]
+
+Array = NDArray[np.float64]
+
+
+class PartsState:
+    """The parts' values and the kernels' state of a body carrying parts
+    (:class:`tumble.body.RigidBody`)."""
+
+    @cached_property
+    def _packed(self: BodyModel) -> tuple[Any, Array]:
+        layout, packed = pack_parts(self, self.parts)
+        packed.flags.writeable = False
+        return layout, packed
+
+    @property
+    def layout(self: BodyModel) -> Any:
+        """The kernels' layout of its parts (:func:`tumble.parts.pack_parts`)."""
+        return self._packed[0]
+
+    @property
+    def packed_parts(self: BodyModel) -> Array:
+        """(rows, 1) its parts packed for the kernels (:func:`tumble.parts.pack_parts`)."""
+        return self._packed[1]
+
+    def initial_values(self: BodyModel, omega0: Array) -> Array:
+        """(..., m) the parts' values at t = 0 for the body's ω0 (..., 3)
+        (:meth:`tumble.parts.InternalPart.initial_values`); m, here and below, is
+        the sum of the parts' sizes."""
+        omega0 = np.asarray(omega0, dtype=float)
+        pieces = [part.initial_values(omega0) for part in self.parts]
+        return np.concatenate(pieces, axis=-1) if pieces else np.zeros((*omega0.shape[:-1], 0))
+
+    def split_values(
+        self: BodyModel, values: Array | None, omega: Array | None = None
+    ) -> list[Array]:
+        """The parts' values (..., m), cut per part; None: their initial
+        values for ω (..., 3) (a damper turning with the body)."""
+        if values is None:
+            start = np.zeros(3) if omega is None else omega
+            return [part.initial_values(start) for part in self.parts]
+        cuts = np.cumsum([0, *(part.size for part in self.parts)])
+        return [values[..., a:b] for a, b in itertools.pairwise(cuts)]
+
+    def kernel_state(self: BodyModel, omega0: Array, attitude0: Array) -> Array:
+        """(7 + m,) the state the parts' kernels integrate (:mod:`tumble.core.parts`):
+        H, q (principal-platform frame), then the parts' momenta, from ω0 (rad/s,
+        body axes) and the attitude (body → space)."""
+        total, momenta = self._initial_momenta(omega0)
+        pieces = [part.to_kernel(own, self) for part, own in zip(self.parts, momenta, strict=True)]
+        momentum = self.to_principal(total)
+        return np.concatenate(
+            [momentum, self.attitude_to_principal(np.asarray(attitude0, dtype=float)), *pieces]
+        )
+
+    def _initial_momenta(self: BodyModel, omega0: Array) -> tuple[Array, list[Array]]:
+        """The angular momentum (3,) at t = 0 (body axes, kg·m²/s) and each part's
+        momenta (:meth:`tumble.parts.InternalPart.momenta`) for ω0 (3,), rad/s:
+        what :meth:`fastest_rate` and :meth:`kernel_state` both read, computed
+        once for the last ω0 asked."""
+        omega0 = np.asarray(omega0, dtype=float)
+        key = (omega0.shape, omega0.tobytes())
+        last = self.__dict__.get("_last_start")
+        if last is not None and last[0] == key:
+            return last[1], list(last[2])
+        momenta = tuple(part.momenta(omega0, part.initial_values(omega0)) for part in self.parts)
+        total = self.angular_momentum(omega0)
+        total.flags.writeable = False
+        self.__dict__["_last_start"] = (key, total, momenta)
+        return total, list(momenta)
+
+    def from_kernel_state(self: BodyModel, states: Array) -> tuple[Array, Array, Array]:
+        """ω (n, 3) and the attitude (n, 4), body axes, and the parts' values
+        (n, m), from kernel states (n, 7 + m): ω as the kernels solve for it
+        (:func:`tumble.core.parts.velocities`)."""
+        from tumble.core.parts import velocities
+
+        states = np.asarray(states, dtype=float)
+        moments = np.ascontiguousarray(self.moments[:, None])
+        principal = velocities(self.layout)(np.ascontiguousarray(states.T), moments,
+                                            np.ascontiguousarray(self.packed_parts))  # fmt: skip
+        omega = self.from_principal(principal)
+        values, k = [], 7
+        for part in self.parts:
+            momenta = part.from_kernel(states[:, k : k + part.size], self)
+            values.append(part.values_from(omega, momenta))
+            k += part.size
+        parts = np.concatenate(values, axis=1) if values else np.zeros((len(states), 0))
+        return omega, self.attitude_from_principal(states[:, 3:7]), parts

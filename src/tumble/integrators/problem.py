@@ -1,0 +1,83 @@
+"""What a single-body driver takes and gives back: the :class:`Problem` (the
+body, its bound torque, the initial state), the :class:`Schedule` (the steps and
+the recorded times) and the :class:`Samples` (the recorded states, body axes)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from tumble.body import RigidBody
+from tumble.integrators.steps import whole_steps
+from tumble.torques import BoundTorque
+
+__all__ = ["Problem", "Samples", "Schedule"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """One body's integration: the body (with its parts), its bound torque and the
+    initial state in body axes (ω0, rad/s; the attitude body → space)."""
+
+    body: RigidBody
+    torque: BoundTorque
+    omega0: Array
+    attitude0: Array
+
+    @property
+    def layout(self) -> Any:
+        """The parts' layout for their kernels (:func:`tumble.parts.pack_parts`)."""
+        return self.body.layout
+
+
+@dataclass(frozen=True, eq=False)
+class Samples:
+    """What a driver returns: ω (n, 3) rad/s and the attitude (n, 4) body → space in
+    body axes, the parts' values (n, p) (p the sum of the parts'
+    :attr:`~tumble.parts.InternalPart.size`) and the number of steps taken."""
+
+    omega: Array
+    quaternion: Array
+    values: Array
+    steps: int
+
+    @classmethod
+    def rigid(cls, problem: Problem, w: Array, q: Array, steps: int) -> Samples:
+        """From principal-frame ω (n, 3) and attitudes (n, 4) of a body without parts."""
+        body = problem.body
+        values = np.zeros((len(w), 0))
+        return cls(body.from_principal(w), body.attitude_from_principal(q), values, steps)
+
+
+@dataclass(frozen=True, eq=False)
+class Schedule:
+    """When to step and what to keep: ``times`` (n,) the recorded times (s; the
+    last is the end, also when it is not a whole number of ``record_every``
+    steps); ``n_steps`` steps of ``step`` s; the adaptive tolerances and the
+    most steps the adaptive method may try."""
+
+    times: Array
+    n_steps: int
+    step: float
+    record_every: int
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    most_steps: float = 2.0**53
+
+    @classmethod
+    def build(
+        cls, duration: float, step: float, record_every: int, **tolerances: float
+    ) -> Schedule:
+        """Whole steps over ``duration`` (s): ``step`` shortened slightly so that they
+        span it; every ``record_every``-th step kept, and the last."""
+        n_steps = whole_steps(duration, step)
+        step = duration / n_steps
+        times = np.arange(n_steps // record_every + 1) * (record_every * step)
+        if n_steps % record_every != 0:
+            times = np.append(times, duration)
+        return cls(np.asarray(times, dtype=float), n_steps, step, record_every, **tolerances)

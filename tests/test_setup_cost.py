@@ -1,0 +1,161 @@
+"""What makes a short simulation's set-up cheap keeps every answer and every check:
+the body model shared between calls, the plain-number paths of the unit
+conversion, the memory check of small requests."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import tumble as tb
+from tumble.body import BODY_CACHE_SIZE, RigidBody, body_model
+from tumble.errors import InputError, RequestTooLargeError
+from tumble.resources import BUDGET_VARIABLE, SMALL_REQUEST, check_memory
+from tumble.units import to_si, vector_to_si
+
+BODY = tb.MassProperties(
+    2.0, [0.0, 0.0, 0.1], [[3.0, -1.0, 0.0], [-1.0, 3.0, 0.0], [0.0, 0.0, 5.0]]
+)
+
+
+def test_the_same_body_pivot_and_parts_share_one_model() -> None:
+    wheel = tb.Rotor([0, 0, 1], 0.1, speed=10.0)
+    model = body_model(BODY, None, (wheel,))
+    assert body_model(BODY, None, (wheel,)) is model
+    assert body_model(BODY, None, (tb.Rotor([0, 0, 1], 0.1, speed=10.0),)) is not model
+    assert body_model(BODY) is not model
+    assert body_model(BODY, np.array([0.0, 0.0, 0.0])) is body_model(BODY, [0.0, 0.0, 0.0])
+
+
+def test_a_shared_model_answers_as_a_new_one() -> None:
+    pivot = np.array([0.0, 0.0, -0.2])
+    shared, fresh = body_model(BODY, pivot), RigidBody(BODY, pivot)
+    assert np.array_equal(shared.moments, fresh.moments)
+    assert np.array_equal(shared.axes, fresh.axes)
+    assert np.array_equal(shared.inertia, fresh.inertia)
+    # The kernels' arguments keep their type: writable arrays, as a new model's.
+    assert shared.moments.flags.writeable and shared.axes.flags.writeable
+
+
+def test_a_mass_properties_changed_in_place_is_a_new_model() -> None:
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    before = body_model(body)
+    body.inertia.flags.writeable = True
+    body.inertia[2, 2] = 2.5
+    body.__dict__.pop("_principal_cached", None)
+    after = body_model(body)
+    assert after is not before
+    assert after.moments.tolist() == [1.0, 2.0, 2.5]
+
+
+def test_the_model_keeps_its_own_copy_of_the_pivot() -> None:
+    pivot = np.array([0.0, 0.0, 0.3])
+    model = body_model(BODY, pivot)
+    pivot[2] = 1.0
+    assert model.reference_point.tolist() == [0.0, 0.0, 0.3]
+    assert not model.reference_point.flags.writeable
+    assert body_model(BODY, pivot) is not model
+
+
+def test_the_cache_keeps_the_latest_bodies_only() -> None:
+    bodies = [
+        tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 2.0 + k / 100])) for k in range(3)
+    ]
+    first = body_model(bodies[0])
+    for k in range(BODY_CACHE_SIZE):
+        body_model(bodies[1], [0.0, 0.0, float(k)])
+    assert body_model(bodies[0]) is not first
+
+
+def test_repeated_simulations_give_the_same_bits() -> None:
+    wheel = tb.Rotor([0, 1, 0], 0.05, speed=20.0)
+    runs = [
+        tb.simulate(BODY, [0.3, 1.0, 0.2], duration=1.0, dt=0.01, method="rk4", internal=[wheel])
+        for _ in range(2)
+    ]
+    assert np.array_equal(runs[0].omega, runs[1].omega)
+    assert np.array_equal(runs[0].quaternion, runs[1].quaternion)
+    assert np.array_equal(runs[0].rotor_speed, runs[1].rotor_speed)
+
+
+@pytest.mark.parametrize("value", [1.5, 3, np.float64(-2.0), np.int64(7)])
+def test_plain_numbers_convert_as_before(value: float) -> None:
+    assert to_si(value, "time", "t") == float(value)
+    assert to_si(str(float(value)), "time", "t") == float(value)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (math.nan, r"^Expected `t` to be finite, got nan\.$"),
+        (10**400, r"^Expected `t` to be within float range \(\|x\| < 1\.8e308\), got an integer"),
+        (True, r"^Expected `t` to be a scalar, got True\.$"),
+    ],
+)
+def test_plain_numbers_that_are_no_time_are_refused_as_before(value: object, message: str) -> None:
+    with pytest.raises(InputError, match=message):
+        to_si(value, "time", "t")
+
+
+def test_plain_vectors_convert_as_before() -> None:
+    for value in ([1, 2.5, np.float64(3.0)], (0.0, -1.0, 2.0)):
+        fast = vector_to_si(value, "length", "v")
+        assert fast.dtype == np.float64 and fast.flags.writeable
+        assert fast.tolist() == [float(v) for v in value]
+    with pytest.raises(InputError, match=r"^Expected `v` to be finite, got \[1\.0, nan, 2\.0\]\.$"):
+        vector_to_si([1.0, math.nan, 2.0], "length", "v")
+    with pytest.raises(InputError, match=r"^Expected `v` to have shape \(3,\), got \(2,\)\.$"):
+        vector_to_si([1.0, 2.0], "length", "v")
+    with pytest.raises(InputError, match=r"^Expected `v` to be within float range"):
+        vector_to_si([1.0, 10**400, 2.0], "length", "v")
+
+
+def test_a_small_request_does_not_read_the_machine(monkeypatch: pytest.MonkeyPatch) -> None:
+    def unreadable() -> None:
+        raise AssertionError("read the machine's limits")
+
+    monkeypatch.delenv(BUDGET_VARIABLE, raising=False)
+    monkeypatch.setattr("tumble.resources.usable_memory", unreadable)
+    check_memory(SMALL_REQUEST, lambda: unreadable() or "", "")
+    with pytest.raises(AssertionError):
+        check_memory(SMALL_REQUEST + 1, "more", "")
+
+
+def test_a_small_request_is_checked_against_a_budget_that_is_set(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setenv(BUDGET_VARIABLE, "100 B")
+    with pytest.raises(
+        RequestTooLargeError,
+        match=r"^Expected a request that fits in the memory budget of 100 B \("
+        r"TUMBLE_MEMORY_BUDGET = 100 B\), got 12 recorded samples of 8 values \(0\.1 s at dt = "
+        r"0\.01 s, every 1 step\): about 3 KiB\. Record less often",
+    ):
+        tb.simulate(BODY, [0.0, 1.0, 0.0], duration=0.1, dt=0.01, method="rk4")
+
+
+def test_what_a_run_returns_is_its_own_to_change() -> None:
+    pivot = [0.0, 0.0, -0.2]
+    runs = [
+        tb.simulate(BODY, [0.0, 1.0, 0.0], pivot=pivot, gravity=[0, 0, -9.81], duration=0.1)
+        for _ in range(2)
+    ]
+    assert runs[0].pivot is not runs[1].pivot
+    runs[0].pivot[2] = 5.0  # the shared model keeps its own
+    assert body_model(BODY, pivot).reference_point.tolist() == pivot
+    assert runs[1].pivot.tolist() == pivot
+
+
+def test_the_orbit_plane_is_found_once_and_handed_out_as_copies() -> None:
+    from scipy.spatial.transform import Rotation
+
+    orbit = tb.torques.GravityGradient(0.001, orbit_normal=[0, 1, 1], radial0=[1, 0, 0])
+    e1, e2 = orbit.plane()
+    assert e1.flags.writeable and e2.flags.writeable
+    assert np.allclose(
+        Rotation.from_rotvec([0, 0, 0.1]).apply(e1),
+        Rotation.from_rotvec([0, 0, 0.1]).apply(orbit.plane()[0]),
+    )
+    assert np.isclose(e1 @ e2, 0.0) and np.isclose(np.linalg.norm(e2), 1.0)
