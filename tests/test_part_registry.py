@@ -1,8 +1,8 @@
 """The part registry: a part kind defined in this module alone — a viscous wheel,
 a wheel on a body-fixed axis coupled to the body by a viscous torque (a
 single-axis nutation damper) — registered for one test, runs in simulate,
-simulate_batch, a scenario file and the report, and round-trips through
-Parquet, with no change to tumble.
+simulate_batch, a scenario file, a sweep file and the report, and round-trips
+through Parquet, with no change to tumble.
 
 The wheel (axial moment J on the unit axis a, body axes; coupling c, N·m·s):
 its axial momentum ``h = J (a·ω + Ω)`` (Ω its rate relative to the body) obeys
@@ -55,6 +55,13 @@ def wheel_rates(y, dy, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-
     dy[k] = -parts[row + 4, pc] * (y[k] / parts[row + 3, pc] - along)
 
 
+@njit(inline="always")
+def wheel_energy(y, k, parts, row, rows, pc, w):  # type: ignore[no-untyped-def]
+    # h Ω: its momentum times its rate relative to the body (PartEquations.energy).
+    along = parts[row, pc] * w[0] + parts[row + 1, pc] * w[1] + parts[row + 2, pc] * w[2]
+    return y[k] * (y[k] / parts[row + 3, pc] - along)
+
+
 @dataclass(frozen=True, eq=False)
 class ViscousWheel(InternalPart):
     """A wheel on a body-fixed axis, slowed against the body by a viscous torque."""
@@ -74,7 +81,7 @@ class ViscousWheel(InternalPart):
         Parameter("inertia", "inertia", (), "its axial moment J", 0.0, strict=True),
         Parameter("coupling", "damping", (), "the viscous coupling c", 0.0),
     )
-    equations = PartEquations(momentum=wheel_momentum, rates=wheel_rates)
+    equations = PartEquations(momentum=wheel_momentum, rates=wheel_rates, energy=wheel_energy)
 
     def __post_init__(self) -> None:
         for parameter in self.parameters:
@@ -237,6 +244,75 @@ def test_a_part_kind_added_here_runs_in_a_scenario_file_and_the_report(
     assert read.describe() == traj.internal[0].describe()
     assert_allclose(back.rotor_speed, traj.rotor_speed, rtol=0, atol=0)
     assert_allclose(back.energy, traj.energy, rtol=1e-14)
+
+
+SWEEP = """
+[sweep]
+name = "wheels"
+seed = 1
+chunk_size = 2
+[base]
+duration = "6 s"
+dt = "2 ms"
+method = "rk4"
+moment_1 = "1 kg*m^2"
+ratio_3 = 2.2
+spin_rate = "1 rad/s"
+spin_axis = 2
+perturbation = "10 deg"
+[vary.ratio_2]
+values = [1.3, 1.6, 1.9]
+[[internal]]
+type = "test-viscous-wheel"
+axis = [0, 0.6, 0.8]
+inertia = "0.08 kg*m^2"
+coupling = "0.15 N*m*s"
+[outputs]
+metrics = ["flips", "max_nutation", "energy_drift", "momentum_drift"]
+final_state = true
+"""
+
+
+def test_a_part_kind_added_here_runs_in_a_sweep_file(
+    wheel: type[ViscousWheel], tmp_path: Path
+) -> None:
+    from tumble.sweep import open_results, run_sweep
+    from tumble.sweep.build import parse_sweep
+    from tumble.sweep.schema import SweepError
+
+    path = tmp_path / "wheels.toml"
+    path.write_text(SWEEP)
+    run_sweep(path, tmp_path / "out")
+    results = open_results(tmp_path / "out")
+    part = wheel(AXIS, WHEEL_J, COUPLING)
+    for k, ratio in enumerate([1.3, 1.6, 1.9]):
+        mp = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, ratio, 2.2]))
+        tilt = np.radians(10.0)
+        start = np.array([0.0, np.cos(tilt), np.sin(tilt)])
+        traj = tb.simulate(mp, start, internal=[part], duration=6.0, dt=2e-3, method="rk4")
+        # The same steps as tb.simulate: equal to round-off; the energy drift against
+        # the trajectory's energy, summed by the wheel's Python kinetic_energy.
+        assert_allclose(results["final/omega"][k], traj.omega[-1], rtol=0, atol=1e-12)
+        energy = traj.energy
+        drift = np.max(np.abs(energy - energy[0])) / energy[0]
+        assert_allclose(results["metrics/energy_drift"][k], drift, rtol=1e-9)
+        assert drift > 1e-4  # the wheel dissipates: a drift far above round-off
+    # A kind without its energy's equation runs every other measure, and refuses
+    # the energy drift.
+    quiet = ViscousWheel.equations._replace(energy=None)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(ViscousWheel, "equations", quiet)
+        with pytest.raises(
+            SweepError,
+            match=r"`outputs\.metrics`: Expected parts whose energy can be measured for "
+            r"`energy_drift`, got test-viscous-wheel parts, whose equations leave it out",
+        ):
+            parse_sweep(SWEEP)
+        plan = parse_sweep(SWEEP.replace('"energy_drift", ', ""))
+        from tumble.sweep.metrics import compute_chunk
+
+        flips = compute_chunk(plan, 0)["metrics/flips"]
+        assert_allclose(flips, results["metrics/flips"][:2])
 
 
 def test_the_registry_refuses_an_incomplete_kind_and_names_the_known_ones() -> None:

@@ -574,8 +574,8 @@ def test_unknown_builtin_is_refused() -> None:
         ),
         (
             {"[base]": "[basis]"},
-            r"`basis`: Expected the key to be one of sweep, base, vary, outputs, report, dask, "
-            r"limits, got 'basis'",
+            r"`basis`: Expected the key to be one of sweep, base, vary, internal, outputs, report, "
+            r"dask, limits, got 'basis'",
         ),
         (
             {"dt = 0.01": "dt = true"},

@@ -156,9 +156,10 @@ def _table(title: str, model: Any, skip: tuple[str, ...] = ()) -> list[str]:
 def scenario_keys() -> str:
     """The page of every key of scenario and sweep files."""
     from tumble.checks import THEORY_CHECKS
+    from tumble.config import parts as internal
     from tumble.integrators import INTEGRATORS
     from tumble.parts import PARTS
-    from tumble.scenario import bodies, internal, schema
+    from tumble.scenario import bodies, schema
     from tumble.sweep import schema as sweep_schema
     from tumble.torques import TORQUES
 

@@ -104,17 +104,14 @@ class PartsBatch:
             k += part.size
         return omega, bodies.attitude_from_principal(y[3:7].T.copy()), np.concatenate(values, 1)
 
-    def run(
-        self, integrator: Integrator, torque: TorqueModel | None, dt: float, n_steps: int,
-        record_every: int | None, progress: Progress,
-    ) -> BatchResult:  # fmt: skip
-        """Advance the bodies ``n_steps`` steps of ``dt`` s; the result as
-        :func:`simulate_batch` returns it."""
+    def check_method(self, integrator: Integrator, torque: TorqueModel | None, role: str) -> None:
+        """Refuse an integrator without a kernel ``role`` for these parts, and torques
+        that act through the rotors (a batch has no allocation to share them)."""
         kinds = {part.kind for part in self.parts}
-        if not integrator.handles(self.parts) or integrator.parts_batch is None:
+        if not integrator.handles(self.parts) or getattr(integrator, role) is None:
             able = [
                 name for name, entry in INTEGRATORS.items()
-                if entry.parts_batch is not None and entry.handles(self.parts)
+                if getattr(entry, role) is not None and entry.handles(self.parts)
             ]  # fmt: skip
             raise InputError(
                 f"Expected a method that integrates batches carrying "
@@ -126,6 +123,67 @@ class PartsBatch:
                     f"Expected torques that act on the bodies from outside in a batch with "
                     f"parts, got {term!r}, which acts through the rotors (use simulate)."
                 )
+
+    def measure(
+        self, integrator: Integrator, torque: TorqueModel | None, dt: float, n_steps: int,
+        axis: Array, *, energy: bool = True, first_body: int = 0, where: str = "",
+    ) -> tuple[Array, Array]:  # fmt: skip
+        """Advance the bodies in place by ``n_steps`` steps of ``dt`` s, measuring each
+        after every step about its nominal axis ``axis`` (3, N; unit vectors, body
+        axes): the measures (``N_METRICS``, N) of :mod:`tumble.core.metrics` with
+        the total angular momentum H for L and the energy of the body and its parts
+        (:func:`tumble.core.parts.measuring_kernel`), and twice each body's energy
+        at the start (N,), J. ``energy=False`` for measures without the energy
+        (its rows then hold that of the body alone, ``ω · H``: the parts may
+        lack its equation). ``first_body`` and ``where`` name the bodies in
+        errors, as :meth:`tumble.batch.Batch.check_finite` does.
+
+        Raises
+        ------
+        InputError
+            A method without a measuring kernel for these parts, a part kind
+            without its energy's equation.
+        IntegrationError
+            A body's state became NaN or infinite.
+        """
+        from tumble.core.metrics import N_METRICS
+        from tumble.core.parts import part_energy
+
+        self.check_method(integrator, torque, "parts_metrics")
+        if energy and part_energy(self.layout) is None:
+            missing = sorted({p.kind for p in self.parts if p.equations.energy is None})
+            raise InputError(
+                f"Expected parts whose energy can be measured (PartEquations.energy), got "
+                f"{', '.join(missing)} parts without it."
+            )
+        n = self.y.shape[1]
+        bound = bind(torque, self.bodies, bodies=n)
+        kernel = integrator.kernel("parts_metrics", bound, self.layout)
+        moments = np.ascontiguousarray(self.bodies.moments.T)
+        turned = np.ascontiguousarray(self.bodies.to_principal(np.asarray(axis).T).T)
+        metrics = np.empty((N_METRICS, n))
+        twice = np.empty(n)
+        status = np.full(n, FINITE, dtype=np.int64)
+        kernel(self.y, moments, self.packed, bound.params, bound.context, turned, 0.0, dt,
+               n_steps, metrics, twice, status)  # fmt: skip
+        bad = np.flatnonzero(status != FINITE)
+        if bad.size:
+            k = int(bad[0])
+            place = f" {where}" if where else ""
+            raise IntegrationError(
+                f"Expected the integration to stay finite, got NaN or inf for {bad.size} "
+                f"bodies{place} (first: body {first_body + k}, at step {int(status[k])}) with "
+                f"dt = {dt:.3g} s: reduce dt."
+            )
+        return metrics, twice
+
+    def run(
+        self, integrator: Integrator, torque: TorqueModel | None, dt: float, n_steps: int,
+        record_every: int | None, progress: Progress,
+    ) -> BatchResult:  # fmt: skip
+        """Advance the bodies ``n_steps`` steps of ``dt`` s; the result as
+        :func:`simulate_batch` returns it."""
+        self.check_method(integrator, torque, "parts_batch")
         n = self.y.shape[1]
         bound = bind(torque, self.bodies, bodies=n)
         kernel = integrator.kernel("parts_batch", bound, self.layout)

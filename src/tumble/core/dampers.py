@@ -118,9 +118,31 @@ def spring_rates(y, dy, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no
     )
 
 
+@njit(inline="always")
+def damper_energy(y, k, parts, row, rows, pc, w):  # type: ignore[no-untyped-def]
+    """``σ · (σ / J − ω)``: the sphere's momentum times its angular velocity
+    relative to the body (twice its kinetic energy ``σ² / J`` less the ``ω · σ``
+    of ``ω · H``)."""
+    moment = parts[row, pc]
+    s1 = y[k]
+    s2 = y[k + 1]
+    s3 = y[k + 2]
+    return s1 * (s1 / moment - w[0]) + s2 * (s2 / moment - w[1]) + s3 * (s3 / moment - w[2])
+
+
+@njit(inline="always")
+def spring_energy(y, k, parts, row, rows, pc, w):  # type: ignore[no-untyped-def]
+    """``ẋ p + k x²``: the sliding mass's momentum times its speed, and twice the
+    spring's energy."""
+    _, _, _, _, _, _, mu, _, _, _, g4, g5, g6 = _spring_geometry(y, k, parts, row, pc)
+    p = y[k + 1]
+    speed = (p - (g4 * w[0] + g5 * w[1] + g6 * w[2])) / mu
+    return speed * p + parts[row + 7, pc] * y[k] * y[k]
+
+
 #: The Kane damper's equations, for :mod:`tumble.core.parts`.
-DAMPER_EQUATIONS = PartEquations(momentum=damper_momentum, rates=damper_rates)
+DAMPER_EQUATIONS = PartEquations(momentum=damper_momentum, rates=damper_rates, energy=damper_energy)
 #: The spring–mass damper's equations, for :mod:`tumble.core.parts`.
 SPRING_EQUATIONS = PartEquations(
-    momentum=spring_momentum, rates=spring_rates, inertia=spring_inertia
+    momentum=spring_momentum, rates=spring_rates, inertia=spring_inertia, energy=spring_energy
 )

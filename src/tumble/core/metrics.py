@@ -19,7 +19,9 @@ the kernels update the rows of ``out`` (5, N):
    before land exactly on zero, the last non-zero value stands in for it);
 2. the smallest ``a · L / |L|`` over the run, the initial state included: the
    cosine of the largest angle between the nominal axis and L (the nutation);
-3. the largest ``|2 E − 2 E₀|``, with ``2 E = ω · I ω`` (J, times two);
+3. the largest ``|2 E − 2 E₀|``, with ``2 E = ω · I ω`` (J, times two; for a
+   body carrying parts, ``ω · H`` plus each part's share:
+   :func:`tumble.core.parts.measuring_kernel`);
 4. the largest ``| |L| − |L₀| |`` (kg·m²/s).
 """
 
@@ -36,11 +38,12 @@ FLIPS, FIRST_FLIP, MIN_COS, ENERGY_DEVIATION, MOMENTUM_DEVIATION = range(N_METRI
 
 @njit(inline="always")
 def observe(  # type: ignore[no-untyped-def]
-    l1, l2, l3, w1, w2, w3, c, signed, squared, reference, flips, numerator, denominator,
-    energy0, energy_dev, smallest, largest,
+    twice_energy, c, signed, squared, reference, flips, numerator, denominator, energy0,
+    energy_dev, smallest, largest,
 ):  # fmt: skip
-    """Update one body's running measures after a step from its L (kg·m²/s) and ω
-    (rad/s) in the principal frame, and say whether the step was its first flip.
+    """Update one body's running measures after a step from twice its energy (J;
+    ``ω · L`` for a rigid body) and three numbers of its L (kg·m²/s, principal
+    frame), and say whether the step was its first flip.
 
     The caller gives three numbers of L about the nominal axis (a measuring kernel's
     own way, see :func:`tumble.core.stepping.metrics_kernel`): ``c``, whose sign
@@ -62,7 +65,7 @@ def observe(  # type: ignore[no-untyped-def]
     lower = signed * denominator < numerator * squared
     numerator = signed if lower else numerator
     denominator = squared if lower else denominator
-    energy_dev = max(energy_dev, abs(l1 * w1 + l2 * w2 + l3 * w3 - energy0))
+    energy_dev = max(energy_dev, abs(twice_energy - energy0))
     smallest = min(smallest, squared)
     largest = max(largest, squared)
     return first, reference, flips, numerator, denominator, energy_dev, smallest, largest

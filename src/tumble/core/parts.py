@@ -36,7 +36,13 @@ its packed values from rows ``row … row + rows − 1`` of column ``pc`` of
   rotors must exert on the body (a motor's share), read at time ``hold``;
 * for a part the splitting integrators take (a rotor: its momentum is fixed
   in the body between kicks), ``kick(y, k, parts, row, rows, pc, w, v, hold,
-  h)``: its momenta advanced over ``h`` with the attitude held.
+  h)``: its momenta advanced over ``h`` with the attitude held;
+* for a part whose energy a sweep measures, ``energy(y, k, parts, row, rows,
+  pc, w) -> ε`` (J): its momenta times their rates relative to the body, plus
+  twice its potential energy, so that twice the energy of the body and its
+  parts is ``ω · H + Σ ε`` (for a quadratic kinetic energy, twice it is the
+  velocities times the momenta: ω · H for the body's ω, each part's own for
+  its coordinates).
 
 Equations of the body (Hughes, *Spacecraft Attitude Dynamics*, 1986, §6.2 for
 the gyrostat; Schaub & Junkins, *Analytical Mechanics of Space Systems*,
@@ -65,6 +71,17 @@ import numpy as np
 from tumble.core._jit import FINITE, file_stamp, njit, njit_parallel, prange, specialise
 from tumble.core.adaptive import adaptive_loop
 from tumble.core.dynamics import quaternion_rates
+from tumble.core.metrics import (
+    ENERGY_DEVIATION,
+    FIRST_FLIP,
+    FLIPS,
+    MIN_COS,
+    MOMENTUM_DEVIATION,
+    finish,
+    initial,
+    nutation_start,
+    observe,
+)
 from tumble.core.splitting import decay_integral, free_flow_one_body, sub_steps, turn
 
 __all__ = [
@@ -73,6 +90,8 @@ __all__ = [
     "adaptive_kernel",
     "batch_kernel",
     "layout_identity",
+    "measuring_kernel",
+    "part_energy",
     "part_model",
     "part_rates",
     "parts_rk4_step",
@@ -88,12 +107,14 @@ __all__ = [
 class PartEquations(NamedTuple):
     """A part kind's compiled equations (see the module's docstring): ``inertia``
     None for a part that moves no mass, ``kick`` None for a part the splitting
-    integrators do not take."""
+    integrators do not take, ``energy`` None for a part whose energy sweeps do
+    not measure."""
 
     momentum: Any
     rates: Any
     inertia: Any = None
     kick: Any = None
+    energy: Any = None
 
 
 #: One part in a layout: its equations, its state size and its packed rows.
@@ -164,6 +185,19 @@ def _no_rates(y, dy, parts, pc, w, v, hold):  # type: ignore[no-untyped-def]
 @njit(inline="always")
 def _no_kick(y, parts, pc, w, v, hold, h):  # type: ignore[no-untyped-def]
     return None
+
+
+@njit(inline="always")
+def _no_energy(y, parts, pc, w):  # type: ignore[no-untyped-def]
+    return 0.0
+
+
+def _chain_energy(previous, energy, k, row, rows):  # type: ignore[no-untyped-def]
+    @njit(inline="always", cache=False)
+    def total(y, parts, pc, w):  # type: ignore[no-untyped-def]
+        return previous(y, parts, pc, w) + energy(y, k, parts, row, rows, pc, w)
+
+    return total
 
 
 def _chain_momentum(previous, momentum, k, row, rows):  # type: ignore[no-untyped-def]
@@ -248,6 +282,21 @@ def part_model(layout: tuple[LayoutEntry, ...]) -> PartModel:
         _diagonal_velocity(momentum) if inertia is None else _solved_velocity(momentum, inertia)
     )
     return PartModel(velocity, momentum, rates, kick)
+
+
+@cache
+def part_energy(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
+    """``shares(y, parts, pc, w) -> Σ ε`` (J): the parts' shares of twice the energy
+    (the module's docstring), so that twice the energy of the body and its parts
+    is ``ω · H`` plus it; None when a part of ``layout`` has no ``energy``."""
+    if any(equations.energy is None for equations, _, _ in layout):
+        return None
+    shares, k, row = _no_energy, 7, 0
+    for equations, size, rows in layout:
+        shares = _chain_energy(shares, equations.energy, k, row, rows)
+        k += size
+        row += rows
+    return shares
 
 
 # ------------------------------------------------------------------ the rates
@@ -434,6 +483,23 @@ def yoshida_step(torque, drive, velocity, momentum, rates, kick, t, dt, y, work,
 
 # ------------------------------------------------------------------ loops
 @njit(inline="always")
+def _kept_step(  # type: ignore[no-untyped-def]
+    step, torque, drive, velocity, momentum, rates, kick, number, dt, y, saved, work, system
+):  # fmt: skip
+    """Global step ``number`` of ``dt`` s, in place on ``y``; False, with ``y`` left as
+    it was (``saved`` its copy), when its result is not finite."""
+    n = y.shape[0]
+    for i in range(n):
+        saved[i] = y[i]
+    step(torque, drive, velocity, momentum, rates, kick, number * dt, dt, y, work, system)
+    if _finite(y):
+        return True
+    for i in range(n):
+        y[i] = saved[i]
+    return False
+
+
+@njit(inline="always")
 def _steps(  # type: ignore[no-untyped-def]
     step, torque, drive, velocity, momentum, rates, kick, y, system, dt, n_steps, first_step,
     record_every, out,
@@ -445,12 +511,9 @@ def _steps(  # type: ignore[no-untyped-def]
     status = FINITE
     for k in range(n_steps):
         number = first_step + k
-        for i in range(n):
-            saved[i] = y[i]
-        step(torque, drive, velocity, momentum, rates, kick, number * dt, dt, y, work, system)
-        if not _finite(y):
-            for i in range(n):
-                y[i] = saved[i]
+        if not _kept_step(
+            step, torque, drive, velocity, momentum, rates, kick, number, dt, y, saved, work, system
+        ):
             status = number + 1
             break
         if (number + 1) % record_every == 0:
@@ -522,6 +585,84 @@ def batch_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unty
             y[:, body] = state
 
     return batch
+
+
+def measuring_kernel(step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
+    """``measure(y, moments, parts, params, context, axis, t0, dt, n_steps, out,
+    energy0, status)``: as :func:`batch_kernel`, each body measured after every
+    step about its nominal axis (``axis`` (3, N), principal-platform axes) into
+    ``out`` (``N_METRICS``, N), as :mod:`tumble.core.metrics` says of a rigid
+    body, with H, the total angular momentum, for L, and twice the energy of the
+    body and its parts, ``ω · H + Σ ε`` (:func:`part_energy`; ``ω · H`` alone
+    when a part lacks its energy), for ``ω · I ω``; ``energy0`` (N,) receives its
+    value at the start."""
+    velocity, momentum, rates, kick = part_model(layout)
+    shares = part_energy(layout) or _no_energy
+    key = layout_identity(layout)
+
+    @specialise(njit, f"parts.measured|{file_stamp(step)}|{key}|{identity}")
+    def one_body(  # type: ignore[no-untyped-def]
+        y, moments, parts, pc, params, column, context, axis, t0, dt, n_steps, out, energy0, body
+    ):  # fmt: skip
+        inverse = 1.0 / moments
+        system = (moments, inverse, parts, pc, params, column, context)
+        n = y.shape[0]
+        work = np.empty((5, n))
+        saved = np.empty(n)
+        w1, w2, w3 = velocity(y, inverse, parts, pc)
+        twice0 = y[0] * w1 + y[1] * w2 + y[2] * w3 + shares(y, parts, pc, (w1, w2, w3))
+        b1, b2, b3, _ = initial(y[0], y[1], y[2], w1, w2, w3, axis[0, body], axis[1, body],
+                                axis[2, body])  # fmt: skip
+        reference = b1 * y[0] + b2 * y[1] + b3 * y[2]
+        squared0 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2]
+        numerator, denominator = nutation_start(reference * abs(reference), squared0)
+        flips, deviation, smallest, largest = 0.0, 0.0, squared0, squared0
+        crossed_at, before, after = 0.0, 0.0, 0.0
+        status = FINITE
+        first_step = int(t0 / dt + 0.5) if dt > 0.0 else 0
+        for k in range(n_steps):
+            number = first_step + k
+            if not _kept_step(
+                step, torque, drive, velocity, momentum, rates, kick, number, dt, y, saved, work,
+                system,
+            ):  # fmt: skip
+                status = number + 1
+                break
+            w1, w2, w3 = velocity(y, inverse, parts, pc)
+            twice = y[0] * w1 + y[1] * w2 + y[2] * w3 + shares(y, parts, pc, (w1, w2, w3))
+            c = b1 * y[0] + b2 * y[1] + b3 * y[2]
+            last = reference
+            first, reference, flips, numerator, denominator, deviation, smallest, largest = (
+                observe(
+                    twice, c, c * abs(c), y[0] * y[0] + y[1] * y[1] + y[2] * y[2], reference,
+                    flips, numerator, denominator, twice0, deviation, smallest, largest,
+                )
+            )  # fmt: skip
+            if first:
+                crossed_at, before, after = (number + 1) * dt, last, c
+        (
+            out[FLIPS, body], out[FIRST_FLIP, body], out[MIN_COS, body],
+            out[ENERGY_DEVIATION, body], out[MOMENTUM_DEVIATION, body],
+        ) = finish(
+            dt, flips, crossed_at, before, after, numerator, denominator, deviation, squared0,
+            smallest, largest,
+        )  # fmt: skip
+        energy0[body] = twice0
+        return status
+
+    @specialise(njit_parallel, f"parts.measure|{file_stamp(step)}|{key}|{identity}")
+    def measure(y, moments, parts, params, context, axis, t0, dt, n_steps, out, energy0, status):  # type: ignore[no-untyped-def]
+        part_stride = 0 if parts.shape[1] == 1 else 1
+        param_stride = 0 if params.shape[1] == 1 else 1
+        for body in prange(y.shape[1]):
+            state = y[:, body].copy()
+            status[body] = one_body(
+                state, moments[:, body].copy(), parts, body * part_stride, params,
+                body * param_stride, context, axis, t0, dt, n_steps, out, energy0, body,
+            )  # fmt: skip
+            y[:, body] = state
+
+    return measure
 
 
 def adaptive_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped-def]

@@ -88,5 +88,16 @@ def rotor_kick(y, k, parts, row, rows, pc, w, v, hold, h):  # type: ignore[no-un
     y[k] += motor_torque(y, k, parts, row, rows, pc, w, v, hold) * h
 
 
+@njit(inline="always")
+def rotor_energy(y, k, parts, row, rows, pc, w):  # type: ignore[no-untyped-def]
+    """``h Ω`` with ``Ω = h / J − a·ω``: its momentum times its rate relative to the
+    body (twice its kinetic energy ``h² / J`` less the ``h a·ω`` of ``ω · H``)."""
+    along = parts[row, pc] * w[0] + parts[row + 1, pc] * w[1] + parts[row + 2, pc] * w[2]
+    h = y[k]
+    return h * (h / parts[row + 3, pc] - along)
+
+
 #: The rotor's equations, for :mod:`tumble.core.parts`.
-ROTOR_EQUATIONS = PartEquations(momentum=rotor_momentum, rates=rotor_rates, kick=rotor_kick)
+ROTOR_EQUATIONS = PartEquations(
+    momentum=rotor_momentum, rates=rotor_rates, kick=rotor_kick, energy=rotor_energy
+)

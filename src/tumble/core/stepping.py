@@ -590,7 +590,7 @@ def _observed(measured_vectors, rows, j, state, coefficients, last, current):  #
         rows[_DENOMINATOR * _ROW + j], rows[_ENERGY_DEVIATION * _ROW + j],
         rows[_SMALLEST * _ROW + j], rows[_LARGEST * _ROW + j],
     ) = observe(
-        l1, l2, l3, w1, w2, w3, c, signed, squared, _at(rows, last, j), _at(rows, _FLIPS, j),
+        l1 * w1 + l2 * w2 + l3 * w3, c, signed, squared, _at(rows, last, j), _at(rows, _FLIPS, j),
         _at(rows, _NUMERATOR, j), _at(rows, _DENOMINATOR, j), _at(rows, _ENERGY0, j),
         _at(rows, _ENERGY_DEVIATION, j), _at(rows, _SMALLEST, j), _at(rows, _LARGEST, j),
     )  # fmt: skip

@@ -9,7 +9,7 @@ that specialises the kernel for one simulation's torque
 (:mod:`tumble.core.torques`) (a stepping integrator's ``metrics`` factory also
 takes the keywords ``principal_axis`` and ``attitude`` of
 :func:`tumble.core.stepping.metrics_kernel`); and for bodies carrying parts (rotors, dampers:
-:mod:`tumble.core.parts`) ``parts_single`` and ``parts_batch``, factories
+:mod:`tumble.core.parts`) ``parts_single``, ``parts_batch`` and ``parts_metrics``, factories
 ``factory(torque_function, drive_function, layout, identity) -> kernel``. Everything
 that needs to know which methods exist — :func:`tumble.simulate` and its
 ``"auto"`` choice, :func:`tumble.simulate_batch`, the scenario and sweep files,
@@ -111,7 +111,9 @@ class Integrator:
         rule on the bodies and bound torques it integrates (the exact solution
         needs a torque-free body, a gyrostat if it carries rotors, or a
         symmetric top under uniform gravity).
-    parts_single, parts_batch : kernel factories for bodies carrying parts, or None.
+    parts_single, parts_batch, parts_metrics : kernel factories for bodies carrying
+        parts (one body, a batch, a batch measured as it steps: :mod:`tumble.core.parts`),
+        or None.
     run : the single-body driver of its kind (:mod:`tumble.integrators.drivers`).
     """
 
@@ -134,6 +136,7 @@ class Integrator:
     applies: Callable[[Any, BoundTorque], str | None] | None = None
     parts_single: PartsKernelFactory | None = None
     parts_batch: PartsKernelFactory | None = None
+    parts_metrics: PartsKernelFactory | None = None
     _kernels: dict[tuple[str, str, Any, int | None, bool], Any] = field(
         default_factory=dict, repr=False
     )
@@ -163,7 +166,7 @@ class Integrator:
 
     def kernel(
         self,
-        role: Literal["single", "batch", "metrics", "parts_single", "parts_batch"],
+        role: Literal["single", "batch", "metrics", "parts_single", "parts_batch", "parts_metrics"],
         torque: BoundTorque,
         layout: Any = None,
         *,
@@ -420,6 +423,7 @@ def _splitting(
         takes_part=splittable_part,
         parts_single=partial(part_kernels.single_kernel, part_step),
         parts_batch=partial(part_kernels.batch_kernel, part_step),
+        parts_metrics=partial(part_kernels.measuring_kernel, part_step),
         **common,
     )
 
@@ -455,6 +459,7 @@ register_integrator(
         takes_part=any_part,
         parts_single=partial(part_kernels.single_kernel, part_kernels.parts_rk4_step),
         parts_batch=partial(part_kernels.batch_kernel, part_kernels.parts_rk4_step),
+        parts_metrics=partial(part_kernels.measuring_kernel, part_kernels.parts_rk4_step),
     )
 )
 register_integrator(

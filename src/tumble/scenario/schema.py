@@ -2,7 +2,7 @@
 
 A scenario is a TOML file with the tables ``[scenario]`` (name, title,
 description), ``[body]``, ``[[internal]]`` (its rotors and dampers,
-:mod:`tumble.scenario.internal`), ``[initial]``, ``[environment]``,
+:mod:`tumble.config.parts`), ``[initial]``, ``[environment]``,
 ``[[torques]]``, ``[simulation]``, ``[theory]``, ``[output]`` and, for the
 gimballed gyroscope, ``[gyrocompass]``. Quantities are numbers (SI) or strings with units
 (``"250 g"``, ``"3000 rpm"``, ``"0, 0, -10 cm"``); every value is converted to
@@ -21,6 +21,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BeforeValidator, Field, field_validator, model_validator
 
 from tumble.config import StrictModel, key_error
+from tumble.config.parts import InternalSpec
 from tumble.config.registries import method_choice, theory_choice, torque_entry
 from tumble.errors import quoted
 from tumble.resources import DEFAULT_MAX_STEPS, DEFAULT_MAX_STEPS_TEXT
@@ -34,7 +35,6 @@ from tumble.scenario.bodies import (
     Vector,
     vector_field,
 )
-from tumble.scenario.internal import InternalSpec
 
 __all__ = [
     "MAX_STEPS",

@@ -167,6 +167,7 @@ class PlanBuilder:
         if INTEGRATORS[base.method].kind != "sampling":  # a closed form takes no steps
             self.warn_coarse(ranges, duration / n_steps)
 
+        parts = self.parts(ranges)
         maps = self.maps(tuple(spec.vary), tuple(spec.outputs.metrics))
         scheduler = spec.dask.scheduler
         if scheduler is not None and spec.dask.workers is not None:
@@ -203,6 +204,7 @@ class PlanBuilder:
             workers=spec.dask.workers,
             timeout=timeout,
             text=self.text,
+            parts=parts,
         )
         self.check_limits(plan)
         return plan
@@ -400,6 +402,78 @@ class PlanBuilder:
                     "(I1 + I2 >= I3 and cyclic) for every body, got "
                     f"I1, I2, I3 = {i1:.6g}, {i2:.6g}, {i3:.6g} kg·m² at {corner_values}.",
                 )
+
+    def parts(self, ranges: dict[str, tuple[float, float]]) -> tuple[Any, ...]:
+        """The ``[[internal]]`` parts every body carries, checked against the sweep: given
+        by their inertia (held in the swept moments), taken by batches, by the method
+        and, for ``energy_drift``, with their energy's equation; their spin inertia
+        left inside every body's moments."""
+        from tumble.body import ZERO_MOMENT
+        from tumble.parts import TableKeyError
+
+        parts = []
+        for k, spec in enumerate(self.spec.internal):
+            try:
+                read = spec.file_part()
+            except TableKeyError as exc:
+                raise self.fail(("internal", k, exc.key), str(exc)) from None
+            except InputError as exc:
+                raise self.fail(("internal", k), str(exc)) from None
+            part = read.part
+            if part.not_in_batches is not None:
+                raise self.fail(
+                    ("internal", k),
+                    f"Expected parts that batches take, got a {part.kind} "
+                    f"({part.not_in_batches.replace(': use simulate', '')}).",
+                )
+            if read.solid is not None:
+                raise self.fail(
+                    ("internal", k),
+                    f"Expected parts held in the swept moments (given by their `inertia`), "
+                    f"got a {part.kind} given by its mass, which would add to each body: "
+                    "give its `inertia` and count it in the moments.",
+                )
+            parts.append(part)
+        if not parts:
+            return ()
+        method = INTEGRATORS[self.spec.base.method]
+        if method.parts_metrics is None or not method.handles(parts):
+            able = [
+                name for name, entry in INTEGRATORS.items()
+                if entry.parts_metrics is not None and entry.handles(parts)
+            ]  # fmt: skip
+            kinds = ", ".join(sorted({part.kind for part in parts}))
+            raise self.fail(
+                ("base", "method"),
+                f"Expected a method that measures bodies carrying {kinds} parts "
+                f"({', '.join(able)}), got {method.name!r}.",
+            )
+        if "energy_drift" in self.spec.outputs.metrics:
+            lacking = sorted({p.kind for p in parts if p.equations.energy is None})
+            if lacking:
+                raise self.fail(
+                    ("outputs", "metrics"),
+                    f"Expected parts whose energy can be measured for `energy_drift`, got "
+                    f"{', '.join(lacking)} parts, whose equations leave it out "
+                    "(PartEquations.energy).",
+                )
+        # The platform's smallest moment grows with every swept moment and ratio
+        # (a positive diagonal added), so the box's lowest corner is the worst.
+        low = {name: bounds[0] for name, bounds in ranges.items()}
+        i1 = low["moment_1"]
+        moments = [i1, low.get("moment_2", low.get("ratio_2", 0.0) * i1),
+                   low.get("moment_3", low.get("ratio_3", 0.0) * i1)]  # fmt: skip
+        platform = np.diag(moments) - sum(part.spin_inertia() for part in parts)
+        left = np.linalg.eigvalsh(platform)
+        if not left[0] > ZERO_MOMENT * max(moments):
+            raise self.fail(
+                ("internal",),
+                "Expected internal parts whose spin inertia every body can hold (each "
+                "part's spin inertia taken from the swept moments must leave positive "
+                f"principal moments), got {np.round(left, 12).tolist()} kg·m² left at the "
+                f"smallest moments {moments} kg·m².",
+            )
+        return tuple(parts)
 
     def warn_coarse(self, ranges: dict[str, tuple[float, float]], dt: float) -> None:
         from tumble.integrators.steps import warn_if_coarse

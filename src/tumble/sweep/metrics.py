@@ -9,6 +9,7 @@ history is kept: the measures are accumulated step by step inside the kernels
 from __future__ import annotations
 
 import threading
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -91,17 +92,25 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
     n = stop - start
     values = plan.chunk_parameters(index)
     bodies = plan.bodies(values)
-    w = np.ascontiguousarray(bodies.omega.T)
-    q = np.zeros((4, n))
-    q[0] = 1.0
-    torque = bind(bodies.torque, BodyBatch(bodies.moments), bodies=n)
-    batch = Batch(np.ascontiguousarray(bodies.moments.T), w, q, torque)
-    integrator = get_integrator(plan.method, batch=True)
-    with _KERNEL_LOCK:
-        out = measure_batch(
-            integrator, batch, plan.dt, plan.n_steps, bodies.axis, first_body=start,
-            where=f"of chunk {index}", final_state=plan.final_state,
-        )  # fmt: skip
+    if plan.parts:
+        out, twice_energy, momentum, (omega, quaternion) = _measure_with_parts(
+            plan, bodies, start, index
+        )
+    else:
+        w = np.ascontiguousarray(bodies.omega.T)
+        q = np.zeros((4, n))
+        q[0] = 1.0
+        torque = bind(bodies.torque, BodyBatch(bodies.moments), bodies=n)
+        batch = Batch(np.ascontiguousarray(bodies.moments.T), w, q, torque)
+        integrator = get_integrator(plan.method, batch=True)
+        with _KERNEL_LOCK:
+            out = measure_batch(
+                integrator, batch, plan.dt, plan.n_steps, bodies.axis, first_body=start,
+                where=f"of chunk {index}", final_state=plan.final_state,
+            )  # fmt: skip
+        omega, quaternion = w.T, q.T
+        twice_energy = np.sum(bodies.moments * bodies.omega**2, axis=1)
+        momentum = np.linalg.norm(bodies.moments * bodies.omega, axis=1)
 
     result: dict[str, NDArray[np.generic]] = {}
     for name in plan.varied:
@@ -112,11 +121,8 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
         result["initial/moments"] = bodies.moments
         result["initial/omega"] = bodies.omega
     if plan.final_state:
-        result["final/omega"] = np.ascontiguousarray(w.T)
-        result["final/quaternion"] = np.ascontiguousarray(q.T)
-    moments = bodies.moments
-    twice_energy = np.sum(moments * bodies.omega**2, axis=1)
-    momentum = np.linalg.norm(moments * bodies.omega, axis=1)
+        result["final/omega"] = np.ascontiguousarray(omega)
+        result["final/quaternion"] = np.ascontiguousarray(quaternion)
     tiny = np.finfo(float).tiny
     measured = {
         "flips": lambda: out[FLIPS].astype(np.int32),
@@ -128,3 +134,28 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
     for name in plan.metrics:
         result[f"metrics/{name}"] = measured[name]()
     return result
+
+
+def _measure_with_parts(
+    plan: Plan, bodies: Any, start: int, index: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], tuple[Any, Any]]:
+    """The measures of a chunk of bodies carrying the plan's parts
+    (:meth:`tumble.batch.PartsBatch.measure`), twice their energies and the size of
+    their angular momenta at the start, and their final ω and attitudes (body axes,
+    the bodies' principal axes)."""
+    from tumble.batch.parts import PartsBatch
+    from tumble.integrators import get_integrator
+
+    n = len(bodies.omega)
+    q0 = np.zeros((n, 4))
+    q0[:, 0] = 1.0
+    batch = PartsBatch.build(bodies.moments, bodies.omega, q0, plan.parts, None, plan.method)
+    momentum = np.linalg.norm(batch.y[:3], axis=0)
+    integrator = get_integrator(plan.method, batch=True)
+    with _KERNEL_LOCK:
+        out, twice_energy = batch.measure(
+            integrator, bodies.torque, plan.dt, plan.n_steps, bodies.axis,
+            energy="energy_drift" in plan.metrics, first_body=start, where=f"of chunk {index}",
+        )  # fmt: skip
+    omega, quaternion, _ = batch.values(batch.y)
+    return out, twice_energy, momentum, (omega, quaternion)

@@ -171,7 +171,8 @@ class MapSpec:
 class Plan:
     """A sweep in SI: fixed parameters, grid and random axes, the run, the outputs,
     where it runs (``timeout``: seconds a Dask scheduler has to answer; None: the
-    default, :data:`tumble.sweep.dask_backend.CONNECT_TIMEOUT`)."""
+    default, :data:`tumble.sweep.dask_backend.CONNECT_TIMEOUT`), and the parts every
+    body carries (:class:`tumble.parts.InternalPart`, held in its moments)."""
 
     name: str
     description: str
@@ -193,6 +194,7 @@ class Plan:
     workers: int | None = None
     timeout: float | None = None
     text: str = field(default="", repr=False)
+    parts: tuple[Any, ...] = ()
 
     # ------------------------------------------------------------ sizes
     @property
@@ -221,7 +223,10 @@ class Plan:
     def identity(self) -> dict[str, Any]:
         """Everything that decides the results, as JSON-ready values (floats
         written exactly by ``repr``): two sweeps with the same identity give the
-        same bits. Names, descriptions, maps and where it runs are left out."""
+        same bits. Names, descriptions, maps and where it runs are left out (and
+        the parts, when there are none: the identity of a sweep without parts is
+        what it was before sweeps took them)."""
+        parts = {"parts": [part.describe() for part in self.parts]} if self.parts else {}
         return {
             "format": FORMAT,
             "fixed": {k: self.fixed[k] for k in sorted(self.fixed)},
@@ -240,6 +245,7 @@ class Plan:
             "metrics": list(self.metrics),
             "final_state": self.final_state,
             "initial_state": self.initial_state,
+            **parts,
         }
 
     # ----------------------------------------------------------- bodies

@@ -11,6 +11,9 @@ A sweep file is TOML with the tables
   or ``start``, ``stop``, ``num`` with ``scale = "linear"`` or ``"log"``) or a
   random draw (``distribution`` = ``"uniform"``, ``"loguniform"`` or
   ``"spherical"`` with ``min`` and ``max``); ``unit`` applies to its bare numbers;
+* ``[[internal]]``: the parts every body carries, as in scenario files
+  (:mod:`tumble.config.parts`), given by their ``inertia``: the swept moments
+  are the whole body's, its parts locked inside;
 * ``[outputs]``: ``metrics`` (a list of :data:`~tumble.sweep.plan.METRICS`),
   ``final_state``, ``initial_state``;
 * ``[report]``: ``maps = [{x, y, metric, statistic, bins}]``;
@@ -50,6 +53,7 @@ from tumble.config import (
     shown,
     unknown_key,
 )
+from tumble.config.parts import InternalSpec
 from tumble.config.registries import method_choice
 from tumble.errors import InputError, quoted, unknown_choice
 from tumble.sweep.plan import (
@@ -233,6 +237,7 @@ class SweepFile(StrictModel):
     sweep: SweepTable
     base: Base
     vary: dict[str, Vary] = {}
+    internal: list[InternalSpec] = []
     outputs: Outputs = Outputs()
     report: Report = Report()
     dask: DaskTable = DaskTable()

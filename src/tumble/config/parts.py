@@ -1,4 +1,4 @@
-"""The scenario file's ``[[internal]]`` tables: the parts a body carries.
+"""The ``[[internal]]`` tables of scenario and sweep files: the parts a body carries.
 
 Each table is one part (:mod:`tumble.parts`)::
 
@@ -35,6 +35,13 @@ places its drawing. ``max_torque`` and ``max_speed`` limit a rotor's motor. A
 spring–mass damper is always given by its ``mass`` (a point mass tumble adds at
 ``position``), with ``axis``, ``stiffness``, ``damping`` and optionally the
 ``displacement`` it starts at.
+
+In a sweep file, every body carries the parts of its ``[[internal]]`` tables,
+given by their ``inertia``: the swept moments are the whole body's, its parts
+held inside as if locked. The sweep's ``method`` must integrate them (``rk4``
+takes every kind batches take; the splittings, rotors); its measures take the
+total angular momentum H (body and parts) for L, and the energy of the body and
+its parts (:attr:`tumble.core.parts.PartEquations.energy`).
 """
 
 from __future__ import annotations
