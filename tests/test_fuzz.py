@@ -599,8 +599,8 @@ def test_a_key_with_a_line_break_is_shown_on_one_line() -> None:
     with pytest.raises(SweepError) as caught:
         parse_sweep(text, "sweep.toml")
     assert str(caught.value) == (
-        "sweep.toml, `a\\nb`: Expected the key to be one of sweep, base, vary, outputs, report, "
-        "dask, limits, got 'a\\nb'."
+        "sweep.toml, `a\\nb`: Expected the key to be one of sweep, base, vary, internal, "
+        "outputs, report, dask, limits, got 'a\\nb'."
     )
 
 
