@@ -14,7 +14,7 @@ from tumble.batch.result import BatchResult, Progress
 from tumble.body import ZERO_MOMENT, BodyBatch
 from tumble.core._jit import FINITE
 from tumble.errors import InputError, IntegrationError
-from tumble.integrators import INTEGRATORS, Integrator
+from tumble.integrators import Integrator, methods_for
 from tumble.integrators.steps import PROGRESS_CHUNK
 from tumble.parts import pack_parts, spin_columns
 from tumble.torques import TorqueModel, bind
@@ -109,10 +109,7 @@ class PartsBatch:
         that act through the rotors (a batch has no allocation to share them)."""
         kinds = {part.kind for part in self.parts}
         if not integrator.handles(self.parts) or getattr(integrator, role) is None:
-            able = [
-                name for name, entry in INTEGRATORS.items()
-                if getattr(entry, role) is not None and entry.handles(self.parts)
-            ]  # fmt: skip
+            able = methods_for(self.parts, role)
             raise InputError(
                 f"Expected a method that integrates batches carrying "
                 f"{', '.join(sorted(kinds))} parts ({', '.join(able)}), got {self.method!r}."

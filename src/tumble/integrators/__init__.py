@@ -43,6 +43,7 @@ __all__ = [
     "get_integrator",
     "gyrostatic_part",
     "method_names",
+    "methods_for",
     "register_integrator",
     "splittable_part",
 ]
@@ -255,6 +256,17 @@ def check_method(name: Any, *, batch: bool = False, measured: bool = False) -> s
     if not isinstance(name, str) or name not in names:
         raise unknown_choice(name, names, "`method`")
     return name
+
+
+def methods_for(parts: Any, role: str) -> list[str]:
+    """The names of the integrators that have a kernel ``role`` (``"parts_batch"``,
+    ``"parts_metrics"`` …) and integrate bodies carrying ``parts``, in the
+    registry's order: what a refusal lists."""
+    parts = tuple(parts)
+    return [
+        name for name, entry in INTEGRATORS.items()
+        if getattr(entry, role) is not None and entry.handles(parts)
+    ]  # fmt: skip
 
 
 def get_integrator(name: str, *, batch: bool = False) -> Integrator:

@@ -17,7 +17,7 @@ import numpy as np
 
 from tumble.config import validate_toml, where
 from tumble.errors import InputError
-from tumble.integrators import INTEGRATORS
+from tumble.integrators import INTEGRATORS, methods_for
 from tumble.sweep.plan import (
     DISTRIBUTIONS,
     PARAMETERS,
@@ -438,10 +438,7 @@ class PlanBuilder:
             return ()
         method = INTEGRATORS[self.spec.base.method]
         if method.parts_metrics is None or not method.handles(parts):
-            able = [
-                name for name, entry in INTEGRATORS.items()
-                if entry.parts_metrics is not None and entry.handles(parts)
-            ]  # fmt: skip
+            able = methods_for(parts, "parts_metrics")
             kinds = ", ".join(sorted({part.kind for part in parts}))
             raise self.fail(
                 ("base", "method"),
