@@ -11,13 +11,22 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from numpy.testing import assert_allclose
+from numpy.testing import assert_allclose, assert_array_equal
 
 import tumble as tb
+from tumble.batch.parts import PartsBatch
 from tumble.body import RigidBody
-from tumble.core.metrics import ENERGY_DEVIATION, N_METRICS
+from tumble.core.metrics import (
+    ENERGY_DEVIATION,
+    FIRST_FLIP,
+    FLIPS,
+    MIN_COS,
+    MOMENTUM_DEVIATION,
+    N_METRICS,
+)
 from tumble.core.parts import measuring_kernel, parts_rk4_step
 from tumble.core.torques import combine
+from tumble.integrators import get_integrator
 from tumble.report import write_sweep_report
 from tumble.sweep import open_results, run_sweep
 from tumble.sweep.build import parse_sweep
@@ -230,3 +239,54 @@ def test_the_spring_energy_share_matches_the_parts_own_energy() -> None:
 def test_a_sweep_refuses_parts_it_cannot_measure(parts: str, method: str, message: str) -> None:
     with pytest.raises(SweepError, match=message):
         parse_sweep(sweep_text(parts, method))
+
+
+def _damped_batch(damping: float) -> PartsBatch:
+    """Two bodies carrying a Kane damper of J = 0.02 kg·m² and ``damping`` N·m·s."""
+    inertia = np.array([[1.0, 1.5, 2.0], [1.0, 1.2, 2.0]])
+    omega = np.array([[0.1, 1.0, 0.1], [0.1, 1.0, 0.1]])
+    q0 = np.tile([1.0, 0.0, 0.0, 0.0], (2, 1))
+    damper = tb.KaneDamper(inertia=0.02, damping=damping)
+    return PartsBatch.build(inertia, omega, q0, (damper,), None, "rk4")
+
+
+AXES = np.array([[0.0, 0.0], [1.0, 1.0], [0.0, 0.0]])
+
+
+def test_measuring_a_batch_refuses_what_it_cannot_measure() -> None:
+    # A method without a measuring kernel for the parts: the methods that have one.
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected a method that integrates batches carrying kane-damper parts \(rk4\), "
+        r"got 'rk4'\.$",
+    ):
+        _damped_batch(0.01).measure(get_integrator("adaptive"), None, 0.01, 10, AXES)
+    # A kind without its energy's equation: refused for the energy, measured without
+    # it; the other measures are those of the kind with it (the same steps).
+    rk4 = get_integrator("rk4", batch=True)
+    full, _ = _damped_batch(0.01).measure(rk4, None, 0.01, 10, AXES)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(tb.KaneDamper, "equations", tb.KaneDamper.equations._replace(energy=None))
+        batch = _damped_batch(0.01)
+        with pytest.raises(
+            tb.InputError,
+            match=r"^Expected parts whose energy can be measured \(PartEquations\.energy\), got "
+            r"kane-damper parts without it\.$",
+        ):
+            batch.measure(rk4, None, 0.01, 10, AXES)
+        out, _ = batch.measure(rk4, None, 0.01, 10, AXES, energy=False)
+    others = [FLIPS, FIRST_FLIP, MIN_COS, MOMENTUM_DEVIATION]
+    assert_array_equal(out[others], full[others])
+
+
+def test_measuring_a_batch_names_the_first_body_that_diverged() -> None:
+    # D/J = 5e7 /s against dt = 0.01 s: RK4 is unstable for the damper from the
+    # first steps, for both bodies.
+    batch = _damped_batch(1e6)
+    with pytest.raises(
+        tb.IntegrationError,
+        match=r"^Expected the integration to stay finite, got NaN or inf for 2 bodies of "
+        r"chunk 3 \(first: body 40, at step \d+\) with dt = 0\.01 s: reduce dt\.$",
+    ):
+        batch.measure(get_integrator("rk4", batch=True), None, 0.01, 1000, AXES,
+                      first_body=40, where="of chunk 3")  # fmt: skip
