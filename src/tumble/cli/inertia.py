@@ -17,6 +17,9 @@ __all__ = ["inertia"]
 
 MESH_SUFFIXES = {".stl", ".obj", ".ply", ".glb", ".gltf", ".off"}
 
+#: Robot descriptions: URDF and MJCF (tumble.robots).
+ROBOT_SUFFIXES = {".urdf", ".xml"}
+
 
 # Options shared by the shapes; each maps to the shape function's parameter of the same name.
 _SHAPE_OPTIONS = (
@@ -86,9 +89,20 @@ def inertia(
         str | None,
         typer.Option(help="Also give the inertia about this body point, e.g. '0, 0, -5 cm'."),
     ] = None,
+    joints: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--joints",
+            metavar="NAME=VALUE",
+            help="A robot file: a joint's value, e.g. 'elbow=30 deg' (rad or m if no unit); "
+            "repeat for more; joints not given are at 0.",
+            show_default=False,
+        ),
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
 ) -> None:
-    """Mass, centre of mass, inertia tensor, principal moments and axes of a solid or a mesh."""
+    """Mass, centre of mass, inertia tensor, principal moments and axes of a solid, a mesh,
+    or a whole robot (URDF or MJCF) at a joint configuration."""
     options = {
         "radius": radius,
         "inner_radius": inner_radius,
@@ -105,13 +119,25 @@ def inertia(
     given = {k: v for k, v in options.items() if v is not None}
 
     def work() -> None:
+        from tumble.errors import InputError
         from tumble.units import vector_to_si
 
         mesh_options = {"merge_tolerance": merge_tolerance, "shell_thickness": shell_thickness}
-        label, mp = _build_body(
-            body, mass=mass, density=density, units=units, dimensions=given,
-            mesh_options={k: v for k, v in mesh_options.items() if v is not None},
-        )  # fmt: skip
+        if Path(body).suffix.lower() in ROBOT_SUFFIXES:
+            given_options = {**given, **{k: v for k, v in mesh_options.items() if v}}
+            given_options |= {
+                k: v for k, v in (("mass", mass), ("density", density), ("units", units)) if v
+            }
+            label, mp = _robot_body(body, joints or [], given_options)
+        elif joints:
+            raise InputError(
+                f"Expected --joints only with a robot file (.urdf, .xml), got {body!r}."
+            )
+        else:
+            label, mp = _build_body(
+                body, mass=mass, density=density, units=units, dimensions=given,
+                mesh_options={k: v for k, v in mesh_options.items() if v is not None},
+            )  # fmt: skip
         point = vector_to_si(about, "length", "--about") if about is not None else None
         if as_json:
             typer.echo(json.dumps(_inertia_json(label, mp, point), indent=2))
@@ -119,6 +145,27 @@ def inertia(
             _print_inertia(label, mp, point)
 
     run_command(work)
+
+
+def _robot_body(
+    body: str, joints: list[str], options: dict[str, Any]
+) -> tuple[str, MassProperties]:
+    """A robot file's mass properties at the ``--joints`` given (NAME=VALUE)."""
+    from tumble.errors import InputError
+    from tumble.robots import load
+
+    extra = [name for name, value in options.items() if value is not None]
+    if extra:
+        raise InputError(f"Expected no {_option(extra[0])} for a robot file, got one: its links "
+                         "declare their masses.")  # fmt: skip
+    values = {}
+    for item in joints:
+        name, sign, value = item.partition("=")
+        if not sign or not name.strip():
+            raise InputError(f"Expected --joints NAME=VALUE, e.g. 'elbow=30 deg', got {item!r}.")
+        values[name.strip()] = value.strip()
+    robot = load(body)
+    return f"{body} (robot {robot.name!r}, root link {robot.root!r})", robot.mass_properties(values)
 
 
 def _option(name: str) -> str:

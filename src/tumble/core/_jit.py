@@ -42,16 +42,29 @@ njit_parallel: Any = partial(
 
 prange: Any = numba.prange
 
-#: Kernels vectorised across bodies: the compiler may contract to FMA and
-#: reassociate, but NaN and infinity keep their meaning (no 'nnan'/'ninf'), so
-#: a diverging state is still detected.
+#: The floating-point freedoms of the kernels vectorised across bodies: the
+#: compiler may contract to FMA and reassociate, but NaN and infinity keep their
+#: meaning (no 'nnan'/'ninf'), so a diverging state is still detected.
+VECTOR_FASTMATH = frozenset({"contract", "arcp", "nsz", "reassoc", "afn"})
+
+#: Kernels vectorised across bodies, in parallel over blocks of them.
 njit_vector: Any = partial(
     numba.njit,
     cache=CACHE,
     nogil=True,
     error_model="numpy",
     parallel=True,
-    fastmath={"contract", "arcp", "nsz", "reassoc", "afn"},
+    fastmath=set(VECTOR_FASTMATH),
+)
+
+#: The work on one block of a kernel vectorised across bodies, with the same
+#: freedoms, called from the kernel's parallel loop. A function of its own, not
+#: inlined into that loop: numba's analyses of a parallel loop take time that
+#: grows faster than the loop's body (a splitting's measuring kernel, a few
+#: thousand lines once inlined, took over a minute to compile there and takes
+#: seconds so). Not cached itself: the kernels that call it are, with it.
+njit_block: Any = partial(
+    numba.njit, cache=False, nogil=True, error_model="numpy", fastmath=set(VECTOR_FASTMATH)
 )
 
 #: The statuses kernels return: every step stayed finite (else the number of

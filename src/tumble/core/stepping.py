@@ -30,7 +30,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from tumble.core._jit import FINITE, file_stamp, njit, njit_vector, prange, specialise
+from tumble.core._jit import FINITE, file_stamp, njit, njit_block, njit_vector, prange, specialise
 from tumble.core.dynamics import euler_coefficients, is_finite, record
 from tumble.core.metrics import (
     ENERGY_DEVIATION,
@@ -275,20 +275,23 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
     enter, leave, _ = variables
     advance, stamp = _advance(step, torque, variables, advance)
 
+    @njit_block
+    def stepped_block(w, q, inertia, params, context, t0, dt, n_steps, start, stop):  # type: ignore[no-untyped-def]
+        """The steps of bodies ``start:stop``."""
+        state, coefficients, block_params = load_block(enter, w, q, inertia, params, start, stop)
+        advance(
+            step, torque, t0, dt, n_steps, state, coefficients, block_params, context,
+            no_observer, (),
+        )  # fmt: skip
+        store_block(leave, w, q, start, state, coefficients)
+
     @specialise(njit_vector, f"stepping.batch|{stamp}|{identity}")
     def batch(w, q, inertia, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
         n = w.shape[1]
         for block in prange((n + BLOCK - 1) // BLOCK):
             start = block * BLOCK
             stop = min(start + BLOCK, n)
-            state, coefficients, block_params = load_block(
-                enter, w, q, inertia, params, start, stop
-            )
-            advance(
-                step, torque, t0, dt, n_steps, state, coefficients, block_params, context,
-                no_observer, (),
-            )  # fmt: skip
-            store_block(leave, w, q, start, state, coefficients)
+            stepped_block(w, q, inertia, params, context, t0, dt, n_steps, start, stop)
 
     return batch
 
@@ -348,6 +351,18 @@ def metrics_kernel(  # type: ignore[no-untyped-def]
 
     put = _put_state if attitude else _put_rates
 
+    @njit_block
+    def measured_block(w, q, inertia, params, context, axis, t0, dt, n_steps, out, start, stop):  # type: ignore[no-untyped-def]
+        """The steps and measures of bodies ``start:stop``."""
+        rows, block_params = _measuring_rows(
+            enter, vectors, start_nominal, about, w, q, inertia, params, axis, start, stop
+        )
+        _measured_steps(
+            step, measured_vectors, put, chosen, measure, torque, t0, dt, n_steps, rows,
+            block_params, context,
+        )  # fmt: skip
+        _finish_rows(leave, rows, w, q, dt, out, start, stop, attitude)
+
     @specialise(
         njit_vector,
         f"stepping.metrics|{stamp}|axis {principal_axis}|attitude {attitude}|{identity}",
@@ -357,14 +372,7 @@ def metrics_kernel(  # type: ignore[no-untyped-def]
         for block in prange((n + METRICS_BLOCK - 1) // METRICS_BLOCK):
             start = block * METRICS_BLOCK
             stop = min(start + METRICS_BLOCK, n)
-            rows, block_params = _measuring_rows(
-                enter, vectors, start_nominal, about, w, q, inertia, params, axis, start, stop
-            )
-            _measured_steps(
-                step, measured_vectors, put, chosen, measure, torque, t0, dt, n_steps, rows,
-                block_params, context,
-            )  # fmt: skip
-            _finish_rows(leave, rows, w, q, dt, out, start, stop, attitude)
+            measured_block(w, q, inertia, params, context, axis, t0, dt, n_steps, out, start, stop)
 
     return batch
 

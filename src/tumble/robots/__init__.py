@@ -1,0 +1,75 @@
+"""Robot descriptions: every link's declared inertia, what its shapes say it
+should be, the whole robot at a pose, and the audit that finds and corrects
+inertias no body has.
+
+* :func:`load` reads a URDF or an MJCF file into a :class:`Robot`;
+* :func:`audit` judges every link's declared values (:class:`Audit`,
+  :class:`Finding`), and :func:`write_corrected` writes a copy with the
+  corrections in which nothing else changes.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from tumble.robots.findings import CODES, Audit, Finding, LinkSummary
+from tumble.robots.fix import write_corrected
+from tumble.robots.load import load
+from tumble.robots.model import Joint, Link, Robot, Shape
+
+__all__ = [
+    "CODES",
+    "Audit",
+    "Finding",
+    "Joint",
+    "Link",
+    "LinkSummary",
+    "Robot",
+    "Shape",
+    "audit",
+    "example_path",
+    "load",
+    "write_corrected",
+]
+
+
+def audit(path: Any, geometry: str = "collision") -> Audit:
+    """Audit the declared inertias of every link of a robot file.
+
+    Parameters
+    ----------
+    path : a URDF (``.urdf``) or MJCF (``.xml``) file, or a :class:`Robot`.
+    geometry : the shapes the declared values are compared with,
+        ``"collision"`` (default), ``"visual"``, or ``"none"`` (the declared
+        values judged alone: fast, no mesh read).
+
+    Returns
+    -------
+    Audit, whose ``findings`` are :class:`Finding` (link, code, severity,
+    message, correction); ``audit.errors`` are those of values no body has.
+
+    Examples
+    --------
+    A decimal point slipped in one attribute of the example arm's inertia:
+
+    >>> import tumble as tb
+    >>> from tumble.robots import example_path
+    >>> text = example_path().read_text().replace('izz="0.0009"', 'izz="0.9"')
+    >>> import tempfile, pathlib
+    >>> slipped = pathlib.Path(tempfile.mkdtemp()) / "arm.urdf"
+    >>> _ = slipped.write_text(text)
+    >>> for finding in tb.robots.audit(slipped).findings:
+    ...     print(finding.code, finding.correction)
+    triangle-inequality None
+    power-of-ten {'izz': 0.0009}
+    """
+    from tumble.robots.auditing import audit_robot
+
+    robot = path if isinstance(path, Robot) else load(path)
+    return audit_robot(robot, geometry)
+
+
+def example_path() -> Path:
+    """The example arm shipped with tumble: a URDF of three links."""
+    return Path(__file__).parent / "examples" / "arm.urdf"
