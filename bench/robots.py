@@ -25,11 +25,15 @@ Run from the repository root::
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
+import re
 import statistics
+import sys
 import tempfile
 import time
 from collections import Counter
+from collections.abc import Iterator
 from importlib import metadata
 from pathlib import Path
 
@@ -72,20 +76,45 @@ def audit_corpus(paths: list[Path]) -> tuple[dict[Path, object], Counter[str], l
     return audits, codes, refused, time.perf_counter() - start
 
 
+@contextlib.contextmanager
+def quiet() -> Iterator[None]:
+    """The C libraries' own printing (PyBullet's b3Printf, MuJoCo's warnings) kept
+    off the table: file descriptors 1 and 2 sent to /dev/null."""
+    sys.stdout.flush()
+    saved = [os.dup(1), os.dup(2)]
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 1)
+    os.dup2(null, 2)
+    try:
+        yield
+    finally:
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for handle in (*saved, null):
+            os.close(handle)
+
+
 def mujoco_verdict(path: Path) -> str:
-    """MuJoCo's compile of a URDF: 'compiles' or the first words of its refusal."""
+    """MuJoCo's compile of a URDF whose shapes are taken out (so that its verdict is
+    on the inertias, not on mesh names it cannot resolve): 'compiles' or the first
+    words of its refusal."""
     try:
         import mujoco
     except ImportError:
         return "(mujoco not installed)"
-    folder = tempfile.mkdtemp()
+    text = path.read_text(encoding="utf-8", errors="replace")
+    text = re.sub(r"<(visual|collision)\b.*?</\1>", "", text, flags=re.S)
+    folder = Path(tempfile.mkdtemp())
+    bare = folder / path.name
+    bare.write_text(text, encoding="utf-8")
     here = os.getcwd()
     os.chdir(folder)  # MuJoCo writes its log (MUJOCO_LOG.TXT) into the working folder
     try:
-        mujoco.MjModel.from_xml_path(str(path))
+        with quiet():
+            mujoco.MjModel.from_xml_path(str(bare))
         return "compiles"
     except Exception as error:  # MuJoCo raises ValueError with its compiler's message
-        return " ".join(str(error).split())[:70]
+        return " ".join(str(error).split()).removeprefix("Error: ")[:70]
     finally:
         os.chdir(here)
 
@@ -98,7 +127,8 @@ def pybullet_inertia(path: Path, link: str) -> str:
         return "(pybullet not installed)"
     client = pybullet.connect(pybullet.DIRECT)
     try:
-        body = pybullet.loadURDF(str(path), physicsClientId=client)
+        with quiet():
+            body = pybullet.loadURDF(str(path), physicsClientId=client)
         names = {pybullet.getBodyInfo(body, physicsClientId=client)[0].decode(): -1}
         for j in range(pybullet.getNumJoints(body, physicsClientId=client)):
             names[pybullet.getJointInfo(body, j, physicsClientId=client)[12].decode()] = j
@@ -131,8 +161,12 @@ def humanoid_times(repeat: int) -> tuple[str, int, float, float, Counter[str]]:
         start = time.perf_counter()
         tb.robots.audit(path)
         warm.append(time.perf_counter() - start)
-    return short(path), len(audit.robot.links), cold, statistics.median(warm), Counter(
-        f.code for f in audit.findings
+    return (
+        short(path),
+        len(audit.robot.links),
+        cold,
+        statistics.median(warm),
+        Counter(f.code for f in audit.findings),
     )
 
 
@@ -151,30 +185,36 @@ def main() -> None:
     paths = corpus()
     audits, codes, refused, seconds = audit_corpus(paths)
     links = sum(len(a.robot.links) for a in audits.values())  # type: ignore[attr-defined]
-    print(f"\n1. corpus: {len(paths)} URDF files, {links} links, audited (geometry none) in "
-          f"{seconds:.2f} s ({len(paths) / seconds:.0f} files/s); {len(refused)} refused")  # fmt: skip
+    rate = len(paths) / seconds
+    print(f"\n1. corpus: {len(paths)} URDF files, {links} links, audited (geometry none) "
+          f"in {seconds:.2f} s ({rate:.0f} files/s); {len(refused)} refused")  # fmt: skip
     for code, count in codes.most_common():
         print(f"   {code:<24} {count}")
     for line in refused:
         print(f"   refused: {line}")
     print("\n2. links whose declared tensor no body has")
-    print(f"   {'file':<46} {'link':<22} {'tumble':<22} {'correction':<18} {'MuJoCo':<40} PyBullet")
+    columns = ("file", 46), ("link", 22), ("tumble", 22), ("correction", 18), ("MuJoCo", 40)
+    print("   " + " ".join(f"{name:<{width}}" for name, width in columns) + " PyBullet")
     rows = 0
     verdicts: Counter[str] = Counter()
     for path, audit in audits.items():
-        bad = [f for f in audit.findings  # type: ignore[attr-defined]
-               if f.code in ("not-positive-definite", "triangle-inequality")]  # fmt: skip
+        findings = audit.findings  # type: ignore[attr-defined]
+        bad = [f for f in findings if f.code in ("not-positive-definite", "triangle-inequality")]
         if not bad:
             continue
         mujoco_says = mujoco_verdict(path)
         for finding in bad:
-            corrections = [f.correction for f in audit.findings  # type: ignore[attr-defined]
-                           if f.link == finding.link and f.correction]  # fmt: skip
+            corrections = [
+                f.correction for f in findings if f.link == finding.link and f.correction
+            ]
             fix = str(corrections[0]) if corrections else "-"
-            verdicts["MuJoCo compiles the file" if mujoco_says == "compiles" else "MuJoCo refuses"] += 1
+            verdicts[
+                "MuJoCo compiles the file" if mujoco_says == "compiles" else "MuJoCo refuses"
+            ] += 1
             if rows < args.table:
-                print(f"   {short(path)[:46]:<46} {finding.link[:22]:<22} {finding.code[:22]:<22} "
-                      f"{fix[:18]:<18} {mujoco_says[:40]:<40} {pybullet_inertia(path, finding.link)}")  # fmt: skip
+                cells = short(path), finding.link, finding.code, fix, mujoco_says
+                line = " ".join(f"{c[:w]:<{w}}" for c, (_, w) in zip(cells, columns, strict=True))
+                print(f"   {line} {pybullet_inertia(path, finding.link)}")
             rows += 1
     print(f"   {rows} links; " + ", ".join(f"{k}: {v}" for k, v in verdicts.items()))
     name, count, cold, warm, found = humanoid_times(args.repeat)
