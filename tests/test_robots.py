@@ -397,3 +397,76 @@ def test_other_refusals(tmp_path: Path) -> None:
     with pytest.raises(tb.InputError, match=r"^Expected link 'arm' of '.*invalid\.urdf' to declare "
                        r"physical mass properties, got: .*\(`tumble audit` finds the correction\)$"):  # fmt: skip
         tb.robots.load(invalid).mass_properties()
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ('<link name="hand">', "<link>", r"^Expected a name on the <link> at line \d+ of arm\.urdf, got none\.$"),
+        ('<link name="hand">', '<link name="arm">', r"^Expected one link named 'arm' in arm\.urdf, got two \(line \d+\)\.$"),
+        ('<box size="0.3 0.3 0.1"/>', "<box/>", r"^Expected a `size` attribute on <box> of link 'base' \(arm\.urdf line \d+\), got none\.$"),
+        ('<axis xyz="0 1 0"/>', '<axis xyz="0 0 0"/>', r"^Expected a non-zero axis for joint 'shoulder' \(arm\.urdf line \d+\), got \[0\.0, 0\.0, 0\.0\]\.$"),
+        ('<origin xyz="0 0 0.4" rpy="0 0 0"/>', '<origin xyz="$(arg x) 0 0.4" rpy="0 0 0"/>',
+         r"got '\$\(arg x\) 0 0\.4' \(a xacro expression: run xacro on the file first\)\.$"),
+    ],
+)  # fmt: skip
+def test_more_refusals_of_bad_files(tmp_path: Path, old: str, new: str, message: str) -> None:
+    with pytest.raises(tb.InputError, match=message):
+        tb.robots.load(slipped(tmp_path, old, new))
+
+
+def test_refusals_of_geometry_and_poses(tmp_path: Path) -> None:
+    robot = tb.robots.load(example_path())
+    with pytest.raises(
+        tb.InputError, match=r"^Expected a mass > 0 kg to give link 'arm'.s geometry, got -1\.0\.$"
+    ):
+        robot.links["arm"].geometry(mass=-1.0)
+    (tmp_path / "broken.stl").write_text("solid nothing\nthis is not a mesh\n", encoding="utf-8")
+    broken = slipped(tmp_path, '<box size="0.3 0.3 0.1"/>', '<mesh filename="broken.stl"/>')
+    with pytest.raises(tb.InputError, match=r"broken\.stl"):
+        tb.robots.load(broken).links["base"].geometry()
+    assert [f.code for f in tb.robots.audit(broken).findings] == ["geometry-unavailable"]
+    massless = EXAMPLE.replace('<mass value="4.0"/>', '<mass value="0"/>').replace(
+        '<mass value="2.0"/>', '<mass value="0"/>').replace('<mass value="0.5"/>', '<mass value="0"/>')  # fmt: skip
+    with pytest.raises(
+        tb.InputError, match=r"^Expected a robot with mass, got no link with mass in "
+    ):
+        tb.robots.load(robot_file(tmp_path, massless, "massless.urdf")).mass_properties()
+    mimic = EXAMPLE.replace('<joint name="wrist" type="fixed">',
+                            '<joint name="wrist" type="revolute">\n    <mimic joint="elbow"/>')  # fmt: skip
+    robot = tb.robots.load(robot_file(tmp_path, mimic, "mimic.urdf"))  # an audit needs no pose
+    assert tb.robots.audit(robot).findings == ()
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected joint 'wrist' to mimic a joint of the robot, got 'elbow'\.$",
+    ):
+        robot.mass_properties()
+
+
+def test_an_mjcf_file_is_read_through_mujoco_and_corrected_copies_are_urdf_only(
+    tmp_path: Path,
+) -> None:
+    pytest.importorskip("mujoco")
+    source = tmp_path / "box.xml"
+    source.write_text(
+        '<mujoco><worldbody><body name="b"><freejoint/>'
+        '<geom type="box" size="0.15 0.15 0.05" mass="4"/></body></worldbody></mujoco>',
+        encoding="utf-8",
+    )
+    robot = tb.robots.load(source)
+    assert list(robot.links) == ["world", "b"]
+    assert_allclose(
+        robot.links["b"].geometry().inertia, box_inertia(4.0, 0.3, 0.3, 0.1), rtol=1e-12
+    )
+    assert_allclose(robot.links["b"].inertia, box_inertia(4.0, 0.3, 0.3, 0.1), rtol=1e-12)
+    audit = tb.robots.audit(source)
+    assert audit.findings == ()
+    with pytest.raises(
+        tb.InputError, match=r"^Expected a URDF file to correct, got '.*box\.xml'\.$"
+    ):
+        write_corrected(audit, tmp_path / "out.xml")
+    (tmp_path / "bad.xml").write_text(
+        "<mujoco><worldbody><body><geom type='sphere'/>", encoding="utf-8"
+    )
+    with pytest.raises(tb.InputError, match=r"^Expected an MJCF model in '.*bad\.xml', got: "):
+        tb.robots.load(tmp_path / "bad.xml")

@@ -179,7 +179,12 @@ def _mesh_solid(path: Path, scale: tuple[float, ...]) -> tuple[MassProperties, A
         with warnings.catch_warnings():
             # A mirrored mesh (a negative scale) is inside out: reversed, as meant.
             warnings.simplefilter("ignore", MeshOrientationWarning)
-            solid = from_mesh(loaded, density=1.0)
+            try:
+                solid = from_mesh(loaded, density=1.0)
+            except InputError as error:
+                # Read from a loaded mesh, its messages say "mesh": name the file.
+                text = str(error).replace("mesh", f"the mesh {shown(path)}", 1)
+                raise type(error)(text) from None
         low, high = np.asarray(loaded.bounds, dtype=float)
         _MESHES[key] = (solid, low, high)
     return _MESHES[key]
