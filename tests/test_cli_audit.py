@@ -109,3 +109,22 @@ def test_inertia_of_a_robot_at_a_pose() -> None:
     np.testing.assert_allclose(data["center_of_mass"], expected.center_of_mass, atol=1e-15)
     np.testing.assert_allclose(data["inertia"], expected.inertia, atol=1e-15)
     assert "root link 'base'" in data["body"]
+
+
+def test_the_report_draws_every_link_and_lists_the_findings(tmp_path: Path) -> None:
+    source = write(tmp_path, EXAMPLE.replace('izz="0.0009"', 'izz="0.9"'))
+    page = tmp_path / "audit.html"
+    result = runner.invoke(app, ["audit", str(source), "--report", str(page)])
+    assert result.exit_code == 1, result.output
+    assert f"Report: {page}" in result.output
+    text = page.read_text(encoding="utf-8")
+    figure = json.loads(text.split('id="tumble-robot">')[1].split("</script>")[0])
+    meshes = [t for t in figure["data"] if t["type"] == "mesh3d"]
+    # base and hand declared and their shapes; the arm's shapes; the arm itself a marker.
+    assert len(meshes) == 5
+    (marker,) = [t for t in figure["data"] if t["type"] == "scatter3d"]
+    assert marker["hovertext"] == [
+        "arm: no body has its tensor (triangle-inequality, power-of-ten)"
+    ]
+    np.testing.assert_allclose([marker["x"][0], marker["y"][0], marker["z"][0]], [0, 0, 0.3])
+    assert "power-of-ten" in text and "https://" not in text.split("<script>")[0]

@@ -19,6 +19,7 @@ In a shell:
    $ tumble audit robot.urdf --geometry none        # the declared values alone (fast)
    $ tumble audit robot.urdf --json                 # for scripts
    $ tumble audit robot.urdf --fix robot-fixed.urdf # a corrected copy; the source is untouched
+   $ tumble audit robot.urdf --report audit.html    # the links in 3D, coloured by finding
    $ tumble inertia robot.urdf --joints "shoulder=30 deg"   # the whole robot at a pose
 
 The exit code is 0 when no link has an error, 1 when some has, 2 for a file

@@ -35,6 +35,16 @@ def audit_robot(
     as_json: Annotated[
         bool, typer.Option("--json", help="Print the findings as JSON instead of a table.")
     ] = False,
+    report: Annotated[
+        Path | None,
+        typer.Option(
+            "--report",
+            metavar="PAGE.html",
+            help="Also write an HTML page: the links drawn in 3D as ellipsoids of equal "
+            "inertia, coloured by finding, and the table.",
+            show_default=False,
+        ),
+    ] = None,
     fix: Annotated[
         Path | None,
         typer.Option(
@@ -65,12 +75,22 @@ def audit_robot(
             from tumble.robots.fix import check_corrected_path
 
             check_corrected_path(Path(robot), fix)
+        if report is not None:
+            from tumble.files import check_output
+
+            check_output(report, "the report", folder=False)
         result = audit(load(robot), geometry)
         errors = len(result.errors)
         if as_json:
             typer.echo(json.dumps(result.to_dict(), indent=2, ensure_ascii=False))
         else:
             _print_table(result)
+        if report is not None:
+            from tumble.report.robot import write_audit_page
+
+            page = write_audit_page(result, report)
+            if not as_json:
+                typer.echo(f"Report: {page}")
         if fix is not None:
             written = write_corrected(result, fix)
             if not as_json:
