@@ -1114,3 +1114,16 @@ def test_a_mass_beyond_float_range_is_an_error(scale, shown):
         match=rf"Expected the mass of mesh \(density × volume\) within float range, got {shown} kg",
     ):
         tumble.from_mesh(raw(np.asarray(cube.vertices) * scale, cube.faces), density=1000.0)
+
+
+def test_a_mesh_in_a_unit_that_is_no_length_is_refused() -> None:
+    # trimesh keeps the unit a file declares (glTF, COLLADA); one that is no length
+    # is refused, named.
+    mesh = trimesh.creation.box(extents=[1, 2, 3])
+    mesh.units = "bananas"
+    with pytest.raises(
+        InputError, match=r"^Expected a mesh in a length unit, got one in 'bananas': "
+    ):
+        tumble.from_mesh(mesh, mass=1.0)
+    mesh.units = "0.01 * meters"  # COLLADA's <unit meter="0.01"/>, as trimesh gives it
+    assert tumble.from_mesh(mesh, mass=1.0).inertia[0, 0] == pytest.approx((4 + 9) / 12 * 1e-4)

@@ -470,3 +470,21 @@ def test_an_mjcf_file_is_read_through_mujoco_and_corrected_copies_are_urdf_only(
     )
     with pytest.raises(tb.InputError, match=r"^Expected an MJCF model in '.*bad\.xml', got: "):
         tb.robots.load(tmp_path / "bad.xml")
+
+
+def test_a_collada_mesh_in_centimetres_is_read_in_metres(tmp_path: Path) -> None:
+    # A COLLADA file declares its unit (<unit meter="0.01"/>): a 30 × 30 × 10 cm box
+    # written in centimetres is the base's box, in metres.
+    import trimesh
+
+    box = trimesh.creation.box(extents=[30, 30, 10])
+    text = trimesh.exchange.dae.export_collada(box).decode()
+    text = text.replace(
+        "<up_axis>Y_UP</up_axis>", '<unit meter="0.01" name="centimeter"/><up_axis>Z_UP</up_axis>'
+    )
+    (tmp_path / "base.dae").write_text(text, encoding="utf-8")
+    source = slipped(tmp_path, '<geometry><box size="0.3 0.3 0.1"/></geometry>',
+                     '<geometry><mesh filename="base.dae"/></geometry>')  # fmt: skip
+    base = tb.robots.load(source).links["base"]
+    assert_allclose(base.geometry().inertia, box_inertia(4.0, 0.3, 0.3, 0.1), rtol=1e-9, atol=1e-15)
+    assert tb.robots.audit(source).findings == ()

@@ -56,7 +56,13 @@ from tumble.mesh.checks import (
 from tumble.mesh.step import STEP_SUFFIXES, tessellate_step
 from tumble.units import length_scale, to_si
 
-__all__ = ["DEFAULT_MERGE_FRACTION", "MeshOrientationWarning", "MeshRepairWarning", "from_mesh"]
+__all__ = [
+    "DEFAULT_MERGE_FRACTION",
+    "MeshOrientationWarning",
+    "MeshRepairWarning",
+    "declared_scale",
+    "from_mesh",
+]
 
 #: A mesh whose |volume| is below this fraction of (surface area × largest
 #: extent) encloses nothing: the volume of a flat or self-cancelling surface is
@@ -165,15 +171,16 @@ def from_mesh(
             "Expected exactly one of `density` and `mass`, got "
             + ("both." if density is not None else "neither.")
         )
-    label, vertices, faces, file_units = _load(mesh)
+    label, vertices, faces, file_scale = _load(mesh)
     # Coordinates that are all single-precision numbers (STL stores them so)
     # carry single-precision round-off.
     with np.errstate(over="ignore", invalid="ignore"):  # beyond single range: not single
         single = bool(np.all(vertices == vertices.astype(np.float32)))
     epsilon = float(np.finfo(np.float32 if single else np.float64).eps)
-    units = units if units is not None else file_units
     if units is not None:
         vertices = vertices * length_scale(units, "units")
+    elif file_scale is not None:
+        vertices = vertices * file_scale
     if shell_thickness is not None:
         from tumble.mesh.shell import shell_mass_properties
 
@@ -207,7 +214,7 @@ def from_mesh(
     return mesh_mass_properties(vertices, faces, mass=total, label=label, merge_tolerance=tolerance)
 
 
-def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str | None]:
+def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], float | None]:
     """Vertices, faces and declared length unit of a file or trimesh object, unprocessed."""
     import trimesh
 
@@ -249,8 +256,24 @@ def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], str |
         )
     vertices = np.ascontiguousarray(loaded.vertices, dtype=float)
     faces = np.ascontiguousarray(loaded.faces, dtype=np.int64)
+    return label, vertices, faces, declared_scale(loaded)
+
+
+def declared_scale(loaded: Any) -> float | None:
+    """Metres per unit of a mesh trimesh read, where its file declares a unit (glTF,
+    COLLADA's ``<unit meter="0.01"/>``, which trimesh gives as ``"0.01 * meters"``):
+    trimesh's own conversion. None where it declares none."""
+    import trimesh
+
     declared = getattr(loaded, "units", None)
-    return label, vertices, faces, (str(declared) if declared else None)
+    if not declared:
+        return None
+    try:
+        return float(trimesh.units.unit_conversion(str(declared), "meters"))
+    except Exception as exc:  # trimesh raises ValueError or KeyError for unknown units
+        raise InputError(
+            f"Expected a mesh in a length unit, got one in {quoted(str(declared))}: {exc}."
+        ) from None
 
 
 #: What a well-formed file of a text format holds, for the message about one that is not.

@@ -165,7 +165,7 @@ def _mesh_solid(path: Path, scale: tuple[float, ...]) -> tuple[MassProperties, A
     if key not in _MESHES:
         import trimesh
 
-        from tumble.mesh import MeshOrientationWarning, from_mesh
+        from tumble.mesh import MeshOrientationWarning, declared_scale, from_mesh
 
         try:
             loaded = trimesh.load(path, force="mesh", process=False)
@@ -185,7 +185,9 @@ def _mesh_solid(path: Path, scale: tuple[float, ...]) -> tuple[MassProperties, A
                 # Read from a loaded mesh, its messages say "mesh": name the file.
                 text = str(error).replace("mesh", f"the mesh {shown(path)}", 1)
                 raise type(error)(text) from None
-        low, high = np.asarray(loaded.bounds, dtype=float)
+        # The box in metres: from_mesh scales by the unit the file declares (COLLADA's).
+        unit = declared_scale(loaded) or 1.0
+        low, high = unit * np.asarray(loaded.bounds, dtype=float)
         _MESHES[key] = (solid, low, high)
     return _MESHES[key]
 
