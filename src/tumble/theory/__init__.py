@@ -2,8 +2,10 @@
 
 * :func:`skew_rod` — the rotating skew rod: L not parallel to ω, the torque and
   bearing forces it needs.
-* :func:`rotor_loads` — the same for any body spun at a constant rate about a
-  fixed axis (unbalanced rotors).
+* :func:`rotor_loads` — the same for any body turning about a fixed axis
+  (unbalanced rotors), speeding up and under gravity: the drive torque too.
+* :func:`pivot_loads` — the force and torque a support (a ball joint) exerts on
+  a body in a given motion.
 * :func:`flip_period` — period of ω(t) of a torque-free body (the tennis-racket flip).
 * :func:`free_symmetric_top` — body and space cones of a torque-free symmetric top.
 * :func:`axis_stability` — stability of steady rotation about each principal axis.
@@ -63,7 +65,14 @@ from tumble.theory.gyrostats import (
     kane_damper_decay,
     wheel_spin_up,
 )
-from tumble.theory.rotors import RotorLoads, SkewRod, rotor_loads, skew_rod
+from tumble.theory.rotors import (
+    PivotLoads,
+    RotorLoads,
+    SkewRod,
+    pivot_loads,
+    rotor_loads,
+    skew_rod,
+)
 from tumble.theory.tops import Gyroscope, gyroscope
 
 __all__ = [
@@ -76,6 +85,7 @@ __all__ = [
     "GyrostatStability",
     "KaneDamperDecay",
     "Libration",
+    "PivotLoads",
     "RotorLoads",
     "SkewRod",
     "WheelSpinUp",
@@ -89,6 +99,7 @@ __all__ = [
     "gyroscope",
     "gyrostat_stability",
     "kane_damper_decay",
+    "pivot_loads",
     "rotor_loads",
     "skew_rod",
     "wheel_spin_up",

@@ -23,7 +23,7 @@ from tumble.theory.common import (
 )
 from tumble.units import to_si, vector_to_si
 
-__all__ = ["RotorLoads", "SkewRod", "rotor_loads", "skew_rod"]
+__all__ = ["PivotLoads", "RotorLoads", "SkewRod", "pivot_loads", "rotor_loads", "skew_rod"]
 
 Array = NDArray[np.float64]
 
@@ -177,40 +177,124 @@ def skew_rod(
 
 @dataclass(frozen=True, eq=False)
 class RotorLoads:
-    """Loads on a body spun at a constant rate about a fixed axis (see :func:`rotor_loads`).
+    """Loads on a body turning about a fixed axis (see :func:`rotor_loads`).
 
-    All vectors are in **body** coordinates, so they are constant; in space they
-    turn with the body about the axis. SI units.
+    All vectors are in **body** coordinates at the instant; in space they turn
+    with the body about the axis. SI units.
 
     Attributes
     ----------
     axis : (3,) unit vector of the spin axis.
     point : (3,) the body point on the axis about which moments are taken, m.
     omega : spin rate about ``axis``, rad/s (signed).
+    omega_dot : angular acceleration about ``axis``, rad/s² (signed).
     angular_momentum : (3,) L = I_P ω about ``point``, kg·m²/s.
-    torque : (3,) τ = ω × (I_P ω), the torque about ``point`` that keeps the
-        rotation steady, N·m; perpendicular to the axis (it needs no drive torque).
-        Zero when the axis is a principal axis of I_P.
-    force : (3,) the net force the supports exert, m ω × (ω × (c − P)), N: the
-        centripetal force of an off-axis centre of mass, of magnitude m ω² r⊥
-        (static imbalance). Zero when the axis passes through the centre of mass.
+    torque : (3,) τ = I_P ω̇ + ω × (I_P ω), the rate of change of L about
+        ``point``: the moment of every external load (supports, drive and
+        gravity), N·m. Perpendicular to the axis at a constant rate (then it
+        needs no drive torque); zero at a constant rate when the axis is a
+        principal axis of I_P.
+    force : (3,) the net force the supports exert, m a_c − m g, N: the
+        acceleration of the centre of mass (centripetal, m ω² r⊥ for a static
+        imbalance, and tangential at ω̇) less its weight. Zero at a constant rate
+        without gravity when the axis passes through the centre of mass.
+    drive_torque : the moment about the axis that the drive must supply, N·m:
+        I_nn ω̇ less gravity's moment about the axis (bearings cannot supply it).
     bearings : (2,) positions of the two bearings along the axis, measured
         from ``point``, m; None if not given.
-    bearing_forces : (2, 3) the forces the two bearings exert on the body, N,
-        perpendicular to the axis (the axial thrust is zero: the motion needs
-        none). Their sum is ``force`` and their moment about ``point`` is
-        ``torque``. The loads on the bearings are their opposites. None if no
-        bearings were given.
+    bearing_forces : (2, 3) the forces the two bearings exert on the body, N.
+        Their sum is ``force`` and their moment about ``point`` is ``torque``
+        less gravity's moment and the drive's; the first bearing (a thrust
+        bearing) takes the axial force, the second only radial force. The loads
+        on the bearings are their opposites. None if no bearings were given.
     """
 
     axis: Array
     point: Array
     omega: float
+    omega_dot: float
     angular_momentum: Array
     torque: Array
     force: Array
+    drive_torque: float
     bearings: Array | None
     bearing_forces: Array | None
+
+
+@dataclass(frozen=True, eq=False)
+class PivotLoads:
+    """The support's force and torque on a body in a given motion about a pivot
+    (see :func:`pivot_loads`), body coordinates at the instant, SI units.
+
+    Attributes
+    ----------
+    force : (3,) F = m a_c − m g, N.
+    torque : (3,) M = I_P ω̇ + ω × I_P ω − r_c × m g about the pivot, N·m (zero
+        for a ball joint in a motion that gravity and the motion balance).
+    """
+
+    force: Array
+    torque: Array
+
+
+def pivot_loads(
+    mp: MassProperties,
+    omega: Any,
+    omega_dot: Any,
+    pivot: Any = (0.0, 0.0, 0.0),
+    gravity: Any = None,
+) -> PivotLoads:
+    """The force and torque a support exerts on a body in a given instantaneous motion.
+
+    A body point P (the pivot) is held fixed in space; the body turns at ω and
+    ω̇ (body coordinates). Newton's law for the centre of mass at ``r_c`` from P,
+    ``m a_c = F + m g`` with ``a_c = ω̇ × r_c + ω × (ω × r_c)``, and Euler's
+    about P, ``I_P ω̇ + ω × I_P ω = M + r_c × m g``, give the support's
+    ``F = m a_c − m g`` and ``M = I_P ω̇ + ω × I_P ω − r_c × m g`` (Meriam &
+    Kraige, Dynamics, §7/9). A ball joint supplies F alone: M must then be zero
+    for the motion to be possible (a precessing gyroscope, for one).
+
+    Parameters
+    ----------
+    mp : the body.
+    omega : (3,) angular velocity, rad/s, body coordinates.
+    omega_dot : (3,) angular acceleration, rad/s², body coordinates (the
+        derivative of ω, the same seen from space or from the body).
+    pivot : (3,) the fixed body point P, m, body coordinates.
+    gravity : None, or (3,) the acceleration of gravity in body coordinates at
+        this instant, m/s² (e.g. ``(0, 0, -9.80665)`` when the body's z is up).
+
+    Returns
+    -------
+    PivotLoads, in body coordinates.
+
+    Examples
+    --------
+    A 2 kg disk of radius 0.1 m spinning at 150 rad/s on a horizontal shaft,
+    its centre 0.15 m from a ball joint, precessing at Ω = m g l / (I_s ω_s):
+    the joint carries the weight and the centripetal force, and no moment:
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> from scipy.spatial.transform import Rotation
+    >>> disk = tb.shapes.thin_disk(2.0, 0.1).transformed(
+    ...     rotation=Rotation.from_rotvec([0, np.pi / 2, 0]), translation=[0.15, 0, 0])
+    >>> precession = 2.0 * 9.80665 * 0.15 / (0.01 * 150.0)  # m g l / (I_s ω_s), I_s = m r²/2
+    >>> loads = tb.theory.pivot_loads(disk, [150.0, 0, precession], [0, precession * 150.0, 0],
+    ...                               gravity=[0, 0, -9.80665])
+    >>> print(loads.force.round(6), np.abs(loads.torque).max() < 1e-12)
+    [-1.154045  0.       19.6133  ] True
+    """
+    mp = as_mass_properties(mp)
+    w = vector_to_si(omega, "angular_velocity", "omega", (3,))
+    w_dot = vector_to_si(omega_dot, "angular_acceleration", "omega_dot", (3,))
+    p = vector_to_si(pivot, "length", "pivot", (3,))
+    g = np.zeros(3) if gravity is None else vector_to_si(gravity, "acceleration", "gravity", (3,))
+    r = mp.center_of_mass - p
+    inertia = mp.inertia_about(p)
+    force = mp.mass * (np.cross(w_dot, r) + np.cross(w, np.cross(w, r))) - mp.mass * g
+    torque = inertia @ w_dot + np.cross(w, inertia @ w) - np.cross(r, mp.mass * g)
+    return PivotLoads(force=readonly(force), torque=readonly(torque))
 
 
 def rotor_loads(
@@ -219,36 +303,45 @@ def rotor_loads(
     axis: Any = (0.0, 0.0, 1.0),
     point: Any = (0.0, 0.0, 0.0),
     bearings: Any = None,
+    omega_dot: Any = 0.0,
+    gravity: Any = None,
 ) -> RotorLoads:
-    """Torque and bearing forces that keep a body spinning at a constant rate about a fixed axis.
+    """Torque, drive torque and bearing forces of a body turning about a fixed axis.
 
-    The body turns at ω about a line fixed in space and in the body (a shaft in
-    bearings), through ``point``. About that fixed point ``L = I_P ω`` is
-    constant in the body and turns with it, so the supports must supply
-    ``τ = dL/dt = ω × (I_P ω)`` (dynamic imbalance: products of inertia with the
-    axis) and the force ``F = m ω × (ω × r_c)`` that keeps the centre of mass,
-    at ``r_c`` from the axis point, on its circle (static imbalance,
-    |F| = m ω² r⊥). With two bearings at axial positions ``s_A``, ``s_B``, the
-    bearing forces ``F_A``, ``F_B`` (perpendicular to the axis) solve
-    ``F_A + F_B = F`` and ``s_A n × F_A + s_B n × F_B = τ``:
-    ``F_A = (τ − s_B n × F) × n / (s_A − s_B)``, ``F_B = F − F_A``
-    (Goldstein, Classical Mechanics, §5.6; Meriam & Kraige, Dynamics, rotor balancing).
+    The body turns at ω, speeding up at ω̇, about a line fixed in space and in
+    the body (a shaft in bearings), through ``point``. About that fixed point
+    ``L = I_P ω``, so the loads must supply ``τ = I_P ω̇ + ω × (I_P ω)``
+    (dynamic imbalance: products of inertia with the axis) and the force
+    ``F = m a_c − m g`` with ``a_c = ω̇ × r_c + ω × (ω × r_c)`` for the centre of
+    mass at ``r_c`` from the axis point (static imbalance, |F| = m ω² r⊥ at a
+    constant rate), less gravity's weight. The drive supplies the moment about
+    the axis, ``n · (τ − r_c × m g)``, which bearings cannot. With two bearings
+    at axial positions ``s_A``, ``s_B``, the first taking the axial force, the
+    radial parts solve ``F_A⊥ + F_B = F⊥`` and ``s_A n × F_A + s_B n × F_B = M⊥``
+    (M the moment of the supports, ``τ − r_c × m g``):
+    ``F_A⊥ = (M⊥ − s_B n × F⊥) × n / (s_A − s_B)``, ``F_B = F⊥ − F_A⊥``
+    (Goldstein, Classical Mechanics, §5.6; Meriam & Kraige, Dynamics, rotor
+    balancing).
 
     Parameters
     ----------
     mp : the body.
-    omega : constant spin rate about ``axis``, rad/s (signed), e.g. ``"3000 rpm"``.
+    omega : spin rate about ``axis``, rad/s (signed), e.g. ``"3000 rpm"``.
     axis : (3,) direction of the spin axis in body coordinates (any length > 0).
     point : (3,) a body point on the axis, m (default the body origin); moments
         (``torque``, ``angular_momentum``) are about it and bearing positions
         are measured from it.
     bearings : None, or the two axial positions ``(s_A, s_B)`` of the bearings
-        along ``axis`` from ``point``, m (distinct).
+        along ``axis`` from ``point``, m (distinct); the first takes the axial
+        force.
+    omega_dot : angular acceleration about ``axis``, rad/s² (default 0).
+    gravity : None (default: no gravity), or (3,) the acceleration of gravity in
+        body coordinates at this instant, m/s².
 
     Returns
     -------
-    RotorLoads, in body coordinates. Gravity is not included: these are the
-    dynamic loads (add the static weight of the rotor separately).
+    RotorLoads, in body coordinates. At the defaults (constant rate, no
+    gravity) the loads are the dynamic ones of a steady rotation.
 
     Raises
     ------
@@ -283,16 +376,19 @@ def rotor_loads(
     """
     mp = as_mass_properties(mp)
     w = to_si(omega, "angular_velocity", "omega")
+    w_dot = to_si(omega_dot, "angular_acceleration", "omega_dot")
     direction = vector_to_si(axis, "dimensionless", "axis", (3,))
     length = float(np.linalg.norm(direction))
     if not length > 0:
         raise InputError(f"Expected `axis` to be a non-zero vector, got {direction.tolist()}.")
     n = direction / length
     p = vector_to_si(point, "length", "point", (3,))
-    omega_vector = w * n
-    momentum = mp.inertia_about(p) @ omega_vector
-    torque = np.cross(omega_vector, momentum)
-    force = mp.mass * np.cross(omega_vector, np.cross(omega_vector, mp.center_of_mass - p))
+    inertia = mp.inertia_about(p)
+    momentum = inertia @ (w * n)
+    torque = inertia @ (w_dot * n) + np.cross(w * n, momentum)
+    motion = pivot_loads(mp, w * n, w_dot * n, p, gravity)  # the supports' force and moment
+    force = np.array(motion.force)
+    drive = float(n @ motion.torque)
     positions = None
     forces = None
     if bearings is not None:
@@ -302,16 +398,20 @@ def rotor_loads(
             raise InputError(
                 f"Expected `bearings` to be two different axial positions, got {s_a!r} twice."
             )
-        f_a = np.cross(torque - s_b * np.cross(n, force), n) / (s_a - s_b)
-        forces = readonly([f_a, force - f_a])
+        radial = force - (n @ force) * n
+        moment = motion.torque - drive * n
+        f_a = np.cross(moment - s_b * np.cross(n, radial), n) / (s_a - s_b)
+        forces = readonly([f_a + (n @ force) * n, radial - f_a])
         positions = readonly(positions)
     return RotorLoads(
         axis=readonly(n),
         point=readonly(p),
         omega=w,
+        omega_dot=w_dot,
         angular_momentum=readonly(momentum),
         torque=readonly(torque),
         force=readonly(force),
+        drive_torque=drive,
         bearings=positions,
         bearing_forces=forces,
     )
