@@ -84,6 +84,7 @@ SI_UNITS: dict[str, str] = {
     "damping": "N*m*s",
     "stiffness": "N/m",
     "linear_damping": "N*s/m",
+    "unbalance": "kg*m",
     "acceleration": "m/s^2",
     "dimensionless": "",
 }

@@ -6,6 +6,9 @@
   (unbalanced rotors), speeding up and under gravity: the drive torque too.
 * :func:`pivot_loads` — the force and torque a support (a ball joint) exerts on
   a body in a given motion.
+* :class:`RigidRotor` on :class:`Bearing` objects — a rigid rotor on elastic bearings:
+  its whirl frequencies (Campbell diagram), critical speeds and unbalance
+  response.
 * :func:`flip_period` — period of ω(t) of a torque-free body (the tennis-racket flip).
 * :func:`free_symmetric_top` — body and space cones of a torque-free symmetric top.
 * :func:`axis_stability` — stability of steady rotation about each principal axis.
@@ -47,6 +50,7 @@ from tumble.theory.attitude import (
     attitude_slew,
     gravity_gradient_libration,
 )
+from tumble.theory.bearings import Bearing, RigidRotor, Whirl
 from tumble.theory.compass import Gyrocompass, gyrocompass
 from tumble.theory.free import (
     AxisStability,
@@ -78,6 +82,7 @@ from tumble.theory.tops import Gyroscope, gyroscope
 __all__ = [
     "AttitudeSlew",
     "AxisStability",
+    "Bearing",
     "FreeMotion",
     "FreeSymmetricTop",
     "Gyrocompass",
@@ -86,9 +91,11 @@ __all__ = [
     "KaneDamperDecay",
     "Libration",
     "PivotLoads",
+    "RigidRotor",
     "RotorLoads",
     "SkewRod",
     "WheelSpinUp",
+    "Whirl",
     "attitude_slew",
     "axis_stability",
     "flip_period",

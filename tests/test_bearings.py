@@ -1,0 +1,170 @@
+"""A rigid rotor on elastic bearings: whirl frequencies, critical speeds and the
+unbalance response against closed forms and a model assembled here."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+from numpy.testing import assert_allclose
+from scipy.spatial.transform import Rotation
+
+import tumble as tb
+from tumble.theory import Bearing, RigidRotor
+
+DISK = tb.shapes.thin_disk(10.0, 0.1)  # I_p = 0.05 > I_t = 0.025 kg·m²
+ROD = tb.shapes.solid_cylinder(10.0, 0.05, 0.6)  # I_t = 0.30625 > I_p = 0.0125 kg·m²
+SPEEDS = np.linspace(0.0, 3000.0, 7)
+
+
+def symmetric(body: tb.MassProperties, k: float = 1e6, a: float = 0.2) -> RigidRotor:
+    return RigidRotor(body, [Bearing(-a, k), Bearing(a, k)])
+
+
+@pytest.mark.parametrize("body", [DISK, ROD], ids=["disk", "rod"])
+def test_a_symmetric_rotor_whirls_at_the_closed_forms(body: tb.MassProperties) -> None:
+    # Friswell et al. §3.5: cylindrical √(Σk/m) at any speed; conical
+    # (±I_p Ω + √(I_p² Ω² + 4 I_t K_θ)) / 2 I_t, backward (−) and forward (+).
+    rotor = symmetric(body)
+    m, polar = body.mass, body.inertia[2, 2]
+    transverse = body.inertia[0, 0]
+    k_theta = 2 * 1e6 * 0.2**2
+    whirl = rotor.whirl(SPEEDS)
+    for i, speed in enumerate(SPEEDS):
+        root = math.sqrt(polar**2 * speed**2 + 4 * transverse * k_theta)
+        expected = sorted(
+            [math.sqrt(2e6 / m)] * 2
+            + [(s * polar * speed + root) / (2 * transverse) for s in (-1, 1)]
+        )
+        # Eigenvalues of an 8 × 8 matrix of entries up to 1e8: a few ε relative.
+        assert_allclose(whirl.frequencies[i], expected, rtol=1e-9)
+        conical_forward = (polar * speed + root) / (2 * transverse)
+        j = int(np.argmin(np.abs(whirl.frequencies[i] - conical_forward)))
+        assert whirl.forward[i, j] or speed == 0
+        assert whirl.forward[i].sum() == 2  # one of each pair
+    assert_allclose(whirl.damping_ratios, 0.0, atol=1e-9)
+    assert rotor.frequencies(1000.0).shape == (4,)
+
+
+def assembled(body: tb.MassProperties, bearings: list[tuple[float, tuple[float, float], tuple[float, float]]],
+              speed: float) -> np.ndarray:  # fmt: skip
+    """The damped natural frequencies of a model assembled here by virtual work: each
+    bearing at arm a from the centre of mass sees the shaft point S q with
+    S = [[1, 0, 0, a], [0, 1, −a, 0]] for q = (x, y, α, β) (α, β tilts about x, y),
+    and adds Sᵀ diag(k) S and Sᵀ diag(c) S; the spin's angular momentum I_p Ω along
+    the tilted axis (β, −α, 1) gives the moments −I_p Ω β̇ about x and +I_p Ω α̇
+    about y. The quadratic eigenproblem is solved by scipy in companion form."""
+    m, transverse, polar = body.mass, body.inertia[0, 0], body.inertia[2, 2]
+    centre = body.center_of_mass[2]
+    stiffness, damping = np.zeros((4, 4)), np.zeros((4, 4))
+    for position, k, c in bearings:
+        a = position - centre
+        s = np.array([[1.0, 0, 0, a], [0, 1.0, -a, 0]])
+        stiffness += s.T @ np.diag(k) @ s
+        damping += s.T @ np.diag(c) @ s
+    gyro = np.zeros((4, 4))
+    gyro[2, 3], gyro[3, 2] = polar * speed, -polar * speed
+    mass = np.diag([m, m, transverse, transverse])
+    zero, one = np.zeros((4, 4)), np.eye(4)
+    left = np.block([[one, zero], [zero, mass]])
+    right = np.block([[zero, one], [-stiffness, -(damping + gyro)]])
+    values = scipy.linalg.eigvals(right, left)
+    return np.sort(values.imag[values.imag > 0])
+
+
+@pytest.mark.parametrize(
+    ("body", "bearings"),
+    [
+        (DISK.transformed(translation=[0, 0, 0.05]), [(-0.2, (1e6, 1e6), (0, 0)), (0.3, (2e6, 2e6), (0, 0))]),
+        (ROD, [(-0.25, (1e6, 3e6), (0, 0)), (0.2, (2e6, 5e5), (0, 0))]),
+        (ROD.transformed(translation=[0, 0, -0.1]), [(-0.3, (1e6, 2e6), (300.0, 100.0)), (0.2, (1.5e6, 1e6), (50.0, 500.0))]),
+    ],
+    ids=["coupled", "anisotropic", "damped"],
+)  # fmt: skip
+def test_coupled_anisotropic_and_damped_rotors_match_a_model_assembled_here(body, bearings) -> None:  # type: ignore[no-untyped-def]
+    rotor = RigidRotor(body, [Bearing(p, k, c) for p, k, c in bearings])
+    for speed in (0.0, 800.0, 2500.0):
+        assert_allclose(rotor.frequencies(speed), assembled(body, bearings, speed), rtol=1e-9)
+
+
+def test_critical_speeds() -> None:
+    # Symmetric and uncoupled: √(Σk/m) and, for I_t > I_p, √(K_θ / (I_t − I_p)).
+    rod = symmetric(ROD)
+    transverse, polar = ROD.inertia[0, 0], ROD.inertia[2, 2]
+    assert_allclose(rod.critical_speeds(),
+                    [math.sqrt(2e6 / 10.0), math.sqrt(2e6 * 0.04 / (transverse - polar))], rtol=1e-9)  # fmt: skip
+    # A disk (I_p > I_t) has only the cylindrical one.
+    assert_allclose(symmetric(DISK).critical_speeds(), [math.sqrt(2e6 / 10.0)], rtol=1e-9)
+    # Anisotropic and coupled: at each critical speed a forward whirl frequency
+    # equals the spin (the definition), checked on the whirl at that speed.
+    rotor = RigidRotor(ROD.transformed(translation=[0, 0, 0.05]),
+                       [Bearing(-0.25, (1e6, 3e6)), Bearing(0.2, (2e6, 5e5))])  # fmt: skip
+    speeds = rotor.critical_speeds(backward=True)
+    assert len(speeds) == 4  # each mode crosses the 1× line once here
+    forward = rotor.critical_speeds()
+    assert set(forward) <= set(speeds) and len(forward) >= 1
+    whirl = rotor.whirl(speeds)
+    for i, speed in enumerate(speeds):
+        j = int(np.argmin(np.abs(whirl.frequencies[i] - speed)))
+        assert whirl.frequencies[i, j] == pytest.approx(speed, rel=1e-8)
+        assert whirl.forward[i, j] == (speed in forward)
+
+
+def test_unbalance_response_of_a_symmetric_rotor_in_closed_form() -> None:
+    # Uncoupled symmetric rotor, unbalance U at axial position u from the centre:
+    # translation U Ω² / (K − m Ω² + i Ω C), tilt U u Ω² / (K_θ − (I_t − I_p) Ω² + i Ω C_θ);
+    # a bearing at arm a moves on the circle of radius |x + a γ|.
+    k, c, a, u, unbalance = 1e6, 200.0, 0.2, 0.1, 1e-4
+    rotor = RigidRotor(ROD, [Bearing(-a, k, c), Bearing(a, k, c)])
+    speeds = np.linspace(10.0, 900.0, 40)
+    transverse, polar = ROD.inertia[0, 0], ROD.inertia[2, 2]
+    w = speeds
+    x = unbalance * w**2 / (2 * k - 10.0 * w**2 + 1j * w * 2 * c)
+    tilt = (
+        unbalance
+        * u
+        * w**2
+        / (2 * k * a * a - (transverse - polar) * w**2 + 1j * w * 2 * c * a * a)
+    )
+    expected = np.column_stack([np.abs(x - a * tilt), np.abs(x + a * tilt)])
+    # One 4 × 4 complex solve a speed: a few ε relative.
+    assert_allclose(rotor.unbalance_response(speeds, unbalance, position=u), expected, rtol=1e-9)
+    # Isotropic bearings: circular orbits (|x| = |y|, a quarter turn apart).
+    orbits = rotor.unbalance_orbits(speeds, unbalance, position=u)
+    assert_allclose(np.abs(orbits[..., 0]), np.abs(orbits[..., 1]), rtol=1e-9)
+
+
+def test_anisotropic_bearings_give_elliptical_orbits() -> None:
+    rotor = RigidRotor(ROD, [Bearing(-0.2, (1e6, 4e6), 100.0), Bearing(0.2, (1e6, 4e6), 100.0)])
+    orbits = rotor.unbalance_orbits([300.0], "1e-4 kg*m")[0]
+    major = rotor.unbalance_response([300.0], 1e-4)[0]
+    # The ellipse Re((X, Y) e^{iθ}) sampled: its largest radius is the major semi-axis.
+    theta = np.linspace(0, 2 * np.pi, 20001)
+    for k in range(2):
+        points = np.real(np.outer(np.exp(1j * theta), orbits[k]))
+        assert np.max(np.linalg.norm(points, axis=1)) == pytest.approx(major[k], rel=1e-7)
+    assert abs(abs(orbits[0, 0]) - abs(orbits[0, 1])) > 0.1 * abs(orbits[0, 0])
+
+
+def test_refusals() -> None:
+    with pytest.raises(tb.InputError, match=r"^Expected `stiffness` >= 0, got \[-1\.0, -1\.0\]\.$"):
+        Bearing(0.0, -1.0)
+    with pytest.raises(
+        tb.InputError, match=r"stiffness at two or more axial positions .*, got 1\.$"
+    ):
+        RigidRotor(ROD, [Bearing(0.1, 1e6), Bearing(0.1, 2e6)])
+    with pytest.raises(tb.InputError, match=r"^Expected finite `speeds` \(rad/s\), got \[nan\]\.$"):
+        symmetric(ROD).frequencies([0.0, float("nan")])
+    tilted = ROD.transformed(rotation=Rotation.from_rotvec([0.1, 0, 0]))
+    with pytest.raises(tb.InputError, match=r"to be a principal axis of the body"):
+        RigidRotor(tilted, [Bearing(-0.2, 1e6), Bearing(0.2, 1e6)])
+    with pytest.raises(tb.InputError, match=r"^Expected an axisymmetric rotor"):
+        RigidRotor(tb.shapes.box(1.0, (0.1, 0.2, 0.5)), [Bearing(-0.2, 1e6), Bearing(0.2, 1e6)])
+    with pytest.raises(tb.InputError, match=r"centre of mass on its axis"):
+        RigidRotor(
+            ROD.transformed(translation=[0.01, 0, 0]), [Bearing(-0.2, 1e6), Bearing(0.2, 1e6)]
+        )
+    with pytest.raises(tb.InputError, match=r"Bearing objects"):
+        RigidRotor(ROD, [(-0.2, 1e6), (0.2, 1e6)])
