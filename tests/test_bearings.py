@@ -168,3 +168,56 @@ def test_refusals() -> None:
         )
     with pytest.raises(tb.InputError, match=r"Bearing objects"):
         RigidRotor(ROD, [(-0.2, 1e6), (0.2, 1e6)])
+
+
+@pytest.mark.slow  # an integration by scipy of about 10 s on a busy machine
+def test_a_run_at_constant_speed_settles_on_the_steady_unbalance_orbits() -> None:
+    # Anisotropic, damped, coupled: after the free vibration has decayed (damping
+    # ratios ≥ 0.08 over 1 s at ≥ 280 rad/s: e^{-22} and less), the orbit is
+    # Re(A e^{iφ}) with A from the steady solve, φ = Ω t.
+    from tumble.models import run_up
+
+    rotor = RigidRotor(ROD.transformed(translation=[0, 0, 0.05]),
+                       [Bearing(-0.25, (1e6, 3e6), 4000.0), Bearing(0.2, (2e6, 5e5), 3000.0)])  # fmt: skip
+    assert rotor.whirl(400.0).damping_ratios.min() > 0.08
+    run = run_up(rotor, 1e-4, duration=1.0, speed=400.0, position=0.1, samples=1001)
+    steady = rotor.unbalance_orbits(400.0, 1e-4, position=0.1)[0]
+    tail = run.t > 0.9
+    expected = np.real(steady[None, :, :] * np.exp(1j * 400.0 * run.t[tail])[:, None, None])
+    # Integrated to a relative tolerance of 1e-10; the transient left is e^{-22}.
+    assert_allclose(run.orbits[tail], expected, atol=1e-6 * np.abs(steady).max())
+
+
+@pytest.mark.slow  # as above
+def test_a_run_up_peaks_after_the_critical_speed_and_below_the_steady_peak() -> None:
+    # Friswell et al. §3.6: through a resonance at a finite rate the peak is late
+    # and lower than the steady one; far below it the response is the steady one.
+    from tumble.models import run_up
+
+    rotor = RigidRotor(ROD, [Bearing(-0.2, 1e6, 100.0), Bearing(0.2, 1e6, 100.0)])
+    critical = rotor.critical_speeds()[0]
+    run = run_up(rotor, 1e-4, duration=2.0, speed=0.0, acceleration=400.0, samples=8001)
+    amplitude = run.amplitude[:, 0]
+    peak = int(np.argmax(amplitude))
+    assert run.speed[peak] > critical
+    speeds = np.linspace(0.9 * critical, 1.1 * critical, 2001)
+    assert amplitude[peak] < rotor.unbalance_response(speeds, 1e-4)[:, 0].max()
+    early = (run.speed > 0.4 * critical) & (run.speed < 0.5 * critical)
+    steady = rotor.unbalance_response(run.speed[early], 1e-4)[:, 0]
+    # At half the critical speed the slow sweep follows the steady response within
+    # the beat of the decaying start-up transient (a few per cent here).
+    assert_allclose(amplitude[early], steady, rtol=0.1)
+
+
+def test_run_up_refusals() -> None:
+    from tumble.models import run_up
+
+    rotor = symmetric(ROD)
+    with pytest.raises(tb.InputError, match=r"^Expected `duration` > 0 s, got 0\.0\.$"):
+        run_up(rotor, 1e-4, duration=0.0)
+    with pytest.raises(tb.InputError, match=r"^Expected `samples` to be an integer >= 2, got 1\.$"):
+        run_up(rotor, 1e-4, duration=1.0, samples=1)
+    with pytest.raises(
+        tb.InputError, match=r"^Expected `rotor` to be a tumble\.theory\.RigidRotor"
+    ):
+        run_up(ROD, 1e-4, duration=1.0)  # type: ignore[arg-type]
