@@ -392,8 +392,7 @@ def _array_to_si(value: Any, kind: str, name: str, shape: tuple[int, ...]) -> ND
     )
 
 
-#: The types of the scalars taken as SI numbers without a look at units
-#: (``bool`` is not one of them: it is refused).
+#: The scalars taken as SI numbers without a look at units (not ``bool``: refused).
 _PLAIN_SCALARS = frozenset({float, int, np.float64, np.int64})
 
 
