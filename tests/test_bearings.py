@@ -170,7 +170,6 @@ def test_refusals() -> None:
         RigidRotor(ROD, [(-0.2, 1e6), (0.2, 1e6)])
 
 
-@pytest.mark.slow  # an integration by scipy of about 10 s on a busy machine
 def test_a_run_at_constant_speed_settles_on_the_steady_unbalance_orbits() -> None:
     # Anisotropic, damped, coupled: after the free vibration has decayed (damping
     # ratios ≥ 0.08 over 1 s at ≥ 280 rad/s: e^{-22} and less), the orbit is
@@ -188,7 +187,6 @@ def test_a_run_at_constant_speed_settles_on_the_steady_unbalance_orbits() -> Non
     assert_allclose(run.orbits[tail], expected, atol=1e-6 * np.abs(steady).max())
 
 
-@pytest.mark.slow  # as above
 def test_a_run_up_peaks_after_the_critical_speed_and_below_the_steady_peak() -> None:
     # Friswell et al. §3.6: through a resonance at a finite rate the peak is late
     # and lower than the steady one; far below it the response is the steady one.
