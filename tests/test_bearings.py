@@ -219,3 +219,11 @@ def test_run_up_refusals() -> None:
         tb.InputError, match=r"^Expected `rotor` to be a tumble\.theory\.RigidRotor"
     ):
         run_up(ROD, 1e-4, duration=1.0)  # type: ignore[arg-type]
+
+
+def test_a_zero_axis_is_refused() -> None:
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected `axis` to be a non-zero vector, got \[0\.0, 0\.0, 0\.0\]\.$",
+    ):
+        RigidRotor(ROD, [Bearing(-0.2, 1e6), Bearing(0.2, 1e6)], axis=(0, 0, 0))

@@ -488,3 +488,56 @@ def test_a_collada_mesh_in_centimetres_is_read_in_metres(tmp_path: Path) -> None
     base = tb.robots.load(source).links["base"]
     assert_allclose(base.geometry().inertia, box_inertia(4.0, 0.3, 0.3, 0.1), rtol=1e-9, atol=1e-15)
     assert tb.robots.audit(source).findings == ()
+
+
+def test_refusals_of_shapes_and_readers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from tumble.robots.model import Shape
+
+    with pytest.raises(
+        tb.InputError, match=r"^Expected a mesh shape to name its file, got none\.$"
+    ):
+        Shape("mesh").unit_density()
+    with pytest.raises(
+        tb.InputError, match=r"^Expected a shape's kind to be one of box, .*got 'cone'\."
+    ):
+        Shape("cone").unit_density()
+    with pytest.raises(
+        tb.InputError, match=r"^Expected `kind` to be one of collision, visual, got 'inertial'\."
+    ):
+        tb.robots.load(example_path()).links["arm"].geometry("inertial")
+    (tmp_path / "garbage.glb").write_bytes(b"glTF\x02\x00\x00\x00garbage")
+    with pytest.raises(
+        tb.InputError, match=r"^Expected a readable mesh file, got '.*garbage\.glb': "
+    ):
+        Shape("mesh", mesh=tmp_path / "garbage.glb").unit_density()
+    with pytest.raises(
+        tb.InputError, match=r"^Expected a robot with links in '.*empty\.urdf', got none\.$"
+    ):
+        tb.robots.load(robot_file(tmp_path, '<robot name="empty"/>', "empty.urdf"))
+    source = tmp_path / "m.xml"
+    source.write_text("<mujoco><worldbody><body name='b'><geom type='sphere' size='0.1'/></body>"
+                      "</worldbody></mujoco>", encoding="utf-8")  # fmt: skip
+    monkeypatch.setitem(__import__("sys").modules, "mujoco", None)
+    with pytest.raises(tb.InputError, match=r"^Expected the mujoco package to read the MJCF file "
+                       r"'.*m\.xml', got none installed: pip install 'tumble\[robots\]'\.$"):  # fmt: skip
+        tb.robots.load(source)
+
+
+def test_refusals_of_mjcf_models(tmp_path: Path) -> None:
+    pytest.importorskip("mujoco")
+    massless = tmp_path / "massless.xml"
+    massless.write_text(
+        "<mujoco><worldbody><body name='b' pos='0 0 1'><inertial pos='0 0 0' mass='1' "
+        "diaginertia='1 1 1'/><geom type='sphere' size='0.1' mass='0'/></body></worldbody></mujoco>",
+        encoding="utf-8",
+    )
+    with pytest.raises(tb.InputError, match=r"^Expected link 'b' to have collision shapes with mass, "
+                       r"got only massless ones\.$"):  # fmt: skip
+        tb.robots.load(massless).links["b"].geometry()
+    broken = tmp_path / "broken.xml"
+    broken.write_text("<mujoco><worldbody><body name='b'><joint type='hinge'/></body></worldbody>"
+                      "</mujoco>", encoding="utf-8")  # fmt: skip
+    with pytest.raises(
+        tb.InputError, match=r"^Expected an MJCF model MuJoCo compiles, got broken\.xml: "
+    ):
+        tb.robots.load(broken)

@@ -26,7 +26,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
-from tumble.theory.bearings import RigidRotor
 from tumble.units import to_si
 
 __all__ = ["RunUp", "run_up"]
@@ -58,7 +57,7 @@ class RunUp:
 
 
 def run_up(
-    rotor: RigidRotor,
+    rotor: Any,
     unbalance: Any,
     *,
     duration: Any,
@@ -100,21 +99,24 @@ def run_up(
     """
     from scipy.integrate import solve_ivp
 
-    if not isinstance(rotor, RigidRotor):
+    try:  # the rotor's matrices (M, K, C, G) and bearing arms, as the theory gives them
+        matrices = rotor.mass_matrix, rotor.stiffness, rotor.damping, rotor.gyroscopic
+        centre, arms = rotor.centre, rotor.arms
+    except AttributeError:
         raise InputError(
             f"Expected `rotor` to be a tumble.theory.RigidRotor, got {type(rotor).__name__}."
-        )
+        ) from None
     u = to_si(unbalance, "unbalance", "unbalance")
     span = to_si(duration, "time", "duration")
     start = to_si(speed, "angular_velocity", "speed")
     rate = to_si(acceleration, "angular_acceleration", "acceleration")
-    arm = to_si(position, "length", "position") - rotor.centre
+    arm = to_si(position, "length", "position") - centre
     if not span > 0:
         raise InputError(f"Expected `duration` > 0 s, got {span!r}.")
     if not (isinstance(samples, int) and samples >= 2):
         raise InputError(f"Expected `samples` to be an integer >= 2, got {samples!r}.")
-    inverse = np.linalg.inv(rotor.mass_matrix)
-    stiffness, damping, gyroscopic = rotor.stiffness, rotor.damping, rotor.gyroscopic
+    inverse = np.linalg.inv(matrices[0])
+    stiffness, damping, gyroscopic = matrices[1:]
 
     def rates(t: float, y: Array) -> Array:
         spin = start + rate * t
@@ -135,7 +137,6 @@ def run_up(
     if not solution.success:
         raise InputError(f"Expected the run-up to integrate, got: {solution.message}")
     state = solution.y[:4].T
-    arms = rotor.arms
     orbits = np.stack(
         [state[:, [0]] + arms * state[:, [3]], state[:, [1]] - arms * state[:, [2]]], axis=2
     )

@@ -102,10 +102,7 @@ def _link_edits(
         # Insert the missing children after <inertial ...>.
         end = _tag_end(data, offsets["inertial"])
         indent = _indent(data, offsets["inertial"]) + b"  "
-        text = b"".join(
-            b"\n" + indent + _element(e, a, inertial is not None and e == "inertia")
-            for e, a in missing
-        )
+        text = b"".join(b"\n" + indent + _element(e, a) for e, a in missing)
         return [*edits, (end, end, text)]
     start = _link_offset(data, link)
     end = _tag_end(data, start)
@@ -114,14 +111,12 @@ def _link_edits(
     full = {"origin": {"xyz": "0 0 0"}, "mass": {"value": "0"}, "inertia": {}}
     for element, attributes in missing:
         full[element] = {**full[element], **attributes}
-    children = b"".join(
-        b"\n" + inner + _element(e, full[e], e == "inertia") for e in ("origin", "mass", "inertia")
-    )
+    children = b"".join(b"\n" + inner + _element(e, full[e]) for e in ("origin", "mass", "inertia"))
     block = b"\n" + indent + b"<inertial>" + children + b"\n" + indent + b"</inertial>"
     return [*edits, (end, end, block)]
 
 
-def _element(name: str, attributes: dict[str, str], complete: bool = True) -> bytes:
+def _element(name: str, attributes: dict[str, str]) -> bytes:
     if name == "inertia":
         attributes = {a: attributes.get(a, "0") for a in INERTIA_ATTRIBUTES}
     text = " ".join(f'{k}="{v}"' for k, v in attributes.items())

@@ -22,7 +22,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from tumble.errors import InputError
-from tumble.robots.model import Inertial, Joint, Link, Robot, Shape, shown
+from tumble.robots.model import Inertial, Joint, Link, Robot, Shape, at_own_mass, shown
 
 __all__ = ["read_mjcf"]
 
@@ -150,16 +150,12 @@ def _robot(mujoco: Any, spec: Any, model: Any, path: Path, declared: dict[str, I
     return Robot(spec.modelname or path.stem, path, links, joints, names[0])
 
 
-def _own_mass(shape: Shape) -> float:
-    solid = shape.unit_density()
-    return shape.mass if shape.mass is not None else (shape.density or 0.0) * solid.mass
-
-
 def _scaled_to(total: float, links: dict[str, Link]) -> dict[str, Link]:
     """The links with every geom's mass scaled so that they sum to ``total`` kg, as
     MuJoCo's compiler does for ``settotalmass`` (the declared values it computed
     are scaled already)."""
-    masses = {id(s): _own_mass(s) for link in links.values() for s in link.shapes["collision"]}
+    solids = {id(s): at_own_mass(s) for link in links.values() for s in link.shapes["collision"]}
+    masses = {key: 0.0 if solid is None else solid.mass for key, solid in solids.items()}
     factor = total / sum(masses.values())
     scaled = {}
     for name, link in links.items():

@@ -31,6 +31,7 @@ __all__ = [
     "Link",
     "Robot",
     "Shape",
+    "at_own_mass",
     "rotation_about",
     "shown",
 ]
@@ -269,7 +270,7 @@ class Link:
         """
         shapes = self._shapes(kind)
         if any(shape.mass is not None or shape.density is not None for shape in shapes):
-            parts = [part for part in map(_own_mass, shapes) if part is not None]
+            parts = [part for part in map(at_own_mass, shapes) if part is not None]
             if not parts:
                 raise InputError(
                     f"Expected link {self.name!r} to have {kind} shapes with mass, got only "
@@ -303,7 +304,7 @@ def _scaled(solid: MassProperties, factor: float) -> MassProperties:
     return MassProperties(solid.mass * factor, solid.center_of_mass, solid.inertia * factor)
 
 
-def _own_mass(shape: Shape) -> MassProperties | None:
+def at_own_mass(shape: Shape) -> MassProperties | None:
     """A shape at its own mass, or its density times its volume (MJCF's geoms);
     None for a massless one."""
     solid = shape.unit_density()

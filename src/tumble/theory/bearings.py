@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 
 from tumble.errors import InputError
 from tumble.massprops import MassProperties, as_mass_properties, readonly
+from tumble.theory.common import spin_axis
 from tumble.units import to_si, vector_to_si
 
 __all__ = ["Bearing", "RigidRotor", "Whirl"]
@@ -133,11 +134,7 @@ class RigidRotor:
     def __init__(self, body: Any, bearings: Any, axis: Any = (0.0, 0.0, 1.0),
                  point: Any = (0.0, 0.0, 0.0)) -> None:  # fmt: skip
         mp: MassProperties = as_mass_properties(body, "body")
-        direction = vector_to_si(axis, "dimensionless", "axis", (3,))
-        size = float(np.linalg.norm(direction))
-        if not size > 0:
-            raise InputError(f"Expected `axis` to be a non-zero vector, got {direction.tolist()}.")
-        n = direction / size
+        n = spin_axis(axis)
         p = vector_to_si(point, "length", "point", (3,))
         inertia = mp.inertia
         polar = float(n @ inertia @ n)

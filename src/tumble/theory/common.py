@@ -37,6 +37,15 @@ def positive(value: Any, kind: str, name: str) -> float:
 UNITS = {"mass": "kg", "length": "m", "acceleration": "m/s²"}
 
 
+def spin_axis(axis: Any) -> Array:
+    """The unit vector of a spin ``axis`` given in body coordinates (any length > 0)."""
+    direction = vector_to_si(axis, "dimensionless", "axis", (3,))
+    length = float(np.linalg.norm(direction))
+    if not length > 0:
+        raise InputError(f"Expected `axis` to be a non-zero vector, got {direction.tolist()}.")
+    return direction / length
+
+
 def as_times(t: Any) -> tuple[Array, tuple[int, ...]]:
     """Times in s as a flat array, and the shape of ``t`` (``()`` for a scalar)."""
     if np.ndim(t) == 0:

@@ -20,6 +20,7 @@ from tumble.theory.common import (
     as_times,
     positive,
     rotate_about_z,
+    spin_axis,
 )
 from tumble.units import to_si, vector_to_si
 
@@ -377,11 +378,7 @@ def rotor_loads(
     mp = as_mass_properties(mp)
     w = to_si(omega, "angular_velocity", "omega")
     w_dot = to_si(omega_dot, "angular_acceleration", "omega_dot")
-    direction = vector_to_si(axis, "dimensionless", "axis", (3,))
-    length = float(np.linalg.norm(direction))
-    if not length > 0:
-        raise InputError(f"Expected `axis` to be a non-zero vector, got {direction.tolist()}.")
-    n = direction / length
+    n = spin_axis(axis)
     p = vector_to_si(point, "length", "point", (3,))
     inertia = mp.inertia_about(p)
     momentum = inertia @ (w * n)
