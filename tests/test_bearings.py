@@ -101,10 +101,16 @@ def test_critical_speeds() -> None:
     # equals the spin (the definition), checked on the whirl at that speed.
     rotor = RigidRotor(ROD.transformed(translation=[0, 0, 0.05]),
                        [Bearing(-0.25, (1e6, 3e6)), Bearing(0.2, (2e6, 5e5))])  # fmt: skip
-    speeds = rotor.critical_speeds(backward=True)
+    speeds = rotor.critical_speeds()  # anisotropic: every root, both senses
     assert len(speeds) == 4  # each mode crosses the 1× line once here
-    forward = rotor.critical_speeds()
+    assert_allclose(rotor.critical_speeds(backward=True), speeds, rtol=0)
+    forward = rotor.critical_speeds(backward=False)
     assert set(forward) <= set(speeds) and len(forward) >= 1
+    # Each of them is a peak of the undamped unbalance response (the orbit grows
+    # without bound there): the response 0.1 % either side is smaller than 0.01 % off.
+    for speed in speeds:
+        sides = rotor.unbalance_response(speed * np.array([0.999, 0.9999, 1.0001, 1.001]), 1e-4)
+        assert sides[[1, 2]].max() > sides[[0, 3]].max()
     whirl = rotor.whirl(speeds)
     for i, speed in enumerate(speeds):
         j = int(np.argmin(np.abs(whirl.frequencies[i] - speed)))
@@ -155,8 +161,17 @@ def test_refusals() -> None:
         tb.InputError, match=r"stiffness at two or more axial positions .*, got 1\.$"
     ):
         RigidRotor(ROD, [Bearing(0.1, 1e6), Bearing(0.1, 2e6)])
-    with pytest.raises(tb.InputError, match=r"^Expected finite `speeds` \(rad/s\), got \[nan\]\.$"):
+    with pytest.raises(
+        tb.InputError, match=r"^Expected `speeds` to be finite, got \[0\.0, nan\]\.$"
+    ):
         symmetric(ROD).frequencies([0.0, float("nan")])
+    with pytest.raises(tb.InputError, match=r"^Expected `speeds` to be finite, got nan\.$"):
+        symmetric(ROD).frequencies(float("nan"))
+    with pytest.raises(tb.InputError, match=r"^Expected `speeds` to be an angular velocity"):
+        symmetric(ROD).frequencies(["1000 rpm", "3 kg"])
+    # Speeds with units, one by one in a list.
+    assert_allclose(symmetric(ROD).frequencies(["1000 rpm", "2000 rpm"]),
+                    symmetric(ROD).frequencies(np.array([1000.0, 2000.0]) * math.pi / 30))  # fmt: skip
     tilted = ROD.transformed(rotation=Rotation.from_rotvec([0.1, 0, 0]))
     with pytest.raises(tb.InputError, match=r"to be a principal axis of the body"):
         RigidRotor(tilted, [Bearing(-0.2, 1e6), Bearing(0.2, 1e6)])
@@ -183,7 +198,9 @@ def test_a_run_at_constant_speed_settles_on_the_steady_unbalance_orbits() -> Non
     steady = rotor.unbalance_orbits(400.0, 1e-4, position=0.1)[0]
     tail = run.t > 0.9
     expected = np.real(steady[None, :, :] * np.exp(1j * 400.0 * run.t[tail])[:, None, None])
-    # Integrated to a relative tolerance of 1e-10; the transient left is e^{-22}.
+    # RK4 at 200 steps a turn of the fastest mode (1276 rad/s): the forced response
+    # is off by O((Ω h)⁴) = (400 × 2.5e-5)⁴ = 1e-8 (3e-10 measured); the transient
+    # left is e^{-22}.
     assert_allclose(run.orbits[tail], expected, atol=1e-6 * np.abs(steady).max())
 
 
@@ -219,6 +236,46 @@ def test_run_up_refusals() -> None:
         tb.InputError, match=r"^Expected `rotor` to be a tumble\.theory\.RigidRotor"
     ):
         run_up(ROD, 1e-4, duration=1.0)  # type: ignore[arg-type]
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected the spin not to reverse during the run, got 100\.0 rad/s at the start "
+        r"and -100\.0 rad/s at the end\.$",
+    ):
+        run_up(rotor, 1e-4, duration=1.0, speed=100.0, acceleration=-200.0)
+
+
+def test_a_run_up_reports_progress_and_gives_the_rotors_attitude() -> None:
+    # A rotor spinning about the body's x axis: its frame is (y, z, x). To first
+    # order in the tilts the axis points along n + β e_x − α e_y, the shaft's
+    # displacement per unit arm (x + a β, y − a α); the body turns at φ̇ about it.
+    from tumble.models import run_up
+
+    body = tb.shapes.solid_cylinder(10.0, 0.05, 0.6).transformed(
+        rotation=Rotation.from_rotvec([0.0, math.pi / 2, 0.0]).as_matrix()
+    )
+    rotor = RigidRotor(body, [Bearing(-0.2, (1e6, 2e6), 300.0), Bearing(0.25, 1e6, 300.0)],
+                       axis=(1, 0, 0))  # fmt: skip
+    assert_allclose(rotor.frame, [[0, 0, 1], [1, 0, 0], [0, 1, 0]], atol=1e-15)
+    calls: list[tuple[int, int]] = []
+    run = run_up(rotor, 1e-4, duration=0.5, speed=100.0, acceleration=600.0, samples=501,
+                 progress=lambda done, total: calls.append((done, total)))  # fmt: skip
+    assert calls and calls[-1][0] == calls[-1][1] == run.trajectory.steps
+    traj = run.trajectory
+    assert_allclose(traj.t, run.t)
+    alpha, beta = run.state[:, 2], run.state[:, 3]
+    axis = traj.rotation.apply([1.0, 0.0, 0.0])  # space axes are the body's at rest
+    expected = np.column_stack([np.ones_like(alpha), beta, -alpha])
+    tilt = np.abs(run.state[:, 2:]).max()
+    assert tilt > 1e-6
+    # Second order in the tilts: the axis off by ~tilt² at most.
+    assert_allclose(axis, expected / np.linalg.norm(expected, axis=1)[:, None], atol=tilt**2)
+    spin = traj.omega @ [1.0, 0.0, 0.0]
+    assert_allclose(spin, run.speed, rtol=tilt)
+    # The spin angle: the body's y axis turned by φ = Ω₀ t + Ω̇ t²/2 about x.
+    turned = traj.rotation.apply([0.0, 1.0, 0.0])
+    phi = 100.0 * run.t + 300.0 * run.t**2
+    assert_allclose(turned[:, 1:], np.column_stack([np.cos(phi), np.sin(phi)]), atol=2 * tilt)
+    assert traj.conserved_quantities == () and traj.drift == {}
 
 
 def test_a_zero_axis_is_refused() -> None:

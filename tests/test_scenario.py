@@ -354,10 +354,11 @@ def test_points_and_inertia_bodies() -> None:
 
 def test_every_builtin_is_valid_and_listed_in_order() -> None:
     names = builtin_names()
-    assert names[:7] == [
+    assert names[:8] == [
         "gyroscope",
         "gyrocompass",
         "skew-rod",
+        "rotor-on-bearings",
         "tennis-racket",
         "heavy-top",
         "free-symmetric-top",

@@ -187,6 +187,8 @@ def scenario_keys() -> str:
         ("[theory]", schema.Theory),
         ("[output]", schema.Output),
         ("[gyrocompass]", schema.GyrocompassSettings),
+        ("[rotor]", schema.RotorSettings),
+        ("[[rotor.bearings]]", schema.RotorBearing),
     ):
         lines += _table(f"``{key}``", model)
     lines += ["The methods of ``[simulation] method``:", ""]

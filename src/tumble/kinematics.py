@@ -18,7 +18,13 @@ from tumble.errors import InputError
 from tumble.massprops import MassProperties, as_mass_properties
 from tumble.units import vector_to_si
 
-__all__ = ["angular_momentum", "as_attitude", "kinetic_energy", "required_torque"]
+__all__ = [
+    "angular_momentum",
+    "as_attitude",
+    "kinetic_energy",
+    "required_torque",
+    "same_hemisphere",
+]
 
 Array = NDArray[np.float64]
 
@@ -167,3 +173,12 @@ def as_attitude(value: Any, name: str = "attitude0") -> Array:
     # overflow and those of [1e-300, 1e-300, 0, 0] underflow; only its direction counts.
     q = q / largest
     return np.asarray(q / math.sqrt(float(q @ q)))
+
+
+def same_hemisphere(quaternion: Array) -> Array:
+    """(n, 4) the attitudes ``quaternion`` (n, 4), each of sign chosen in the
+    hemisphere of the one before (q and −q are one attitude), as a stepped
+    attitude would be: for attitudes computed sample by sample in closed form."""
+    flips = np.einsum("ij,ij->i", quaternion[1:], quaternion[:-1]) < 0
+    signs = np.concatenate(([1.0], np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)))
+    return np.asarray(quaternion * signs[:, None])

@@ -60,7 +60,9 @@ class Panel:
     """A plot of a comparison: a title, the y label with its unit, and curves;
     ``name`` names its figure file, ``until`` limits it to t <= until (a few
     periods of a fast oscillation), ``log`` draws the y axis logarithmic (an
-    exponential growth or decay)."""
+    exponential growth or decay); ``xlabel`` says what the curves' ``t`` are
+    when they are not times (a spin speed, a coordinate of an orbit), and
+    ``equal_aspect`` draws both axes to one scale (an orbit)."""
 
     title: str
     ylabel: str
@@ -68,6 +70,8 @@ class Panel:
     name: str = "angles"
     until: float | None = None
     log: bool = False
+    xlabel: str = "t (s)"
+    equal_aspect: bool = False
 
 
 @dataclass(frozen=True, eq=False)

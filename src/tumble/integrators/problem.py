@@ -11,7 +11,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.body import RigidBody
-from tumble.integrators.steps import whole_steps
+from tumble.errors import InputError
+from tumble.integrators.limits import check_recording
+from tumble.integrators.steps import time_step, warn_if_coarse, whole_steps
 from tumble.torques import BoundTorque
 
 __all__ = ["Problem", "Samples", "Schedule"]
@@ -81,3 +83,49 @@ class Schedule:
         if n_steps % record_every != 0:
             times = np.append(times, duration)
         return cls(np.asarray(times, dtype=float), n_steps, step, record_every, **tolerances)
+
+    @classmethod
+    def sampled(
+        cls,
+        total_time: float,
+        dt: Any,
+        fastest: float,
+        what: str,
+        record_every: int,
+        samples: int | None,
+        columns: int,
+    ) -> Schedule:
+        """The steps of a model over ``total_time`` s: ``dt``, or by default 1/200 of
+        a turn at ``fastest`` rad/s, the rate of ``what`` (a coarser ``dt`` warns);
+        every ``record_every``-th kept, or about ``samples`` of them, each with
+        ``columns`` values of the model's own besides the trajectory's.
+
+        Raises
+        ------
+        InputError
+            Both ``record_every`` and ``samples``, or ``samples`` not an integer >= 1.
+        RequestTooLargeError
+            Samples that would not fit in the memory budget.
+        """
+        step = time_step(dt, fastest, total_time)
+        if dt is not None:
+            warn_if_coarse(step, fastest, what, stacklevel=4)
+        if samples is not None:
+            if record_every != 1:
+                raise InputError(
+                    f"Expected one of `record_every` and `samples`, got both ({record_every!r}, "
+                    f"{samples!r})."
+                )
+            if (
+                isinstance(samples, bool)
+                or not isinstance(samples, int | np.integer)
+                or samples < 1
+            ):
+                raise InputError(f"Expected `samples` to be an integer >= 1, got {samples!r}.")
+            record_every = max(1, whole_steps(total_time, step) // int(samples))
+        check_recording(
+            total_time, step, record_every, columns,
+            "Record less often (record_every or samples), or ask for a shorter duration or a "
+            "larger dt.",
+        )  # fmt: skip
+        return cls.build(total_time, step, record_every)

@@ -23,9 +23,10 @@ from scipy.spatial.transform import Rotation
 
 from tumble.core import gimbal
 from tumble.errors import InputError
-from tumble.integrators.limits import check_record_every, check_recording
+from tumble.integrators.limits import check_record_every
 from tumble.integrators.problem import Schedule
-from tumble.integrators.steps import step_in_chunks, time_step, warn_if_coarse, whole_steps
+from tumble.integrators.steps import step_in_chunks
+from tumble.kinematics import same_hemisphere
 from tumble.massprops import MassProperties, as_mass_properties, axisymmetric_moments, readonly
 from tumble.trajectory import Trajectory
 from tumble.units import to_si
@@ -284,7 +285,9 @@ def gyrocompass(
     fastest = params[2] + math.sqrt(
         theta_rate0 * theta_rate0 + 4.0 * abs(params[0] * big_omega) + big_omega * big_omega
     )
-    schedule = _schedule(total_time, dt, fastest, record_every, samples)
+    schedule = Schedule.sampled(
+        total_time, dt, fastest, "the fastest rate of the gimbal angle", record_every, samples, 3
+    )
     out = _integrate(np.array([theta0, theta_rate0, 0.0]), params, schedule, progress)
 
     times, theta, theta_rate = schedule.times, out[:, 0], out[:, 1]
@@ -371,40 +374,6 @@ def _platform(rate: float, latitude: Any) -> _Platform:
     return _Platform(_EARTH_MOUNT, _EARTH_MOUNT.T @ up_north, lam)
 
 
-def _schedule(
-    total_time: float, dt: Any, fastest: float, record_every: int, samples: int | None
-) -> Schedule:
-    """The steps over ``total_time`` s: ``dt``, or by default 1/200 of a turn at
-    ``fastest`` rad/s; every ``record_every``-th kept, or about ``samples`` of them.
-
-    Raises
-    ------
-    InputError
-        Both ``record_every`` and ``samples``, or ``samples`` not an integer >= 1.
-    RequestTooLargeError
-        Samples that would not fit in the memory budget.
-    """
-    step = time_step(dt, fastest, total_time)
-    if dt is not None:
-        warn_if_coarse(step, fastest, "the fastest rate of the gimbal angle", stacklevel=4)
-    if samples is not None:
-        if record_every != 1:
-            raise InputError(
-                f"Expected one of `record_every` and `samples`, got both ({record_every!r}, "
-                f"{samples!r})."
-            )
-        if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 1:
-            raise InputError(f"Expected `samples` to be an integer >= 1, got {samples!r}.")
-        record_every = max(1, whole_steps(total_time, step) // int(samples))
-    # θ, θ̇, χ from the kernel besides the trajectory's values.
-    check_recording(
-        total_time, step, record_every, 3,
-        "Record less often (record_every or samples), or ask for a shorter duration or a "
-        "larger dt.",
-    )  # fmt: skip
-    return Schedule.build(total_time, step, record_every)
-
-
 def _integrate(
     y: Array, params: Array, schedule: Schedule, progress: Callable[[int, int], object] | None
 ) -> Array:
@@ -433,11 +402,7 @@ def _attitude(platform: _Platform, times: Array, theta: Array, psi: Array) -> Ar
         * Rotation.from_rotvec(np.outer(theta, [1.0, 0.0, 0.0]))
         * Rotation.from_rotvec(np.outer(psi, [0.0, 0.0, 1.0]))
     )
-    quaternion = np.asarray(attitude.as_quat(scalar_first=True))
-    # Same hemisphere from sample to sample, as a stepped attitude would be.
-    flips = np.einsum("ij,ij->i", quaternion[1:], quaternion[:-1]) < 0
-    signs = np.concatenate(([1.0], np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)))
-    return quaternion * signs[:, None]
+    return same_hemisphere(np.asarray(attitude.as_quat(scalar_first=True)))
 
 
 def _body_rates(

@@ -14,18 +14,29 @@ for q = (x, y, α, β) (Friswell, Penny, Garvey & Lees, *Dynamics of Rotating
 Machines*, 2010, §3.6 on run-up). At a constant speed the orbits settle on the
 steady unbalance response of :meth:`RigidRotor.unbalance_orbits`; through a
 critical speed at a finite rate the peak comes later and lower than the
-steady one.
+steady one. The equations are stepped by the compiled RK4 of
+:mod:`tumble.core.whirl` (a Python right-hand side under scipy's integrators
+costs seconds per second of a fast rotor's run).
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
 
+from tumble.core import whirl
 from tumble.errors import InputError
+from tumble.integrators.problem import Schedule
+from tumble.integrators.steps import step_in_chunks
+from tumble.kinematics import same_hemisphere
+from tumble.massprops import readonly
+from tumble.trajectory import Trajectory
 from tumble.units import to_si
 
 __all__ = ["RunUp", "run_up"]
@@ -41,14 +52,19 @@ class RunUp:
     ----------
     t : (n,) sample times, s.
     speed : (n,) spin speed Ω(t), rad/s.
-    state : (n, 4) the rotor's (x, y, α, β): centre of mass (m) and tilts (rad).
+    state : (n, 4) the rotor's (x, y, α, β): centre of mass (m) and tilts (rad),
+        along and about the rotor's e_x, e_y (:attr:`~tumble.theory.RigidRotor.frame`).
     orbits : (n, n_bearings, 2) the shaft's displacement at each bearing, m.
+    trajectory : the rotor's attitude and body rates as a
+        :class:`~tumble.Trajectory` (its spin and tilts; its centre's motion is
+        ``state``): the motor does work, so nothing is conserved.
     """
 
     t: Array
     speed: Array
     state: Array
     orbits: Array
+    trajectory: Trajectory
 
     @property
     def amplitude(self) -> Array:
@@ -64,23 +80,36 @@ def run_up(
     speed: Any = 0.0,
     acceleration: Any = 0.0,
     position: Any = 0.0,
+    dt: Any = None,
     samples: int = 2001,
+    progress: Callable[[int, int], object] | None = None,
 ) -> RunUp:
     """Run a rigid rotor on elastic bearings up (or at a constant speed) with an unbalance.
 
     Parameters
     ----------
     rotor : the :class:`~tumble.theory.RigidRotor`, at rest at its centre at t = 0.
-    unbalance : U, kg·m (the unbalance mass times its distance from the axis).
+    unbalance : U, kg·m (the unbalance mass times its distance from the axis),
+        on the rotor's e_x at t = 0.
     duration : s.
     speed : Ω₀, the spin speed at t = 0, rad/s.
     acceleration : Ω̇, rad/s², constant (0: a constant speed).
     position : the unbalance's axial position from the rotor's ``point``, m.
-    samples : how many evenly spaced samples to return (≥ 2).
+    dt : the RK4 step, s; by default 1/200 of a period of the fastest motion
+        (the fastest mode or the spin, at either end of the run).
+    samples : about how many evenly spaced samples to keep (≥ 2), the last at
+        ``duration``.
+    progress : called as ``progress(steps_done, steps_total)`` as the run goes.
 
     Returns
     -------
-    RunUp. Integrated by scipy's DOP853 at a relative tolerance of 1e-10.
+    RunUp.
+
+    Raises
+    ------
+    InputError
+        A rotor that is not a RigidRotor, a duration ≤ 0, fewer than 2
+        samples, or a run-up to a negative speed.
 
     Examples
     --------
@@ -97,11 +126,9 @@ def run_up(
     >>> print(abs(run.amplitude[-1] / steady - 1).max() < 1e-6)
     True
     """
-    from scipy.integrate import solve_ivp
-
     try:  # the rotor's matrices (M, K, C, G) and bearing arms, as the theory gives them
         matrices = rotor.mass_matrix, rotor.stiffness, rotor.damping, rotor.gyroscopic
-        centre, arms = rotor.centre, rotor.arms
+        centre, arms, frame = rotor.centre, rotor.arms, rotor.frame
     except AttributeError:
         raise InputError(
             f"Expected `rotor` to be a tumble.theory.RigidRotor, got {type(rotor).__name__}."
@@ -113,31 +140,68 @@ def run_up(
     arm = to_si(position, "length", "position") - centre
     if not span > 0:
         raise InputError(f"Expected `duration` > 0 s, got {span!r}.")
-    if not (isinstance(samples, int) and samples >= 2):
+    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
         raise InputError(f"Expected `samples` to be an integer >= 2, got {samples!r}.")
-    inverse = np.linalg.inv(matrices[0])
-    stiffness, damping, gyroscopic = matrices[1:]
-
-    def rates(t: float, y: Array) -> Array:
-        spin = start + rate * t
-        angle = start * t + 0.5 * rate * t * t
-        c, s = np.cos(angle), np.sin(angle)
-        fx = u * (spin * spin * c + rate * s)
-        fy = u * (spin * spin * s - rate * c)
-        force = np.array([fx, fy, -arm * fy, arm * fx])
-        q, v = y[:4], y[4:]
-        accel = inverse @ (
-            force - (damping + spin * gyroscopic) @ v - (stiffness + rate * gyroscopic) @ q
+    end = start + rate * span
+    if start * end < 0:
+        raise InputError(
+            f"Expected the spin not to reverse during the run, got {start!r} rad/s at the start "
+            f"and {end!r} rad/s at the end."
         )
-        return np.concatenate([v, accel])
-
-    times = np.linspace(0.0, span, samples)
-    solution = solve_ivp(rates, (0.0, span), np.zeros(8), method="DOP853", t_eval=times,
-                         rtol=1e-10, atol=1e-16)  # fmt: skip
-    if not solution.success:
-        raise InputError(f"Expected the run-up to integrate, got: {solution.message}")
-    state = solution.y[:4].T
+    # The fastest motion: the largest |λ| of the modes at either end, or the spin.
+    fastest = max(
+        float(np.abs(np.linalg.eigvals(rotor.state_matrices([start, end]))).max()),
+        abs(start),
+        abs(end),
+    )
+    schedule = Schedule.sampled(
+        span, dt, fastest, "the fastest mode of the rotor", 1, samples - 1, 8
+    )
+    inverse = np.linalg.inv(matrices[0])
+    stacked = np.stack([inverse] + [inverse @ matrix for matrix in matrices[1:]])
+    params = np.array([start, rate, u, arm])
+    out = np.empty((len(schedule.times), 8))
+    out[0] = y = np.zeros(8)
+    n_steps, step, every = schedule.n_steps, schedule.step, schedule.record_every
+    step_in_chunks(
+        lambda done, count: whirl.rk4_run(y, stacked, params, step, count, done, every, out),
+        n_steps,
+        step,
+        progress,
+    )
+    if n_steps % every != 0:
+        out[-1] = y
+    times = schedule.times
+    state = out[:, :4]
     orbits = np.stack(
         [state[:, [0]] + arms * state[:, [3]], state[:, [1]] - arms * state[:, [2]]], axis=2
     )
-    return RunUp(times, start + rate * times, state, orbits)
+    spin = start + rate * times
+    quaternion, omega = _attitude(frame, (start + 0.5 * rate * times) * times, spin, out)
+    trajectory = Trajectory(
+        t=times,
+        omega=omega,
+        quaternion=quaternion,
+        mass_properties=rotor.body,
+        pivot=None,
+        method="rk4",
+        reason="rotor run-up model",
+        dt=step,
+        steps=n_steps,
+        conserved=(),
+    )
+    return RunUp(readonly(times), readonly(spin), readonly(state), readonly(orbits), trajectory)
+
+
+def _attitude(frame: Array, angle: Array, spin: Array, out: Array) -> tuple[Array, Array]:
+    """The rotor's attitude (n, 4) and body rates (n, 3): the tilts (α about e_x, β
+    about e_y, small) of the spin φ about the axis, in the rotor's frame; to first
+    order in the tilts, ω = α̇ e_x + β̇ e_y + φ̇ (the tilted axis)."""
+    zero = np.zeros(len(angle))
+    tilt = Rotation.from_rotvec(np.column_stack([out[:, 2], out[:, 3], zero]))
+    spun = tilt * Rotation.from_rotvec(np.outer(np.remainder(angle, 2 * math.pi), [0, 0, 1]))
+    to_body = Rotation.from_matrix(frame)
+    attitude = to_body * spun * to_body.inv()
+    rates = np.column_stack([out[:, 6], out[:, 7], zero]) + spin[:, None] * tilt.apply([0, 0, 1])
+    omega = attitude.inv().apply(rates @ frame.T)
+    return same_hemisphere(attitude.as_quat(scalar_first=True)), np.asarray(omega)

@@ -179,8 +179,9 @@ def panel_sheet(panel: Panel) -> Sheet:
     if panel.until is not None:
         title += f" (first {panel.until:.3g} s)"
     chart = Chart(
-        title, "t (s)", panel.ylabel, lines=tuple(lines), log_y=panel.log,
+        title, panel.xlabel, panel.ylabel, lines=tuple(lines), log_y=panel.log,
         x_range=None if panel.until is None else (0.0, panel.until),
+        equal_aspect=panel.equal_aspect,
     )  # fmt: skip
     return Sheet((chart,))
 

@@ -3,7 +3,8 @@
 The check comes from the registry (:mod:`tumble.checks`): the one the file's
 ``[theory] model`` names, or the first that fits the case. A scenario with a
 ``[gyrocompass]`` table runs the gimbal model instead
-(:mod:`tumble.scenario.gyrocompass`). The result, :class:`RunResult`, holds
+(:mod:`tumble.scenario.gyrocompass`), one with a ``[rotor]`` table the rotor on
+elastic bearings (:mod:`tumble.scenario.rotor`). The result, :class:`RunResult`, holds
 everything a report needs: the trajectories, the rows theory vs simulation,
 the drift of the conserved quantities, and the curves (:class:`~tumble.checks.Panel`)
 to draw.
@@ -32,6 +33,7 @@ from tumble.scenario.build import (
 )
 from tumble.scenario.gyrocompass import run_gyrocompass
 from tumble.scenario.loaded import ScenarioError, where
+from tumble.scenario.rotor import run_rotor
 from tumble.scenario.sampling import decimate, record_every
 from tumble.scenario.schema import MAX_STEPS, MAX_STEPS_TEXT
 
@@ -126,6 +128,13 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
         notes = [
             "The gimbal model: the disk's energy is not conserved (the platform does work); "
             "the Jacobi integral T − Ω·L is."
+        ]
+    elif spec.rotor is not None:
+        runs, comparisons, panels, theory = run_rotor(loaded, mp, progress)
+        notes = [
+            "The rotor model: the motor does work and the bearings take it, so nothing "
+            "is conserved; its whirl, critical speeds and unbalance response are "
+            "tumble.theory.RigidRotor's."
         ]
     else:
         runs, comparisons, panels, theory, notes = _rigid_body(loaded, mp, parts, progress)

@@ -37,6 +37,7 @@ BUILTINS = config.Builtins(
         "gyroscope",
         "gyrocompass",
         "skew-rod",
+        "rotor-on-bearings",
         "tennis-racket",
         "heavy-top",
         "free-symmetric-top",

@@ -4,9 +4,10 @@ A scenario is a TOML file with the tables ``[scenario]`` (name, title,
 description), ``[body]``, ``[[internal]]`` (its rotors and dampers,
 :mod:`tumble.config.parts`), ``[initial]``, ``[environment]``,
 ``[[torques]]``, ``[simulation]``, ``[theory]``, ``[output]`` and, for the
-gimballed gyroscope, ``[gyrocompass]``. Quantities are numbers (SI) or strings with units
-(``"250 g"``, ``"3000 rpm"``, ``"0, 0, -10 cm"``); every value is converted to
-SI floats here, with :mod:`tumble.units`, so what passes validation is a plain
+gimballed gyroscope, ``[gyrocompass]``, for a rotor on elastic bearings
+``[rotor]``. Quantities are numbers (SI) or strings with units (``"250 g"``,
+``"3000 rpm"``, ``"0, 0, -10 cm"``); every value is converted to SI floats
+here, with :mod:`tumble.units`, so what passes validation is a plain
 description in SI. Unknown keys are errors (a typo must not be ignored
 silently); see :func:`tumble.scenario.parse` for how errors are reported. The
 ``[body]`` table is :mod:`tumble.scenario.bodies`.
@@ -18,7 +19,7 @@ import math
 import re
 from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Field, field_validator, model_validator
+from pydantic import BeforeValidator, Field, ValidationInfo, field_validator, model_validator
 
 from tumble.config import StrictModel, key_error
 from tumble.config.parts import InternalSpec
@@ -33,6 +34,7 @@ from tumble.scenario.bodies import (
     LengthVector,
     Time,
     Vector,
+    scalar_field,
     vector_field,
 )
 
@@ -43,6 +45,8 @@ __all__ = [
     "GyrocompassSettings",
     "Initial",
     "Output",
+    "RotorBearing",
+    "RotorSettings",
     "Scenario",
     "Simulation",
     "Theory",
@@ -182,6 +186,65 @@ class GyrocompassSettings(StrictModel):
         return self
 
 
+def number_or_pair(kind: str) -> Any:
+    """A validator of one value ≥ 0 (the same along both transverse axes) or a pair
+    of them (along the rotor's x and y), in SI units of ``kind``."""
+
+    def convert(value: Any, info: ValidationInfo) -> tuple[float, float]:
+        from tumble.theory.bearings import transverse_pair
+
+        return transverse_pair(value, kind, str(info.field_name))
+
+    return BeforeValidator(convert)
+
+
+class RotorBearing(StrictModel):
+    """``[[rotor.bearings]]``: one elastic bearing (:class:`tumble.theory.Bearing`):
+    ``position`` along the rotor's axis from the body's origin; ``stiffness``
+    (N/m) and ``damping`` (N·s/m), each one value or two (``"1e6, 2e6 N/m"``:
+    along the rotor's x and y)."""
+
+    position: Annotated[float, scalar_field("length")]
+    stiffness: Annotated[tuple[float, float], number_or_pair("stiffness")]
+    damping: Annotated[tuple[float, float], number_or_pair("linear_damping")] = (0.0, 0.0)
+
+
+class RotorSettings(StrictModel):
+    """``[rotor]``: ``[body]`` as a rigid rotor on elastic bearings
+    (:class:`tumble.theory.RigidRotor`), spinning about ``axis`` (body axes; a
+    principal axis with equal moments about the other two).
+
+    The run (:func:`tumble.models.run_up`) takes the rotor from the first of
+    ``speeds`` to the second over ``[simulation] duration`` with an
+    ``unbalance`` (kg·m, the unbalance mass times its radius) at
+    ``unbalance_position`` along the axis; a second run at ``steady_speed``
+    (if given) settles on the steady orbits. The Campbell diagram and the
+    unbalance response are drawn over ``speeds``.
+    """
+
+    axis: Annotated[Vector, vector_field("dimensionless")] = (0.0, 0.0, 1.0)
+    bearings: list[RotorBearing]
+    unbalance: Annotated[float, scalar_field("unbalance", positive=True)]
+    unbalance_position: Annotated[float, scalar_field("length")] = 0.0
+    speeds: Annotated[tuple[float, float], vector_field("angular_velocity", (2,))]
+    steady_speed: Annotated[float, scalar_field("angular_velocity", positive=True)] | None = None
+
+    @model_validator(mode="after")
+    def _speeds(self) -> RotorSettings:
+        if len(self.bearings) < 2:
+            raise ValueError(
+                "Expected two or more [[rotor.bearings]] (to hold the rotor's tilt), got "
+                f"{len(self.bearings)}."
+            )
+        low, high = self.speeds
+        if not 0 <= low < high:
+            raise ValueError(
+                f"Expected `speeds` = [from, to] with 0 <= from < to (rad/s), got [{low!r}, "
+                f"{high!r}]."
+            )
+        return self
+
+
 class Scenario(StrictModel):
     """A whole scenario file, validated and in SI units."""
 
@@ -195,6 +258,7 @@ class Scenario(StrictModel):
     theory: Theory = Theory()
     output: Output = Output()
     gyrocompass: GyrocompassSettings | None = None
+    rotor: RotorSettings | None = None
 
     @model_validator(mode="after")
     def _consistent(self) -> Scenario:
@@ -205,7 +269,10 @@ class Scenario(StrictModel):
                 f"Expected `duration` long enough to space [output] samples = {samples} apart, "
                 f"got {self.simulation.duration!r} s (duration / samples rounds to 0 s).",
             )
-        if self.gyrocompass is not None:
+        models = [name for name in ("gyrocompass", "rotor") if getattr(self, name) is not None]
+        if len(models) > 1:
+            raise ValueError("Expected one of [gyrocompass] and [rotor], got both.")
+        if models:
             extra = [
                 name
                 for name, given in (
@@ -213,12 +280,13 @@ class Scenario(StrictModel):
                     ("environment", self.environment != Environment()),
                     ("torques", bool(self.torques)),
                     ("internal", bool(self.internal)),
+                    ("theory", self.theory != Theory()),
                 )
                 if given
             ]
             if extra:
                 raise ValueError(
-                    f"Expected no [{extra[0]}] with [gyrocompass] (the gimbal model sets the "
-                    "initial state and the forces)."
+                    f"Expected no [{extra[0]}] with [{models[0]}] (its model sets the "
+                    "initial state, the forces and the closed form)."
                 )
         return self

@@ -45,12 +45,18 @@ Array = NDArray[np.float64]
 SYMMETRY_TOLERANCE = 1e-3
 
 
-def _pair(value: Any, kind: str, name: str) -> tuple[float, float]:
-    """A number (the same along both transverse axes) or a pair (x, y), ≥ 0."""
-    array = np.atleast_1d(np.asarray(value, dtype=object))
+def transverse_pair(value: Any, kind: str, name: str) -> tuple[float, float]:
+    """A value of a bearing in SI units of ``kind``: one number or quantity (the
+    same along both transverse axes) or a pair (x, y), each ≥ 0.
+
+    Raises
+    ------
+    InputError
+        A value of the wrong unit, shape or sign, naming ``name``.
+    """
     values: tuple[float, float]
-    if array.shape == (1,):
-        values = (to_si(array[0], kind, name),) * 2
+    if "," not in value if isinstance(value, str) else np.ndim(value) == 0:
+        values = (to_si(value, kind, name),) * 2
     else:
         pair = vector_to_si(value, kind, name, (2,))
         values = (float(pair[0]), float(pair[1]))
@@ -66,8 +72,10 @@ class Bearing:
     Parameters
     ----------
     position : its axial position from the rotor's ``point`` along its axis, m.
-    stiffness : N/m: one number (isotropic) or a pair (k_x, k_y) along the two
-        body axes perpendicular to the rotor's axis.
+    stiffness : N/m: one number (isotropic) or a pair (k_x, k_y) along the
+        rotor's two axes perpendicular to its spin axis (:attr:`RigidRotor.frame`;
+        the body's x and y for a rotor spinning about z). The bearings do not
+        turn with the rotor.
     damping : N·s/m, likewise (default 0).
     """
 
@@ -77,8 +85,8 @@ class Bearing:
 
     def __init__(self, position: Any, stiffness: Any, damping: Any = 0.0) -> None:
         object.__setattr__(self, "position", to_si(position, "length", "position"))
-        object.__setattr__(self, "stiffness", _pair(stiffness, "stiffness", "stiffness"))
-        object.__setattr__(self, "damping", _pair(damping, "linear_damping", "damping"))
+        object.__setattr__(self, "stiffness", transverse_pair(stiffness, "stiffness", "stiffness"))
+        object.__setattr__(self, "damping", transverse_pair(damping, "linear_damping", "damping"))
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,6 +110,18 @@ class Whirl:
     shapes: NDArray[np.complex128]
 
 
+def _rotor_frame(axis: Array) -> Array:
+    """(3, 3) the rotor's axes in body coordinates, as columns (e_x, e_y, axis),
+    right-handed: along a body axis e_k, e_x is the next one (z → x, y; x → y, z);
+    otherwise e_x is the body axis least aligned with it, made perpendicular."""
+    k = int(np.argmin(np.abs(axis)))
+    if np.count_nonzero(axis) == 1:
+        k = (int(np.argmax(np.abs(axis))) + 1) % 3
+    first = np.eye(3)[k] - axis[k] * axis
+    first /= np.linalg.norm(first)
+    return np.column_stack([first, np.cross(axis, first), axis])
+
+
 class RigidRotor:
     """A rigid axisymmetric rotor on elastic bearings (see :mod:`tumble.theory.bearings`).
 
@@ -114,6 +134,18 @@ class RigidRotor:
         positions (to hold the rotor's tilt).
     axis : (3,) the spin axis in body coordinates.
     point : (3,) the body point from which bearing positions are measured, m.
+
+    Attributes
+    ----------
+    frame : (3, 3) the rotor's axes (e_x, e_y, axis) as columns in body
+        coordinates: x, y of the motion and of the bearings' (k_x, k_y) are
+        along e_x, e_y (for the axis along z, the body's x and y).
+    body : the rotor's MassProperties.
+    mass, polar, transverse : m (kg), I_p and I_t about the centre of mass (kg·m²).
+    centre : the centre of mass's axial position from ``point``, m.
+    arms : (n_bearings,) each bearing's axial position from the centre of mass, m.
+    mass_matrix, stiffness, damping, gyroscopic : (4, 4) M, K, C and G of the
+        equations of motion (see the module's docstring).
 
     Examples
     --------
@@ -170,6 +202,8 @@ class RigidRotor:
                 f"Expected bearings with stiffness at two or more axial positions (to hold the "
                 f"rotor's tilt), got {len(set(stiff))}."
             )
+        self.body = mp
+        self.frame = _rotor_frame(n)
         self.mass = mp.mass
         self.polar = polar
         self.transverse = float(transverse.mean())
@@ -197,59 +231,59 @@ class RigidRotor:
         """Speeds (rad/s) as an array, and whether one was given as a scalar."""
         if isinstance(speeds, str) or np.ndim(speeds) == 0:
             return np.array([to_si(speeds, "angular_velocity", "speeds")]), True
-        values = np.asarray(speeds, dtype=float).ravel()
-        if not np.all(np.isfinite(values)):
-            bad = values[~np.isfinite(values)][:3].tolist()
-            raise InputError(f"Expected finite `speeds` (rad/s), got {bad}.")
-        return values, False
+        return vector_to_si(speeds, "angular_velocity", "speeds", (-1,)), False
 
-    def _state_matrix(self, speed: float) -> Array:
+    def state_matrices(self, speeds: Any) -> Array:
+        """(n, 8, 8) the first-order system ẏ = A y of each spin speed (rad/s), for the
+        state y = (q, q̇), q = (x, y, α, β): its eigenvalues are the modes."""
+        speeds, _ = self._speeds(speeds)
         inverse = np.linalg.inv(self.mass_matrix)
-        return np.block([
-            [np.zeros((4, 4)), np.eye(4)],
-            [-inverse @ self.stiffness, -inverse @ (self.damping + speed * self.gyroscopic)],
-        ])  # fmt: skip
+        matrices = np.zeros((len(speeds), 8, 8))
+        matrices[:, :4, 4:] = np.eye(4)
+        matrices[:, 4:, :4] = -inverse @ self.stiffness
+        matrices[:, 4:, 4:] = -inverse @ self.damping - speeds[:, None, None] * (
+            inverse @ self.gyroscopic
+        )
+        return matrices
 
-    def _sense(self, shape: NDArray[np.complex128]) -> bool:
-        """Whether a mode whirls forward: the orbit of the bearing point with the
-        largest motion turns the way of the spin (x towards y)."""
-        x = shape[0] + self.arms * shape[3]
-        y = shape[1] - self.arms * shape[2]
-        k = int(np.argmax(np.abs(x) ** 2 + np.abs(y) ** 2))
+    def _forward(self, shapes: NDArray[np.complex128]) -> NDArray[np.bool_]:
+        """Whether modes (..., 4) whirl forward: the orbit of the bearing point with
+        the largest motion turns the way of the spin (x towards y)."""
+        x = shapes[..., [0]] + self.arms * shapes[..., [3]]
+        y = shapes[..., [1]] - self.arms * shapes[..., [2]]
+        k = np.argmax(np.abs(x) ** 2 + np.abs(y) ** 2, axis=-1)[..., None]
+        xk = np.take_along_axis(x, k, axis=-1)[..., 0]
+        yk = np.take_along_axis(y, k, axis=-1)[..., 0]
         # x = Re(X e^{iωt}), y = Re(Y e^{iωt}) turns from x to y when Im(conj(X) Y) < 0.
-        return bool(np.imag(np.conj(x[k]) * y[k]) < 0)
+        return np.asarray(np.imag(np.conj(xk) * yk) < 0)
 
     def whirl(self, speeds: Any) -> Whirl:
         """The four modes at each spin speed (rad/s): damped natural frequencies
         (the imaginary parts of the eigenvalues with positive imaginary part),
-        their direction, damping ratio and shape."""
+        their direction, damping ratio and shape. One stacked eigenproblem for
+        all the speeds."""
         values, _ = self._speeds(speeds)
-        n = len(values)
-        frequencies = np.empty((n, 4))
-        ratios = np.empty((n, 4))
-        forward = np.empty((n, 4), dtype=bool)
-        shapes = np.empty((n, 4, 4), dtype=complex)
-        for i, speed in enumerate(values):
-            eigenvalues, vectors = np.linalg.eig(self._state_matrix(speed))
-            order = np.argsort(-eigenvalues.imag)[:4]  # the four of non-negative imaginary part
-            order = order[np.argsort(eigenvalues.imag[order])]
-            for j, k in enumerate(order):
-                lam = eigenvalues[k]
-                shape = vectors[:4, k]
-                shape = shape / shape[np.argmax(np.abs(shape))]
-                frequencies[i, j] = max(lam.imag, 0.0)
-                ratios[i, j] = -lam.real / abs(lam) if abs(lam) > 0 else 1.0
-                forward[i, j] = self._sense(shape) if lam.imag > 0 else False
-                shapes[i, j] = shape
-            # A repeated frequency (isotropic bearings: cylindrical modes, and every
-            # mode at rest) is one forward and one backward circular whirl, whatever
-            # pair of eigenvectors the solver returned.
-            for j in range(3):
-                close = (
-                    abs(frequencies[i, j + 1] - frequencies[i, j]) <= 1e-9 * frequencies[i, j + 1]
-                )
-                if close and frequencies[i, j] > 0:
-                    forward[i, j], forward[i, j + 1] = False, True
+        eigenvalues, vectors = np.linalg.eig(self.state_matrices(values))
+        order = np.argsort(-eigenvalues.imag, axis=1)[:, :4]  # the four of Im λ ≥ 0
+        order = np.take_along_axis(order, np.argsort(
+            np.take_along_axis(eigenvalues.imag, order, axis=1), axis=1), axis=1)  # fmt: skip
+        lam = np.take_along_axis(eigenvalues, order, axis=1)
+        # (n, mode, coordinate): the displacement half of each eigenvector.
+        shapes = np.take_along_axis(vectors[:, :4, :], order[:, None, :], axis=2)
+        shapes = np.swapaxes(shapes, 1, 2)
+        largest = np.take_along_axis(shapes, np.abs(shapes).argmax(axis=2)[..., None], axis=2)
+        shapes = shapes / largest
+        frequencies = np.maximum(lam.imag, 0.0)
+        size = np.abs(lam)
+        ratios = np.where(size > 0, -lam.real / np.where(size > 0, size, 1.0), 1.0)
+        forward = self._forward(shapes) & (lam.imag > 0)
+        # A repeated frequency (isotropic bearings: cylindrical modes, and every
+        # mode at rest) is one forward and one backward circular whirl, whatever
+        # pair of eigenvectors the solver returned.
+        for j in range(3):
+            close = (np.abs(frequencies[:, j + 1] - frequencies[:, j])
+                     <= 1e-9 * frequencies[:, j + 1]) & (frequencies[:, j] > 0)  # fmt: skip
+            forward[close, j], forward[close, j + 1] = False, True
         return Whirl(readonly(values), readonly(frequencies), forward, readonly(ratios), shapes)
 
     def frequencies(self, speeds: Any) -> Array:
@@ -258,14 +292,22 @@ class RigidRotor:
         result = self.whirl(values).frequencies
         return np.array(result[0]) if scalar else np.array(result)
 
-    def critical_speeds(self, backward: bool = False) -> Array:
-        """The spin speeds (rad/s, ascending) where a forward whirl frequency equals
-        the spin, undamped: the real positive Ω² of ``K v = Ω² (M − i G) v`` (the
-        synchronous solution ``q = v e^{iΩt}``) whose mode whirls forward. A
-        disk-like rotor (I_p ≥ I_t) has no conical forward critical speed.
-        ``backward=True`` adds those of backward whirl, which an unbalance
-        excites too where the bearings are anisotropic (their orbits are then
-        ellipses, and a nearly flat one may turn either way)."""
+    def critical_speeds(self, backward: bool | None = None) -> Array:
+        """The spin speeds (rad/s, ascending) where an unbalance makes the rotor
+        resonate, undamped: the real positive Ω² of ``K v = Ω² (M − i G) v`` (the
+        synchronous solution ``q = v e^{iΩt}``).
+
+        On isotropic bearings an unbalance, a force turning with the spin,
+        drives forward whirl only: the critical speeds are where a forward whirl
+        frequency equals the spin, and a disk-like rotor (I_p ≥ I_t) has no
+        conical one. On anisotropic bearings every mode whirls on an ellipse
+        (a nearly flat one, turning either way), which the unbalance excites
+        whichever way it turns: the roots of backward whirl count too.
+        ``backward`` = True or False includes or leaves out those roots
+        whatever the bearings (default: included on anisotropic bearings).
+        """
+        if backward is None:
+            backward = any(b.stiffness[0] != b.stiffness[1] for b in self.bearings)
         import scipy.linalg
 
         inertial = self.mass_matrix - 1j * self.gyroscopic  # Hermitian
@@ -283,7 +325,7 @@ class RigidRotor:
             # A repeated root (isotropic bearings) holds both senses of whirl.
             repeated = sum(abs(other - value) <= 1e-9 * value for other, _ in real) > 1
             speed = float(np.sqrt(value))
-            if (repeated or backward or self._sense(vector)) and not any(
+            if (repeated or backward or bool(self._forward(vector))) and not any(
                 abs(speed - known) <= 1e-9 * speed for known in speeds
             ):
                 speeds.append(speed)
@@ -299,27 +341,34 @@ class RigidRotor:
         values, _ = self._speeds(speeds)
         u = to_si(unbalance, "unbalance", "unbalance")
         arm = to_si(position, "length", "position") - self.centre
-        orbits = np.empty((len(values), len(self.bearings), 2), dtype=complex)
         scale = 1.0 / np.sqrt(np.diag(self.stiffness))
-        for i, speed in enumerate(values):
-            force = u * speed**2 * np.array([1.0, -1j, 1j * arm, arm])
-            matrix = (self.stiffness - speed**2 * self.mass_matrix
-                      + 1j * speed * (self.damping + speed * self.gyroscopic))  # fmt: skip
-            # Scaled by the stiffness's diagonal: translations (N/m) and tilts
-            # (N·m/rad) differ by orders of magnitude, and the solve keeps its digits.
-            q = scale * np.linalg.solve(scale[:, None] * matrix * scale, scale * force)
-            orbits[i, :, 0] = q[0] + self.arms * q[3]
-            orbits[i, :, 1] = q[1] - self.arms * q[2]
-        return orbits
+        w = values[:, None, None]
+        forces = u * values[:, None] ** 2 * np.array([1.0, -1j, 1j * arm, arm])
+        matrices = (self.stiffness - w**2 * self.mass_matrix
+                    + 1j * w * (self.damping + w * self.gyroscopic))  # fmt: skip
+        # Scaled by the stiffness's diagonal: translations (N/m) and tilts
+        # (N·m/rad) differ by orders of magnitude, and the solve keeps its digits.
+        scaled = np.linalg.solve(scale[:, None] * matrices * scale, (scale * forces)[..., None])
+        q = scale * scaled[..., 0]
+        x = q[:, [0]] + self.arms * q[:, [3]]
+        y = q[:, [1]] - self.arms * q[:, [2]]
+        return np.stack([x, y], axis=2)
 
     def unbalance_response(self, speeds: Any, unbalance: Any, position: Any = 0.0) -> Array:
         """The major semi-axis of the steady orbit at each bearing, m: (n, n_bearings)
         (see :meth:`unbalance_orbits`; a circle's radius on isotropic bearings)."""
         orbits = self.unbalance_orbits(speeds, unbalance, position)
-        x, y = orbits[..., 0], orbits[..., 1]
-        # The ellipse Re((X, Y) e^{iθ}) has semi-axes a ≥ b with a² + b² = |X|² + |Y|²
-        # and a b = |Im(X̄ Y)|; (a² − b²)² = (|X|² − |Y|²)² + 4 Re(X̄ Y)², a sum of
-        # squares (no cancellation for a circle, where it is 0).
-        total = np.abs(x) ** 2 + np.abs(y) ** 2
-        spread = np.hypot(np.abs(x) ** 2 - np.abs(y) ** 2, 2 * np.real(np.conj(x) * y))
-        return np.sqrt((total + spread) / 2)
+        return major_semi_axis(orbits[..., 0], orbits[..., 1])
+
+
+def major_semi_axis(x: Any, y: Any) -> Any:
+    """The major semi-axis of the ellipse ``(Re(X e^{iθ}), Re(Y e^{iθ}))`` for the
+    complex amplitudes X = ``x``, Y = ``y`` (arrays of one shape, or numbers), in
+    their unit: the largest distance of the orbit from its centre."""
+    x, y = np.asarray(x), np.asarray(y)
+    # The semi-axes a ≥ b have a² + b² = |X|² + |Y|² and a b = |Im(X̄ Y)|;
+    # (a² − b²)² = (|X|² − |Y|²)² + 4 Re(X̄ Y)², a sum of squares (no
+    # cancellation for a circle, where it is 0).
+    total = np.abs(x) ** 2 + np.abs(y) ** 2
+    spread = np.hypot(np.abs(x) ** 2 - np.abs(y) ** 2, 2 * np.real(np.conj(x) * y))
+    return np.sqrt((total + spread) / 2)
