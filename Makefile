@@ -69,10 +69,14 @@ pytest: setup
 pytest-site: docs
 	$(BIN)/pytest -q -m site
 
-# The compiled core once more as plain Python, so coverage and tracebacks see the kernels.
+# The compiled core once more as plain Python, so coverage and tracebacks see the
+# kernels: each sweep kernel's every line through the chunk tests (their metrics
+# against simulate's histories), the closed-form oracles with the exact solution.
+# The oracles of the stepped methods run compiled in pytest (as plain Python,
+# thousands of steps of nine bodies take a minute each).
 pytest-nojit: setup
 	$(NOJIT) tests/core
-	$(NOJIT) tests/test_sweep.py -k "quarter or symmetric or single_body or nutation"
+	$(NOJIT) tests/test_sweep.py -k "symmetric or single_body or (quarter and exact) or (nutation and exact)"
 
 # The suite less the slow tests (kills, long fuzzing, large sweeps of kernel
 # variants) and the site's: for the loop of editing.
@@ -106,6 +110,11 @@ bench: setup
 	$(BIN)/python bench/refusals.py
 	$(BIN)/python bench/hostile.py
 	$(BIN)/python bench/identify.py
+	@test -f bench/.venv-ross/.installed || { $(PYTHON) -m venv bench/.venv-ross && \
+	  bench/.venv-ross/bin/pip install --quiet -r bench/requirements-ross.txt && \
+	  touch bench/.venv-ross/.installed; }
+	$(BIN)/python bench/rotors.py
+	$(BIN)/python bench/run_up.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache .hypothesis

@@ -87,6 +87,8 @@ def test_coupled_anisotropic_and_damped_rotors_match_a_model_assembled_here(body
     rotor = RigidRotor(body, [Bearing(p, k, c) for p, k, c in bearings])
     for speed in (0.0, 800.0, 2500.0):
         assert_allclose(rotor.frequencies(speed), assembled(body, bearings, speed), rtol=1e-9)
+        # whirl() solves for the eigenvectors too: the same eigenvalues.
+        assert_allclose(rotor.whirl(speed).frequencies[0], rotor.frequencies(speed), rtol=1e-12)
 
 
 def test_critical_speeds() -> None:

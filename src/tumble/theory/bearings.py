@@ -289,8 +289,10 @@ class RigidRotor:
     def frequencies(self, speeds: Any) -> Array:
         """Damped natural frequencies, rad/s, ascending: (n, 4), or (4,) for a scalar speed."""
         values, scalar = self._speeds(speeds)
-        result = self.whirl(values).frequencies
-        return np.array(result[0]) if scalar else np.array(result)
+        # The eigenvalues alone (no eigenvectors): what whirl() gives, in half the time.
+        eigenvalues = np.linalg.eigvals(self.state_matrices(values))
+        result = np.maximum(np.sort(eigenvalues.imag, axis=1)[:, 4:], 0.0)
+        return result[0] if scalar else result
 
     def critical_speeds(self, backward: bool | None = None) -> Array:
         """The spin speeds (rad/s, ascending) where an unbalance makes the rotor
