@@ -53,7 +53,7 @@ class RunUp:
     t : (n,) sample times, s.
     speed : (n,) spin speed Ω(t), rad/s.
     state : (n, 4) the rotor's (x, y, α, β): centre of mass (m) and tilts (rad),
-        along and about the rotor's e_x, e_y (:attr:`~tumble.theory.RigidRotor.frame`).
+        along and about the rotor's e_x, e_y (the ``frame`` of the RigidRotor).
     orbits : (n, n_bearings, 2) the shaft's displacement at each bearing, m.
     trajectory : the rotor's attitude and body rates as a
         :class:`~tumble.Trajectory` (its spin and tilts; its centre's motion is

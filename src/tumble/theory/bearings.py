@@ -73,7 +73,7 @@ class Bearing:
     ----------
     position : its axial position from the rotor's ``point`` along its axis, m.
     stiffness : N/m: one number (isotropic) or a pair (k_x, k_y) along the
-        rotor's two axes perpendicular to its spin axis (:attr:`RigidRotor.frame`;
+        rotor's two axes perpendicular to its spin axis (:class:`RigidRotor`'s ``frame``;
         the body's x and y for a rotor spinning about z). The bearings do not
         turn with the rotor.
     damping : N·s/m, likewise (default 0).
