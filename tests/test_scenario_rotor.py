@@ -94,18 +94,18 @@ def test_the_report_is_written(tmp_path) -> None:  # type: ignore[no-untyped-def
         ),
         (('unbalance = "50 g*mm"', 'unbalance = "-50 g*mm"'), r"Expected `unbalance` > 0"),
         (
-            ("samples = 4000", 'samples = 4000\n\n[initial]\nomega = "0, 0, 1 rad/s"'),
+            ("viewer = false", 'viewer = false\n\n[initial]\nomega = "0, 0, 1 rad/s"'),
             r"Expected no \[initial\] with \[rotor\] \(its model sets the initial state, the forces "
             r"and the closed form\)\.",
         ),
         (
-            ("samples = 4000", 'samples = 4000\n\n[theory]\nmodel = "none"'),
+            ("viewer = false", 'viewer = false\n\n[theory]\nmodel = "none"'),
             r"Expected no \[theory\] with \[rotor\]",
         ),
         (
             (
-                "samples = 4000",
-                "samples = 4000\n\n[gyrocompass]\nspin_rate = 1\nplatform_rate = 1\namplitudes = [0.1]",
+                "viewer = false",
+                "viewer = false\n\n[gyrocompass]\nspin_rate = 1\nplatform_rate = 1\namplitudes = [0.1]",
             ),
             r"Expected one of \[gyrocompass\] and \[rotor\], got both\.",
         ),
