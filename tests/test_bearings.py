@@ -157,12 +157,23 @@ def test_anisotropic_bearings_give_elliptical_orbits() -> None:
 
 
 def test_refusals() -> None:
-    with pytest.raises(tb.InputError, match=r"^Expected `stiffness` >= 0, got \[-1\.0, -1\.0\]\.$"):
+    with pytest.raises(tb.InputError, match=r"^Expected `stiffness` >= 0, got -1\.0\.$"):
         Bearing(0.0, -1.0)
     with pytest.raises(
-        tb.InputError, match=r"stiffness at two or more axial positions .*, got 1\.$"
+        tb.InputError, match=r"^Expected `damping` >= 0 along x and y, got \[1\.0, -2\.0\]\.$"
+    ):
+        Bearing(0.0, 1e6, "1, -2 N*s/m")
+    with pytest.raises(
+        tb.InputError, match=r"stiffness along x at two or more axial positions .*, got 1\.$"
     ):
         RigidRotor(ROD, [Bearing(0.1, 1e6), Bearing(0.1, 2e6)])
+    # Held along x only: free to move along y (its frequencies 0, its response infinite).
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected bearings with stiffness along y at two or more axial positions \(to "
+        r"hold the rotor's tilt\), got 0\.$",
+    ):
+        RigidRotor(ROD, [Bearing(-0.2, (1e6, 0.0)), Bearing(0.2, (1e6, 0.0))])
     with pytest.raises(
         tb.InputError, match=r"^Expected `speeds` to be finite, got \[0\.0, nan\]\.$"
     ):
@@ -258,6 +269,16 @@ def test_a_run_up_reports_progress_and_gives_the_rotors_attitude() -> None:
     rotor = RigidRotor(body, [Bearing(-0.2, (1e6, 2e6), 300.0), Bearing(0.25, 1e6, 300.0)],
                        axis=(1, 0, 0))  # fmt: skip
     assert_allclose(rotor.frame, [[0, 0, 1], [1, 0, 0], [0, 1, 0]], atol=1e-15)
+    # An axis a round-off away from a body axis has that axis's frame (the
+    # bearings' x and y stay where they were), and each frame is right-handed.
+    for axis, expected in (
+        ((1e-17, 0, 1), np.eye(3)),
+        ((0, 1, 1e-17), [[0, 1, 0], [0, 0, 1], [1, 0, 0]]),
+    ):
+        frame = RigidRotor(ROD if axis[2] == 1 else ROD.transformed(rotation=Rotation.from_rotvec([-math.pi / 2, 0, 0]).as_matrix()),
+                           [Bearing(-0.2, 1e6), Bearing(0.2, 1e6)], axis=axis).frame  # fmt: skip
+        assert_allclose(frame, expected, atol=1e-15)
+        assert np.linalg.det(frame) == pytest.approx(1.0)
     calls: list[tuple[int, int]] = []
     run = run_up(rotor, 1e-4, duration=0.5, speed=100.0, acceleration=600.0, samples=501,
                  progress=lambda done, total: calls.append((done, total)))  # fmt: skip

@@ -109,7 +109,7 @@ def run_up(
     ------
     InputError
         A rotor that is not a RigidRotor, a duration ≤ 0, fewer than 2
-        samples, or a run-up to a negative speed.
+        samples, or a spin that would change sign during the run.
 
     Examples
     --------

@@ -130,12 +130,7 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
             "the Jacobi integral T − Ω·L is."
         ]
     elif spec.rotor is not None:
-        runs, comparisons, panels, theory = run_rotor(loaded, mp, progress)
-        notes = [
-            "The rotor model: the motor does work and the bearings take it, so nothing "
-            "is conserved; its whirl, critical speeds and unbalance response are "
-            "tumble.theory.RigidRotor's."
-        ]
+        runs, comparisons, panels, theory, notes = run_rotor(loaded, mp, progress)
     else:
         runs, comparisons, panels, theory, notes = _rigid_body(loaded, mp, parts, progress)
     main = next(iter(runs.values()))

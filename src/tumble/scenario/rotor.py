@@ -44,12 +44,16 @@ CURVE_POINTS = 400
 #: The share of the steady run, at its end, over which its orbit is fitted.
 STEADY_TAIL = 0.1
 
+#: Critical speeds closer than this (relative) count as one peak of a run-up.
+CLUSTER = 0.02
+
 
 def run_rotor(
     loaded: LoadedScenario, mp: MassProperties, progress: Progress
-) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str]:
+) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str, list[str]]:
     """The runs by label ("main" the run-up, "steady" the run at ``steady_speed``),
-    the rows theory vs simulation, the panels, and the name of the closed form."""
+    the rows theory vs simulation, the panels, the name of the closed form and
+    notes for the report."""
     from tumble import models, theory
 
     spec = loaded.spec
@@ -87,16 +91,32 @@ def run_rotor(
         _response(rotor, speeds, runs["main"], settings, names),
         _phase(rotor, speeds, settings, names),
     ]
+    notes = [
+        "The rotor model: the motor does work and the bearings take it, so nothing is "
+        "conserved; its whirl, critical speeds and unbalance response are "
+        "tumble.theory.RigidRotor's."
+    ]
     if "steady" in runs:
         steady_rows, orbits = _steady(rotor, runs["steady"], settings, names)
         rows = steady_rows + rows
         panels.append(orbits)
+        # The free vibration of the start decays as e^{Re λ t}, its slowest mode's
+        # rate the least −Re λ; the orbit is fitted from (1 − STEADY_TAIL) T on.
+        decay = float(-np.linalg.eigvals(rotor.state_matrices(runs["steady"].speed[0])).real.min())
+        left = math.exp(-decay * (1.0 - STEADY_TAIL) * duration)
+        if left > 1e-6:
+            notes.append(
+                f"The start-up transient of the run at {settings.steady_speed:.4g} rad/s has "
+                f"decayed only to {left:.1e} of its size where the orbit is fitted (the "
+                f"slowest mode decays at {decay:.3g} 1/s): the steady rows carry that error "
+                "(a longer [simulation] duration, or damped bearings, take it away)."
+            )
     trajectories = {label: run.trajectory for label, run in runs.items()}
-    return trajectories, rows, panels, CLOSED_FORM
+    return trajectories, rows, panels, CLOSED_FORM, notes
 
 
 def _bearing_names(rotor: RigidRotor) -> list[str]:
-    """ "bearing A (z = −0.2 m)", … in the order of the table."""
+    """ "bearing A at -0.25 m", … in the order of the table."""
     return [
         f"bearing {chr(ord('A') + k)} at {bearing.position:.3g} m"
         for k, bearing in enumerate(rotor.bearings)
@@ -130,10 +150,11 @@ def _steady(
             f"{where}: orbit's major semi-axis", major_semi_axis(theory_orbit[0], theory_orbit[1]),
             major_semi_axis(fitted[0], fitted[1]), "m",
         ))  # fmt: skip
-        rows.append(comparison_row(
-            f"{where}: phase lag of x", -math.degrees(np.angle(theory_orbit[0])),
-            -math.degrees(np.angle(fitted[0])), "deg",
-        ))  # fmt: skip
+        # The lag in [0°, 360°); the fit's, as the theory's plus their difference
+        # (in (−180°, 180°]), so that neither wraps apart from the other.
+        lag = -math.degrees(np.angle(theory_orbit[0])) % 360.0
+        fitted_lag = lag - math.degrees(np.angle(fitted[0] / theory_orbit[0]))
+        rows.append(comparison_row(f"{where}: phase lag of x", lag, fitted_lag, "deg"))
     for row in rows:
         row["run"] = "steady"
     tail = run.t >= run.t[-1] - 2 * math.pi / speed  # the last turn
@@ -161,7 +182,10 @@ def _critical_rows(
     the later the faster the run-up (Friswell et al. §3.6), so the relative
     difference is the lag."""
     criticals = rotor.critical_speeds()
-    inside = [c for c in criticals if run.speed.min() < c < run.speed.max()]
+    # Critical speeds within CLUSTER of each other (anisotropic bearings split a
+    # pair only a little) make one peak, after the last of them.
+    last = np.append(criticals[1:] > (1.0 + CLUSTER) * criticals[:-1], True)
+    inside = [c for c in criticals[last] if run.speed.min() < c < run.speed.max()]
     rows = []
     for k, critical in enumerate(inside):
         following = criticals[criticals > critical]

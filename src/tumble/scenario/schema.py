@@ -230,7 +230,7 @@ class RotorSettings(StrictModel):
     steady_speed: Annotated[float, scalar_field("angular_velocity", positive=True)] | None = None
 
     @model_validator(mode="after")
-    def _speeds(self) -> RotorSettings:
+    def _consistent(self) -> RotorSettings:
         if len(self.bearings) < 2:
             raise ValueError(
                 "Expected two or more [[rotor.bearings]] (to hold the rotor's tilt), got "

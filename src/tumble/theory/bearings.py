@@ -54,15 +54,18 @@ def transverse_pair(value: Any, kind: str, name: str) -> tuple[float, float]:
     InputError
         A value of the wrong unit, shape or sign, naming ``name``.
     """
-    values: tuple[float, float]
-    if "," not in value if isinstance(value, str) else np.ndim(value) == 0:
-        values = (to_si(value, kind, name),) * 2
-    else:
-        pair = vector_to_si(value, kind, name, (2,))
-        values = (float(pair[0]), float(pair[1]))
-    if not all(v >= 0 for v in values):
-        raise InputError(f"Expected `{name}` >= 0, got {list(values)}.")
-    return values
+    # One value: a number, a quantity, or a string without a comma ("1e6 N/m",
+    # where "1e6, 2e6 N/m" is a pair).
+    text = isinstance(value, str)
+    if (text and "," not in value) or (not text and np.ndim(value) == 0):
+        number = to_si(value, kind, name)
+        if not number >= 0:
+            raise InputError(f"Expected `{name}` >= 0, got {number!r}.")
+        return number, number
+    pair = vector_to_si(value, kind, name, (2,))
+    if not np.all(pair >= 0):
+        raise InputError(f"Expected `{name}` >= 0 along x and y, got {pair.tolist()}.")
+    return float(pair[0]), float(pair[1])
 
 
 @dataclass(frozen=True)
@@ -112,12 +115,12 @@ class Whirl:
 
 def _rotor_frame(axis: Array) -> Array:
     """(3, 3) the rotor's axes in body coordinates, as columns (e_x, e_y, axis),
-    right-handed: along a body axis e_k, e_x is the next one (z → x, y; x → y, z);
-    otherwise e_x is the body axis least aligned with it, made perpendicular."""
-    k = int(np.argmin(np.abs(axis)))
-    if np.count_nonzero(axis) == 1:
-        k = (int(np.argmax(np.abs(axis))) + 1) % 3
-    first = np.eye(3)[k] - axis[k] * axis
+    right-handed: e_x is the body axis after the one the spin axis is most
+    along (z → x; x → y; y → z), made perpendicular to it. So along a body axis
+    the frame is that of the body's axes in turn (z: x, y), and an axis a
+    round-off away from one has the same frame to that round-off."""
+    k = (int(np.argmax(np.abs(axis))) + 1) % 3
+    first = np.eye(3)[k] - axis[k] * axis  # |axis[k]|² ≤ 1/2: well conditioned
     first /= np.linalg.norm(first)
     return np.column_stack([first, np.cross(axis, first), axis])
 
@@ -196,12 +199,13 @@ class RigidRotor:
         bearings = list(bearings)
         if not all(isinstance(b, Bearing) for b in bearings):
             raise InputError("Expected `bearings` to be tumble.theory.Bearing objects.")
-        stiff = [b.position for b in bearings if max(b.stiffness) > 0]
-        if len(set(stiff)) < 2:
-            raise InputError(
-                f"Expected bearings with stiffness at two or more axial positions (to hold the "
-                f"rotor's tilt), got {len(set(stiff))}."
-            )
+        for k, direction in enumerate("xy"):
+            stiff = {b.position for b in bearings if b.stiffness[k] > 0}
+            if len(stiff) < 2:
+                raise InputError(
+                    f"Expected bearings with stiffness along {direction} at two or more axial "
+                    f"positions (to hold the rotor's tilt), got {len(stiff)}."
+                )
         self.body = mp
         self.frame = _rotor_frame(n)
         self.mass = mp.mass
