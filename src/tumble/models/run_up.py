@@ -10,8 +10,16 @@ through Ω̇: its rate adds I_p Ω̇ (β, −α) to the gyroscopic I_p Ω (β̇,
 
     M q̈ + (C + Ω G) q̇ + (K + Ω̇ G) q = f(t)
 
-for q = (x, y, α, β) (Friswell, Penny, Garvey & Lees, *Dynamics of Rotating
-Machines*, 2010, §3.6 on run-up). At a constant speed the orbits settle on the
+for q = (x, y, α, β). This takes the drive's torque I_p Ω̇ about the bearings'
+fixed axis (a motor on the frame, no moment across the axis). A drive whose
+torque turns with the tilted axis (a flexible coupling) supplies I_p Ω̇ (β, −α)
+itself and takes the Ω̇ G term away; with the spin angle the last of the
+Euler angles Rx(α) Ry(β) Rz(φ) and the drive an ideal constraint on it
+(Lagrange's equations), only its part in the α equation remains. The three
+differ by I_p Ω̇ / K_θ of the tilt (below 1e-4 for the rotors of the tests and
+the built-in scenario), far below the run-up's own lag of the peak (Friswell,
+Penny, Garvey & Lees, *Dynamics of Rotating Machines*, 2010, §3.6, on run-up
+through a critical speed). At a constant speed the orbits settle on the
 steady unbalance response of :meth:`RigidRotor.unbalance_orbits`; through a
 critical speed at a finite rate the peak comes later and lower than the
 steady one. The equations are stepped by the compiled RK4 of
