@@ -366,6 +366,33 @@ def test_a_cycle_of_joints_is_refused(tmp_path: Path) -> None:
         tb.robots.load(robot_file(tmp_path, text))
 
 
+def test_a_file_that_cannot_be_read_and_a_cut_start_tag_are_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The superuser reads any file: the refusal of the operating system is mocked.
+    from tumble.robots.fix import _tag_end
+
+    path = robot_file(tmp_path, EXAMPLE, "arm.urdf")
+
+    def refuse(self: Path) -> bytes:
+        raise PermissionError(13, "Permission denied")
+
+    with monkeypatch.context() as patch:
+        patch.setattr(Path, "read_bytes", refuse)
+        with pytest.raises(
+            tb.InputError,
+            match=r"^Expected a readable robot file, got '.*arm\.urdf': Permission denied\.$",
+        ):
+            tb.robots.load(path)
+    # A '>' inside an attribute's quotes does not end the tag.
+    assert _tag_end(b'<inertia ixx="1>" iyy="2"/>', 0) == 27
+    with pytest.raises(
+        tb.InputError,
+        match=r"^Expected a complete start tag in the robot file, got the end of the file\.$",
+    ):
+        _tag_end(b'<inertia ixx="1>"', 0)
+
+
 def test_other_refusals(tmp_path: Path) -> None:
     with pytest.raises(
         tb.InputError, match=r"\.urdf \(URDF\) or \.xml \(MJCF\), got '.*arm\.xacro' \(run xacro"
