@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from tumble.errors import InputError
 from tumble.massprops import MassProperties, as_mass_properties, readonly
-from tumble.theory.common import spin_axis
+from tumble.theory.common import as_flat, spin_axis
 from tumble.units import to_si, vector_to_si
 
 __all__ = ["Bearing", "RigidRotor", "Whirl"]
@@ -233,9 +233,8 @@ class RigidRotor:
 
     def _speeds(self, speeds: Any) -> tuple[Array, bool]:
         """Speeds (rad/s) as an array, and whether one was given as a scalar."""
-        if isinstance(speeds, str) or np.ndim(speeds) == 0:
-            return np.array([to_si(speeds, "angular_velocity", "speeds")]), True
-        return vector_to_si(speeds, "angular_velocity", "speeds", (-1,)), False
+        values, shape = as_flat(speeds, "angular_velocity", "speeds")
+        return values, shape == ()
 
     def state_matrices(self, speeds: Any) -> Array:
         """(n, 8, 8) the first-order system ẏ = A y of each spin speed (rad/s), for the

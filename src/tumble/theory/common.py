@@ -14,6 +14,7 @@ from tumble.units import SI_UNITS, to_si, vector_to_si
 
 __all__ = [
     "UNITS",
+    "as_flat",
     "as_times",
     "check_moments",
     "format_values",
@@ -46,12 +47,18 @@ def spin_axis(axis: Any) -> Array:
     return direction / length
 
 
+def as_flat(value: Any, kind: str, name: str) -> tuple[Array, tuple[int, ...]]:
+    """One value or a list of them (numbers, quantities or strings with units of
+    ``kind``) in SI units as a flat array, and the shape given (``()`` for one)."""
+    if np.ndim(value) == 0:
+        return np.array([to_si(value, kind, name)]), ()
+    values = vector_to_si(value, kind, name, (-1,))
+    return values, values.shape
+
+
 def as_times(t: Any) -> tuple[Array, tuple[int, ...]]:
     """Times in s as a flat array, and the shape of ``t`` (``()`` for a scalar)."""
-    if np.ndim(t) == 0:
-        return np.array([to_si(t, "time", "t")]), ()
-    times = vector_to_si(t, "time", "t", (-1,))
-    return times, times.shape
+    return as_flat(t, "time", "t")
 
 
 def rotate_about_z(vectors: Array, angles: Array) -> Array:
