@@ -109,6 +109,26 @@ def _read_stamp(python: Any) -> str:
     return f"{name}@{status.st_mtime_ns}:{status.st_size}"
 
 
+def own_name(identity: str) -> Callable[[Any], Any]:
+    """Give a closure a qualified name of its own per ``identity`` (what its code
+    depends on, as for :func:`specialise`), before it is compiled.
+
+    numba names a compiled function's symbols after its qualified name and a
+    counter of the process that compiled it, so two closures of one factory
+    compiled in different processes can share symbol names; a process that
+    loads both from the cache (in a kernel that calls them) then runs one body
+    for both (numba issue #10486). Every closure compiled into a cached kernel
+    and not inlined into it (the kernels themselves, the work on one block)
+    takes a name of its own so."""
+
+    def rename(function: Any) -> Any:
+        tag = hashlib.sha256(identity.encode()).hexdigest()[:16]
+        function.__qualname__ = f"{function.__qualname__}_{tag}"
+        return function
+
+    return rename
+
+
 def specialise(decorator: Any, identity: str) -> Callable[[Any], Any]:
     """Compile a closure with ``decorator`` (:data:`njit`, :data:`njit_parallel` or
     :data:`njit_vector`), cached on disk under ``identity``.
@@ -119,14 +139,7 @@ def specialise(decorator: Any, identity: str) -> Callable[[Any], Any]:
     """
 
     def compile_closure(function: Any) -> Any:
-        # numba names a compiled function's symbols after its qualified name and a
-        # counter of the process that compiled it, so two closures of one factory
-        # compiled in different processes can share symbol names; a process that
-        # loads both from the cache then runs one body for both (numba issue
-        # #10486). A qualified name of its own per identity keeps them apart.
-        tag = hashlib.sha256(identity.encode()).hexdigest()[:16]
-        function.__qualname__ = f"{function.__qualname__}_{tag}"
-        dispatcher = decorator(cache=False)(function)
+        dispatcher = decorator(cache=False)(own_name(identity)(function))
         if CACHE and not numba.config.DISABLE_JIT:  # type: ignore[attr-defined]
             # numba raises RuntimeError when it finds no writable cache location:
             # then the closure compiles in each process.

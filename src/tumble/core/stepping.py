@@ -30,7 +30,16 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from tumble.core._jit import FINITE, file_stamp, njit, njit_block, njit_vector, prange, specialise
+from tumble.core._jit import (
+    FINITE,
+    file_stamp,
+    njit,
+    njit_block,
+    njit_vector,
+    own_name,
+    prange,
+    specialise,
+)
 from tumble.core.dynamics import euler_coefficients, is_finite, record
 from tumble.core.metrics import (
     ENERGY_DEVIATION,
@@ -267,15 +276,17 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
     over blocks of ``BLOCK`` bodies, vectorised within a block. A body whose
     state became NaN or infinite keeps that state (fast-math may not keep a
     finiteness test inside the loop): the caller checks; ``status`` is left as is.
-    ``variables``: those ``step`` steps; ``advance(step, torque)``: for a stepper
-    with a faster way for whole blocks, a compiled function of
-    :func:`block_steps`'s arguments that steps a block in place and calls the
-    observer after each step, or None (:func:`block_steps` itself).
+    ``variables``: those ``step`` steps; ``advance(step, torque, observed=False)``:
+    for a stepper with a faster way for whole blocks, a compiled function of
+    :func:`block_steps`'s arguments that steps a block in place and, if
+    ``observed``, calls the observer after each step; or None
+    (:func:`block_steps` itself).
     """
     enter, leave, _ = variables
     advance, stamp = _advance(step, torque, variables, advance)
 
     @njit_block
+    @own_name(f"stepping.batch.block|{stamp}|{identity}")
     def stepped_block(w, q, inertia, params, context, t0, dt, n_steps, start, stop):  # type: ignore[no-untyped-def]
         """The steps of bodies ``start:stop``."""
         state, coefficients, block_params = load_block(enter, w, q, inertia, params, start, stop)
@@ -324,7 +335,7 @@ def metrics_kernel(  # type: ignore[no-untyped-def]
     after each one, in a second loop over it.
     """
     enter, leave, vectors = variables
-    chosen = None if advance is None else advance(step, torque)
+    chosen = None if advance is None else advance(step, torque, observed=True)
     stamp = _stamp(step, variables, chosen)
     start_nominal, about = _ANY_AXIS if principal_axis is None else _on_axis(principal_axis)
 
@@ -350,14 +361,22 @@ def metrics_kernel(  # type: ignore[no-untyped-def]
             _measured(measured_vectors, t0 + k * dt, dt, rows, _REFERENCE_ODD, _REFERENCE_EVEN)
 
     put = _put_state if attitude else _put_rates
+    # Chosen here, not by a test in the kernel: the compiler inlines every branch
+    # before it prunes the dead one, and the body-by-body loop (a whole step,
+    # inlined twice) added a tenth to the compile time of a kernel that advances
+    # whole blocks (measured).
+    steps = _measured_steps if chosen is None else _advanced_steps
 
     @njit_block
+    @own_name(
+        f"stepping.metrics.block|{stamp}|axis {principal_axis}|attitude {attitude}|{identity}"
+    )
     def measured_block(w, q, inertia, params, context, axis, t0, dt, n_steps, out, start, stop):  # type: ignore[no-untyped-def]
         """The steps and measures of bodies ``start:stop``."""
         rows, block_params = _measuring_rows(
             enter, vectors, start_nominal, about, w, q, inertia, params, axis, start, stop
         )
-        _measured_steps(
+        steps(
             step, measured_vectors, put, chosen, measure, torque, t0, dt, n_steps, rows,
             block_params, context,
         )  # fmt: skip
@@ -382,28 +401,35 @@ def _measured_steps(  # type: ignore[no-untyped-def]
     step, measured_vectors, put, advance, measure, torque, t0, dt, n_steps, rows, params, context
 ):  # fmt: skip
     """``n_steps`` steps of ``dt`` s from time ``t0`` of a measuring block, each
-    measured (:func:`tumble.core.metrics.observe`): body by body in one loop when
-    ``advance`` is None (the new state written by ``put``: :func:`_put_state`, or
-    :func:`_put_rates` to leave the attitude), else by ``advance`` with
-    ``measure`` its observer."""
-    if advance is None:
-        for k in range(n_steps):
-            # As in ``measure``: the rows of the reference ``c`` as constants.
-            if k % 2 == 0:
-                _stepped_and_measured(
-                    step, measured_vectors, put, torque, t0 + k * dt, dt, rows, params, context,
-                    _REFERENCE_EVEN, _REFERENCE_ODD,
-                )  # fmt: skip
-            else:
-                _stepped_and_measured(
-                    step, measured_vectors, put, torque, t0 + k * dt, dt, rows, params, context,
-                    _REFERENCE_ODD, _REFERENCE_EVEN,
-                )  # fmt: skip
-    else:
-        advance(
-            step, torque, t0, dt, n_steps, _state_views(rows), _coefficient_views(rows), params,
-            context, measure, (rows, t0, dt),
-        )  # fmt: skip
+    body measured (:func:`tumble.core.metrics.observe`) in the loop that steps it
+    and its new state written by ``put`` (:func:`_put_state`, or
+    :func:`_put_rates` to leave the attitude). ``advance`` and ``measure`` are
+    not used: the arguments are :func:`_advanced_steps`'s."""
+    for k in range(n_steps):
+        # As in ``measure``: the rows of the reference ``c`` as constants.
+        if k % 2 == 0:
+            _stepped_and_measured(
+                step, measured_vectors, put, torque, t0 + k * dt, dt, rows, params, context,
+                _REFERENCE_EVEN, _REFERENCE_ODD,
+            )  # fmt: skip
+        else:
+            _stepped_and_measured(
+                step, measured_vectors, put, torque, t0 + k * dt, dt, rows, params, context,
+                _REFERENCE_ODD, _REFERENCE_EVEN,
+            )  # fmt: skip
+
+
+@njit(inline="always")
+def _advanced_steps(  # type: ignore[no-untyped-def]
+    step, measured_vectors, put, advance, measure, torque, t0, dt, n_steps, rows, params, context
+):  # fmt: skip
+    """As :func:`_measured_steps`, by a stepper's own ``advance`` of the whole
+    block, with ``measure`` its observer (which reads the state from the block's
+    array: ``put`` is not used)."""
+    advance(
+        step, torque, t0, dt, n_steps, _state_views(rows), _coefficient_views(rows), params,
+        context, measure, (rows, t0, dt),
+    )  # fmt: skip
 
 
 @njit(inline="always")
