@@ -22,9 +22,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
-from scipy.spatial.transform import Rotation
 
-from tumble.core.freebody import free_omega
+from tumble.core import rate_model
 from tumble.errors import InputError
 from tumble.identification.checks import (
     MIN_SAMPLES,
@@ -150,34 +149,26 @@ class BodyFit:
 
 def principal_rates(moments: Array, omega0: Array, times: Array) -> Array:
     """(n, 3) exact torque-free ω(t) in the principal frame for moments in any
-    order (all > 0), ω(0) = ``omega0``.
-
-    The exact solution takes ascending moments; a permutation P of the axes (a
-    reflection when odd) maps the motion to ``det(P) P ω``, which obeys the same
-    Euler equations for the permuted moments, so the motion is solved sorted and
-    mapped back.
-    """
-    order = np.argsort(moments, kind="stable")
-    sign = float(np.linalg.det(np.eye(3)[order]))
-    solved = free_omega(np.ascontiguousarray(moments[order]), sign * omega0[order], times)
-    out = np.empty_like(solved)
-    out[:, order] = sign * solved
-    return out
+    order (all > 0), ω(0) = ``omega0``: see
+    :func:`tumble.core.rate_model.principal_rates`."""
+    return np.asarray(
+        rate_model.principal_rates(
+            np.asarray(moments, dtype=float),
+            np.asarray(omega0, dtype=float),
+            np.ascontiguousarray(times, dtype=float),
+        )
+    )
 
 
 # ------------------------------------------------------------------ the model
 def _unpack(x: Array, frame: Array, with_bias: bool) -> tuple[Array, Array, Array, Array]:
-    # Clipped: a step of the solver far off must not overflow (e^±60 is no body).
-    moments = np.array([*np.exp(np.clip(x[:2], -60.0, 60.0)), 1.0])
-    axes = frame @ Rotation.from_rotvec(x[2:5]).as_matrix()
+    """The moments, principal axes, ω0 and bias of the parameters ``x`` (see
+    :func:`tumble.core.rate_model.rate_residuals`)."""
+    exponents = np.clip(x[:2], -rate_model.LARGEST_EXPONENT, rate_model.LARGEST_EXPONENT)
+    moments = np.array([*np.exp(exponents), 1.0])
+    axes = frame @ rate_model.rotation_matrix(np.ascontiguousarray(x[2:5]))
     bias = x[8:11] if with_bias else np.zeros(3)
     return moments, axes, x[5:8], bias
-
-
-def _residuals(x: Array, frame: Array, times: Array, measured: Array, with_bias: bool) -> Array:
-    moments, axes, omega0, bias = _unpack(x, frame, with_bias)
-    predicted = principal_rates(moments, omega0, times) @ axes.T + bias
-    return np.asarray((predicted - measured).ravel())
 
 
 def _solve(
@@ -201,9 +192,15 @@ def _solve(
     # steps crawl near the end, long after the answer has stopped changing.
     budget = 200 if tight and loss == "linear" else 40
     return least_squares(
-        _residuals,
+        rate_model.rate_residuals,
         x0,
-        args=(frame, times, measured, with_bias),
+        # Contiguous once here, not at each of the many evaluations.
+        args=(
+            np.ascontiguousarray(frame),
+            np.ascontiguousarray(times),
+            np.ascontiguousarray(measured),
+            with_bias,
+        ),
         method="lm" if loss == "linear" else "trf",
         # For trf: LSMR, not a dense SVD of the (3n, 11) Jacobian at every step.
         **({} if loss == "linear" else {"tr_solver": "lsmr"}),
