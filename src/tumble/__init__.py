@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from tumble import analysis as analysis
     from tumble import identification as identification
     from tumble import models as models
+    from tumble import parts as parts
     from tumble import robots as robots
     from tumble import shapes as shapes
     from tumble import sweep as sweep
@@ -89,6 +90,7 @@ _PUBLIC = {
     "analysis": "tumble.analysis",
     "identification": "tumble.identification",
     "models": "tumble.models",
+    "parts": "tumble.parts",
     "robots": "tumble.robots",
     "shapes": "tumble.shapes",
     "sweep": "tumble.sweep",
