@@ -22,7 +22,6 @@ if TYPE_CHECKING:
     from tumble import analysis as analysis
     from tumble import identification as identification
     from tumble import models as models
-    from tumble import parts as parts
     from tumble import robots as robots
     from tumble import shapes as shapes
     from tumble import sweep as sweep
@@ -90,7 +89,6 @@ _PUBLIC = {
     "analysis": "tumble.analysis",
     "identification": "tumble.identification",
     "models": "tumble.models",
-    "parts": "tumble.parts",
     "robots": "tumble.robots",
     "shapes": "tumble.shapes",
     "sweep": "tumble.sweep",

@@ -1,7 +1,7 @@
 """Parts a body carries inside it, each kind a registered plugin
-(:data:`PARTS`, :func:`register_part`): :class:`~tumble.Rotor` (reaction and momentum
-wheels, the rotor of a dual-spin satellite), :class:`~tumble.KaneDamper` (a sphere in
-viscous fluid) and :class:`~tumble.SpringMassDamper` (a point mass on a spring), the
+(:data:`PARTS`, :func:`register_part`): :class:`Rotor` (reaction and momentum
+wheels, the rotor of a dual-spin satellite), :class:`KaneDamper` (a sphere in
+viscous fluid) and :class:`SpringMassDamper` (a point mass on a spring), the
 two internal energy sinks.
 
 **Convention.** A body's :class:`~tumble.MassProperties` hold every internal
@@ -15,12 +15,12 @@ adds them itself.)
 
 What a part contributes, with ω the body's angular velocity (body axes):
 
-* :class:`~tumble.Rotor` (axis a, axial moment J, relative spin Ω): angular momentum
+* :class:`Rotor` (axis a, axial moment J, relative spin Ω): angular momentum
   ``J (a·ω + Ω) a`` beyond the locked ``J (a·ω) a``; kinetic energy
   ``h² / (2 J)`` with ``h = J (a·ω + Ω)`` its axial momentum;
-* :class:`~tumble.KaneDamper` (moment J, sphere angular velocity ω_s): ``J ω_s`` and
+* :class:`KaneDamper` (moment J, sphere angular velocity ω_s): ``J ω_s`` and
   ``J |ω_s|² / 2`` in place of the locked ``J ω`` and ``J |ω|² / 2``;
-* :class:`~tumble.SpringMassDamper` (mass m displaced by x along n): the change of the
+* :class:`SpringMassDamper` (mass m displaced by x along n): the change of the
   inertia about the moving centre of mass and the coupling of ẋ with ω, the
   kinetic energy of its sliding and the spring's elastic energy.
 

@@ -175,7 +175,7 @@ class SpringMassDamper(InternalPart):
     stiffness: Any
     damping: Any = 0.0
     displacement: Any = 0.0
-    #: Set by :meth:`~tumble.SpringMassDamper.attached` (the reduced mass
+    #: Set by :meth:`~tumble.parts.SpringMassDamper.attached` (the reduced mass
     #: μ, kg, and the rest position d0 from the centre of mass of the rest of the
     #: body, m, body axes): what the part knows of the body that carries it; None
     #: for a bare part.
