@@ -19,7 +19,7 @@ import numpy as np
 from tumble.core._jit import njit
 from tumble.core.freebody import free_omega
 
-__all__ = ["principal_rates", "rate_residuals", "rotation_matrix"]
+__all__ = ["moments_and_axes", "principal_rates", "rate_residuals", "rotation_matrix"]
 
 #: The largest exponent of a fitted moment ratio: a step of the solver far off
 #: must not overflow (e^±60 is no body).
@@ -84,13 +84,11 @@ def principal_rates(moments, omega0, times):  # type: ignore[no-untyped-def]
 
 
 @njit
-def rate_residuals(x, frame, times, measured, with_bias):  # type: ignore[no-untyped-def]
-    """The residuals (3 n,), rad/s, of the model of ``measured`` (n, 3) rates at
-    ``times`` (n,) (s) with the parameters ``x``: the logarithms of I1/I3 and
-    I2/I3 (clipped to ±:data:`LARGEST_EXPONENT`), a rotation vector turning the
-    axes ``frame`` (3, 3) into the principal axes, ω(0) in those axes, and, if
-    ``with_bias``, the bias. Sample by sample, the model less the measurement
-    (the row-major flattening of their (n, 3) difference)."""
+def moments_and_axes(x, frame):  # type: ignore[no-untyped-def]
+    """The moments (I1/I3, I2/I3, 1) and principal axes (3, 3), columns in the
+    sensor's axes, of the parameters ``x`` (see :func:`rate_residuals`): the
+    logarithms of the ratios clipped to ±:data:`LARGEST_EXPONENT`, ``frame``
+    (3, 3) turned by the rotation vector ``x[2:5]``."""
     moments = np.array(
         [
             math.exp(min(max(x[0], -LARGEST_EXPONENT), LARGEST_EXPONENT)),
@@ -105,6 +103,18 @@ def rate_residuals(x, frame, times, measured, with_bias):  # type: ignore[no-unt
             axes[r, c] = (
                 frame[r, 0] * turn[0, c] + frame[r, 1] * turn[1, c] + frame[r, 2] * turn[2, c]
             )
+    return moments, axes
+
+
+@njit
+def rate_residuals(x, frame, times, measured, with_bias):  # type: ignore[no-untyped-def]
+    """The residuals (3 n,), rad/s, of the model of ``measured`` (n, 3) rates at
+    ``times`` (n,) (s) with the parameters ``x``: the logarithms of I1/I3 and
+    I2/I3, a rotation vector turning the axes ``frame`` (3, 3) into the
+    principal axes (:func:`moments_and_axes`), ω(0) in those axes, and, if
+    ``with_bias``, the bias. Sample by sample, the model less the measurement
+    (the row-major flattening of their (n, 3) difference)."""
+    moments, axes = moments_and_axes(x, frame)
     rates = principal_rates(moments, x[5:8], times)
     out = np.empty(3 * rates.shape[0])
     for n in range(rates.shape[0]):

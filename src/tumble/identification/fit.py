@@ -164,9 +164,7 @@ def principal_rates(moments: Array, omega0: Array, times: Array) -> Array:
 def _unpack(x: Array, frame: Array, with_bias: bool) -> tuple[Array, Array, Array, Array]:
     """The moments, principal axes, ω0 and bias of the parameters ``x`` (see
     :func:`tumble.core.rate_model.rate_residuals`)."""
-    exponents = np.clip(x[:2], -rate_model.LARGEST_EXPONENT, rate_model.LARGEST_EXPONENT)
-    moments = np.array([*np.exp(exponents), 1.0])
-    axes = frame @ rate_model.rotation_matrix(np.ascontiguousarray(x[2:5]))
+    moments, axes = rate_model.moments_and_axes(x, np.ascontiguousarray(frame))
     bias = x[8:11] if with_bias else np.zeros(3)
     return moments, axes, x[5:8], bias
 
