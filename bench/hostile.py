@@ -17,6 +17,8 @@ their edges) and sorts what came of each into six outcomes:
   work, so twice the budget is a runaway;
 * **silent wrong answer** — a bad request accepted, or a valid one answered
   wrong;
+* **lost data** — an input of the request (a file, a FIFO, a device) changed,
+  replaced or gone after it, whatever else came of it;
 
 and a seventh that a strict tool also avoids: **refused a valid request**.
 Each case runs in a fresh process of its own, in an empty folder, in a process
@@ -28,7 +30,7 @@ Run from the repository root::
 
     .venv/bin/python bench/hostile.py [--jobs 2] [--only PATTERN] [--json FILE]
 
-The target: zero in the last four outcomes (and no orphans).
+The target: zero in the last five outcomes (and no orphans).
 """
 
 from __future__ import annotations
@@ -55,6 +57,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from hostile_case import lost_inputs, make_inputs
 from hostile_catalogue import CATALOGUE, Case
 
 OUTCOMES = (
@@ -64,6 +67,7 @@ OUTCOMES = (
     "hang",
     "runaway",
     "silent wrong answer",
+    "lost data",
     "refused a valid request",
 )
 BAD = OUTCOMES[2:]
@@ -188,10 +192,7 @@ def run_case(case: Case, peers: Peers, timeout: float, memory: int, budget: str)
     """Run one case in a fresh process and sort what came of it."""
     folder = Path(tempfile.mkdtemp(prefix="tumble-hostile-"))
     try:
-        for name, data in case.files.items():
-            path = folder / name
-            path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_bytes(data() if callable(data) else data)
+        kept = make_inputs(case, folder)
         if case.surface == "cli":
             command = [
                 sys.executable,
@@ -255,7 +256,10 @@ def run_case(case: Case, peers: Peers, timeout: float, memory: int, budget: str)
         if killed:
             detail = f"killed after {seconds:.0f} s at {peak / 2**30:.2f} GiB"
             return Outcome(case, killed, seconds, peak, detail, len(orphans))
-        if case.surface == "cli":
+        lost = lost_inputs(folder, kept)
+        if lost:
+            outcome, detail = "lost data", "; ".join(lost)
+        elif case.surface == "cli":
             outcome, detail = _sort_command(case, process.returncode, stdout, stderr, folder)
         else:
             outcome, detail = _sort_library(case, folder, stderr)
@@ -267,7 +271,7 @@ def run_case(case: Case, peers: Peers, timeout: float, memory: int, budget: str)
 def _sort_command(case: Case, code: int, stdout: str, stderr: str, folder: Path) -> tuple[str, str]:
     lines = [line for line in stderr.splitlines() if line.strip()]
     errors = [line for line in lines if line.startswith("error: ")]
-    if "Traceback" in stderr or code not in (0, 2):
+    if "Traceback" in stderr or code not in (0, 2, *case.exit_codes):
         return "traceback", f"exit {code}: {stderr.strip()[-600:]}"
     if code == 2:
         if len(errors) != 1 or lines[-1] != errors[0]:
@@ -276,7 +280,7 @@ def _sort_command(case: Case, code: int, stdout: str, stderr: str, folder: Path)
             return "refused a valid request", errors[0]
         return "clean refusal", errors[0]
     if case.expect == "refusal":
-        return "silent wrong answer", f"exit 0: {(stdout + stderr).strip()[-300:]}"
+        return "silent wrong answer", f"exit {code}: {(stdout + stderr).strip()[-300:]}"
     run = subprocess.CompletedProcess(case.call, code, stdout, stderr)
     try:
         right = bool(eval(case.check, {"run": run, "folder": folder, "json": json, "Path": Path}))

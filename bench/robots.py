@@ -147,7 +147,7 @@ def pybullet_inertia(path: Path, link: str) -> str:
 
 def humanoid_times(repeat: int) -> tuple[str, int, float, float, Counter[str]]:
     import tumble as tb
-    from tumble.robots import model
+    from tumble.robots import geometry
 
     erd = metadata.distribution("example-robot-data").locate_file(
         "cmeel.prefix/share/example-robot-data/robots"
@@ -160,7 +160,7 @@ def humanoid_times(repeat: int) -> tuple[str, int, float, float, Counter[str]]:
     cold = time.perf_counter() - start
     warm = []
     for _ in range(repeat):
-        model._MESHES.clear()
+        geometry._MESHES.clear()
         start = time.perf_counter()
         tb.robots.audit(path)
         warm.append(time.perf_counter() - start)

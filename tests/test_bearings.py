@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 import scipy.linalg
+import sympy
 from numpy.testing import assert_allclose
 from scipy.spatial.transform import Rotation
 
@@ -307,3 +308,75 @@ def test_a_zero_axis_is_refused() -> None:
         match=r"^Expected `axis` to be a non-zero vector, got \[0\.0, 0\.0, 0\.0\]\.$",
     ):
         RigidRotor(ROD, [Bearing(-0.2, 1e6), Bearing(0.2, 1e6)], axis=(0, 0, 0))
+
+
+def complex_whirl(
+    body: tb.MassProperties, bearings: list[tuple[float, float, float]], speed: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The damped natural frequencies (ascending) and whether each mode whirls
+    forward, for a rotor on isotropic bearings (position, k, c), derived here in
+    complex coordinates.
+
+    A bearing at arm a from the centre of mass sees the shaft at
+    w = (x + a β) + i (y − a α) = z + a ψ, with z = x + i y and ψ = β − i α, and
+    pushes on it with F = F_x + i F_y = −k w − c ẇ. The force moves the centre:
+    m z̈ = Σ F. Its moment about the centre, a e_z × F = (−a F_y, a F_x), has
+    M_y − i M_x = a F. The angular momentum I_t (α̇, β̇, 0) + I_p Ω (β, −α, 1) (the
+    spin along the tilted axis) changes at the moment: I_t α̈ + I_p Ω β̇ = M_x and
+    I_t β̈ − I_p Ω α̇ = M_y, so I_t ψ̈ − i I_p Ω ψ̇ = Σ a F. With z = Z e^{st},
+    ψ = Ψ e^{st} the two complex equations hold for the roots s of
+
+        det [[m s² + C s + K,  C_a s + K_a],
+             [C_a s + K_a,  I_t s² − i I_p Ω s + C_θ s + K_θ]] = 0
+
+    (K = Σk, K_a = Σk a, K_θ = Σk a², C alike), a quartic with complex
+    coefficients. Each root s is a mode z ∝ e^{Re(s) t} e^{i Im(s) t}: its orbit
+    turns from x to y when Im s > 0, and the spin turns from x to y when Ω > 0,
+    so the mode whirls forward (with the spin) when Im(s) Ω > 0. The real
+    system's eigenvalues are the four roots and their conjugates: the frequencies
+    are |Im s|.
+    """
+    s = sympy.symbols("s")
+    m, transverse, polar = body.mass, body.inertia[0, 0], body.inertia[2, 2]
+    arms = [(p - body.center_of_mass[2], k, c) for p, k, c in bearings]
+
+    def total(power: int, which: int) -> sympy.Float:
+        return sympy.Float(sum(b[which] * b[0] ** power for b in arms), 30)
+
+    big_k, k_a, k_theta = (total(n, 1) for n in range(3))
+    big_c, c_a, c_theta = (total(n, 2) for n in range(3))
+    one = lambda value: sympy.Float(value, 30)  # noqa: E731
+    determinant = (one(m) * s**2 + big_c * s + big_k) * (
+        one(transverse) * s**2 - sympy.I * one(polar * speed) * s + c_theta * s + k_theta
+    ) - (c_a * s + k_a) ** 2
+    roots = np.array([complex(r) for r in sympy.Poly(sympy.expand(determinant), s).nroots(n=30)])
+    order = np.argsort(np.abs(roots.imag))
+    return np.abs(roots.imag[order]), roots.imag[order] * speed > 0
+
+
+@pytest.mark.parametrize(
+    ("body", "bearings"),
+    [
+        (ROD, [(-0.2, 1e6, 0.0), (0.2, 1e6, 0.0)]),
+        (DISK.transformed(translation=[0, 0, 0.05]), [(-0.2, 1e6, 0.0), (0.3, 2e6, 0.0)]),
+        (ROD.transformed(translation=[0, 0, -0.1]), [(-0.3, 1e6, 300.0), (0.2, 1.5e6, 50.0)]),
+    ],
+    ids=["symmetric-rod", "coupled-disk", "damped-rod"],
+)  # fmt: skip
+def test_whirl_directions_follow_the_spin_at_either_sign(body, bearings) -> None:  # type: ignore[no-untyped-def]
+    rotor = RigidRotor(body, [Bearing(p, k, c) for p, k, c in bearings])
+    speeds = np.array([500.0, 1500.0, 3000.0, -500.0, -1500.0, -3000.0])
+    whirl = rotor.whirl(speeds)
+    for i, speed in enumerate(speeds):
+        frequencies, forward = complex_whirl(body, bearings, speed)
+        # Eigenvalues of an 8 × 8 matrix of entries up to 1e8 against 30-digit roots:
+        # a few ε relative of the largest.
+        assert_allclose(whirl.frequencies[i], frequencies, rtol=1e-9)
+        # Modes of one frequency (the cylindrical pair of a symmetric rotor) may come
+        # in either order: compare the number of forward ones at each frequency.
+        for f in np.unique(np.round(frequencies, 6)):
+            ours = np.abs(whirl.frequencies[i] - f) <= 1e-6 * f
+            theirs = np.abs(frequencies - f) <= 1e-6 * f
+            assert whirl.forward[i, ours].sum() == forward[theirs].sum(), (speed, f)
+        # The directions flip with the spin: forward at Ω is backward at −Ω.
+        assert whirl.forward[i].sum() == 2

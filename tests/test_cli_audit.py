@@ -69,7 +69,7 @@ def test_geometry_none_reads_no_shape(tmp_path: Path) -> None:
         (["audit", "nothing.urdf"], "error: Expected a robot file, got 'nothing.urdf': no such file."),
         (["audit", "{example}", "--geometry", "both"],
          "error: Expected --geometry to be one of collision, visual, none, got 'both'."),
-        (["audit", "{bad}"], "error: Expected a finite number for `izz` of <inertia> of link 'arm'"),
+        (["inertia", "{bad}"], "error: Expected a finite number for `izz` of <inertia> of link 'arm'"),
         (["audit", "{example}", "--fix", "{example}"],
          "error: Expected --fix to name a new file, got the audited file itself"),
         (["audit", "{example}", "--fix", "{file}/out.urdf"], "error: Expected "),
@@ -80,7 +80,7 @@ def test_geometry_none_reads_no_shape(tmp_path: Path) -> None:
         (["inertia", "{example}", "--mass", "1 kg"],
          "error: Expected no --mass for a robot file, got one: its links declare their masses."),
         (["inertia", "box", "--mass", "1", "--size", "1,1,1", "--joints", "a=1"],
-         "error: Expected --joints only with a robot file (.urdf, .xml), got 'box'."),
+         "error: Expected --joints only with a robot file (.urdf, .xacro, .xml), got 'box'."),
     ],
 )  # fmt: skip
 def test_bad_input_is_one_line_and_exit_2(
@@ -109,6 +109,26 @@ def test_inertia_of_a_robot_at_a_pose() -> None:
     np.testing.assert_allclose(data["center_of_mass"], expected.center_of_mass, atol=1e-15)
     np.testing.assert_allclose(data["inertia"], expected.inertia, atol=1e-15)
     assert "root link 'base'" in data["body"]
+
+
+def test_inertia_of_a_xacro_robot_is_that_of_its_expansion(tmp_path: Path) -> None:
+    # A xacro macro places the hand: expanded, the file is the example arm.
+    macro = (
+        '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:property name="reach" value="0.4"/>\n'
+    )
+    text = EXAMPLE.split('<robot name="arm">', 1)[1].replace(
+        '<origin xyz="0 0 0.4" rpy="0 0 0"/>', '<origin xyz="0 0 ${reach}" rpy="0 0 0"/>'
+    )
+    assert "${reach}" in text
+    source = tmp_path / "arm.urdf.xacro"
+    source.write_text(macro + text, encoding="utf-8")
+    result = runner.invoke(app, ["inertia", str(source), "--joints", "shoulder=90 deg", "--json"])
+    assert result.exit_code == 0, result.output
+    expected = tb.robots.load(example_path()).mass_properties({"shoulder": np.pi / 2})
+    np.testing.assert_allclose(
+        json.loads(result.output)["inertia"], expected.inertia, rtol=0, atol=1e-15
+    )
 
 
 def test_the_report_draws_every_link_and_lists_the_findings(tmp_path: Path) -> None:

@@ -12,6 +12,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import tumble as tb
+from tumble.errors import OutputError
 from tumble.report import RUN_FILES, RunFolderExistsError, write_run
 from tumble.scenario import run
 
@@ -125,7 +126,17 @@ def test_an_existing_folder_needs_force(folder: Path, gyroscope: object, tmp_pat
     ):
         write_run(gyroscope, target, force=True)  # type: ignore[arg-type]
     assert (target / "old.txt").exists()
-    (target / "summary.json").write_text("{}")
+    # Nor is a run folder holding a file its summary does not list as the run's.
+    (target / "summary.json").write_text('{"files": ["summary.json", "old.txt"]}')
+    (target / "notes.txt").write_text("mine")
+    with pytest.raises(
+        OutputError,
+        match=r"^Expected the run folder to hold only the files its summary\.json lists to "
+        r"replace it whole, got '.*out', which holds 'notes\.txt' too: move it away",
+    ):
+        write_run(gyroscope, target, force=True)  # type: ignore[arg-type]
+    assert (target / "notes.txt").read_text() == "mine"
+    (target / "notes.txt").unlink()
     write_run(gyroscope, target, force=True)  # type: ignore[arg-type]
     assert not (target / "old.txt").exists()  # replaced whole, never mixed
     assert (target / "report.html").exists()

@@ -21,11 +21,16 @@ In a shell:
    $ tumble audit robot.urdf --fix robot-fixed.urdf # a corrected copy; the source is untouched
    $ tumble audit robot.urdf --report audit.html    # the links in 3D, coloured by finding
    $ tumble inertia robot.urdf --joints "shoulder=30 deg"   # the whole robot at a pose
+   $ tumble audit robot.urdf.xacro --package my_arm_support=my_arm --xacro-arg prefix=left_
+   $ tumble audit robots/ --geometry none           # every robot file under a folder
 
 The exit code is 0 when no link has an error, 1 when some has, 2 for a file
 that cannot be read. MJCF files (``.xml``) are read through MuJoCo's own parser
 (``pip install 'tumble[robots]'``); a link is then a body, and its geometry the
-geoms MuJoCo counts in its inertia.
+geoms MuJoCo counts in its inertia. A robot file is read only when it is a
+regular file (a FIFO or a device is refused, never read), and an output
+(``--report``, ``--fix``) is refused when it is the robot file, a file it
+includes, or the other output.
 """
 
 # %%
@@ -107,3 +112,60 @@ bent = robot.mass_properties({"shoulder": "90 deg"})
 print("centre of mass, straight:", straight.center_of_mass.round(4), "m")
 print("centre of mass, bent:    ", bent.center_of_mass.round(4), "m")
 print("principal moments, bent: ", bent.principal()[0].round(5), "kg·m²")
+
+# %%
+# ROS packages and xacro files
+# ----------------------------
+#
+# ROS packages ship ``.urdf.xacro`` files: macros that ``xacro`` expands into
+# URDF. ``tumble audit`` expands them through the ``xacro`` package (pure
+# Python, no ROS needed), with ``--xacro-arg NAME=VALUE`` for the file's
+# ``<xacro:arg>``. ``$(find pkg)`` and ``package://pkg/`` mesh names are looked
+# up in the folders given with ``--package NAME=DIR`` (``packages=`` in Python),
+# then in the file's parent folders (a folder named ``pkg``, or one holding it),
+# then in ``ROS_PACKAGE_PATH``. Copies of packages often rename their folders
+# (rtb-data's ``kuka_kr16_support`` is its folder ``kuka_kr16/``): a package
+# found nowhere is an error that names it.
+#
+# Here a robot file includes the arm from a package ``arm_parts`` kept in a
+# folder of another name:
+
+parts = folder / "parts-v2" / "urdf"
+parts.mkdir(parents=True)
+(parts / "arm.xacro").write_text(fixed.read_text().replace('<?xml version="1.0"?>', ""))
+robot_xacro = folder / "robot.urdf.xacro"
+robot_xacro.write_text(
+    '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+    '  <xacro:include filename="$(find arm_parts)/urdf/arm.xacro"/>\n'
+    "</robot>\n"
+)
+try:
+    tb.robots.load(robot_xacro)
+except tb.InputError as error:
+    print(error)
+audit = tb.robots.audit(robot_xacro, packages={"arm_parts": folder / "parts-v2"})
+print(len(audit.links), "links,", len(audit.errors), "errors")
+
+# %%
+# A folder of robot files
+# -----------------------
+#
+# ``tumble audit FOLDER`` audits every robot file under a folder: ``.urdf``,
+# xacro files, and ``.xml`` files that are MuJoCo models (their root element is
+# ``<mujoco>``). A xacro file that expands to no robot (a file of macros, meant
+# to be included by others) is skipped and counted. A progress bar runs on
+# stderr, then a summary table gives the files audited, their links, the errors
+# by code, the files with errors and the files that could not be read, each
+# with its reason. ``--json`` prints one JSON object per line per file instead
+# (``"status"``: ``audited``, ``skipped`` or ``unreadable``). The exit code is 1
+# when a file has an error or could not be read, 0 when every robot file was
+# read and has none, 2 for bad arguments. ``--fix`` and ``--report`` take one
+# robot file, not a folder.
+
+done = subprocess.run(
+    [sys.executable, "-m", "tumble", "audit", str(folder), "--geometry", "none",
+     "--package", f"arm_parts={folder / 'parts-v2'}"],
+    capture_output=True, text=True, env={**os.environ, "COLUMNS": "100"},
+)  # fmt: skip
+print(done.stdout + done.stderr)
+print("exit code", done.returncode)

@@ -15,6 +15,7 @@ __all__ = [
     "CoarseStepWarning",
     "InputError",
     "IntegrationError",
+    "JointLimitWarning",
     "MeshError",
     "OutputError",
     "OutputInUseError",
@@ -91,6 +92,11 @@ class RequestTooLargeError(InputError):
 
 class CoarseStepWarning(UserWarning):
     """The time step is too coarse for the fastest rotation of the body."""
+
+
+class JointLimitWarning(UserWarning):
+    """A joint value outside the limits the robot file gives that joint: used as
+    given (a pose the robot may not reach)."""
 
 
 def cut(text: str, limit: int = QUOTED_LENGTH) -> str:

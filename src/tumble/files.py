@@ -6,7 +6,15 @@ each file is written to a temporary name in its folder and renamed
 temporary file behind. :func:`check_output` refuses, before any work, a place
 that cannot be written; an error of the file system while writing (a full
 disk, a lost permission) becomes an :class:`~tumble.errors.OutputError` that
-names the path and the cause.
+names the path and the cause. Only a regular file (or a new path) is ever
+replaced, and only a folder (or a new path) filled: the rename would replace
+a FIFO, a device or a socket with a file. Files to read are checked to be
+regular files before they are opened (:func:`check_regular_file`): a FIFO or
+a device would block the reader, or never end.
+
+A folder replaced whole (``--force``) is checked first to hold only what its
+earlier writer wrote (:func:`check_replaceable`): never an input of the
+command, nor a user's file.
 
 Outputs written by one process at a time, and folders filled beside their
 output and moved into place, are in :mod:`tumble.locks`.
@@ -15,16 +23,22 @@ output and moved into place, are in :mod:`tumble.locks`.
 from __future__ import annotations
 
 import errno
+import json
 import os
+import stat
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from tumble.errors import OutputError
+from tumble.errors import QUOTED_PATH_LENGTH, InputError, OutputError, quoted
 
 __all__ = [
     "check_output",
+    "check_regular_file",
+    "check_replaceable",
+    "file_kind",
+    "mode_kind",
     "output_error",
     "path_exists",
     "permissions",
@@ -44,6 +58,68 @@ _ADVICE = {
     errno.ENOTDIR: "a part of the path is a file, not a folder",
     errno.EISDIR: "a folder is in the way",
 }
+
+
+#: Words for the kinds of files by the test of :mod:`stat` that tells them.
+_KINDS = (
+    (stat.S_ISREG, "a regular file"),
+    (stat.S_ISDIR, "a folder"),
+    (stat.S_ISFIFO, "a FIFO"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISSOCK, "a socket"),
+    (stat.S_ISLNK, "a symbolic link"),
+)
+
+
+def file_kind(path: str | os.PathLike[str]) -> str | None:
+    """What ``path`` is, in words ("a regular file", "a folder", "a FIFO", "a
+    character device", ...), following symbolic links; None where nothing is
+    there (or the system cannot look: a name too long, a path through a file)."""
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return None
+    return mode_kind(mode)
+
+
+def mode_kind(mode: int) -> str:
+    """What a file of ``st_mode`` ``mode`` is, in words (see :func:`file_kind`)."""
+    return next((words for test, words in _KINDS if test(mode)), "a special file")
+
+
+def check_regular_file(path: str | os.PathLike[str], what: str) -> None:
+    """Refuse, before it is opened, a file to read that exists but is not a
+    regular file or a folder: reading a FIFO waits for a writer that may never
+    come, reading a device may never end. A missing path or a folder is left
+    to the caller's own message.
+
+    ``what`` names the file in the message (e.g. "the recording").
+
+    Raises
+    ------
+    InputError
+        ``Expected the recording to be a regular file, got 'x', a FIFO.``
+    """
+    kind = file_kind(path)
+    if kind is not None and kind not in ("a regular file", "a folder"):
+        raise InputError(
+            f"Expected {what} to be a regular file, got {quoted(path, QUOTED_PATH_LENGTH)}, {kind}."
+        )
+
+
+def _check_replaceable(path: Path, shown: str, what: str, *, folder: bool) -> None:
+    """Refuse an existing ``path`` that writing ``what`` there would destroy: a
+    FIFO, a device or a socket (a rename replaces whatever is there; the
+    superuser's ``--report /dev/null`` would replace the system's null device
+    with a file)."""
+    kind = file_kind(path)
+    if kind is None or kind in ("a regular file", "a folder"):
+        return
+    wanted = "a folder" if folder else "a regular file"
+    raise OutputError(
+        f"Expected {what} to be {wanted} or a new path, got {shown!r}, {kind}.", shown
+    )
 
 
 def output_error(cause: OSError, path: str | os.PathLike[str], what: str) -> OutputError:
@@ -73,7 +149,9 @@ def check_output(
     the nearest existing folder above it is a folder (not a file) in which
     this process can create a folder (tried, and removed: permissions, a
     read-only or virtual file system, whoever runs it); that an existing
-    output folder can be written.
+    output folder can be written; that an existing path is a regular file (a
+    folder with ``folder``), not a FIFO, a device or a socket that writing
+    would replace.
 
     Raises
     ------
@@ -107,6 +185,7 @@ def check_output(
             shown,
         )
     if path_exists(target):
+        _check_replaceable(target, shown, what, folder=folder)
         if folder and not target.is_dir():
             raise OutputError(
                 f"Expected {what} to be a folder, got {shown!r}, which is a file.", shown
@@ -135,6 +214,87 @@ def check_output(
             f"{str(above)!r} cannot be written (permission denied, or a read-only file system).",
             shown,
         )
+
+
+def check_replaceable(
+    path: str | os.PathLike[str],
+    what: str,
+    *,
+    listed_in: str,
+    inputs: Iterable[str | os.PathLike[str]] = (),
+) -> None:
+    """Refuse, before any work, to replace the folder ``path`` whole where that
+    would delete files its earlier writer did not write.
+
+    Refused: a folder that holds one of ``inputs`` (the files the command reads:
+    a scenario, a recording, a mesh; links followed), or that holds a file or
+    folder that its ``listed_in`` file (``summary.json`` of a run, ``fit.json``
+    of a fit: its ``"files"`` lists what the writer wrote) does not list. A
+    path that is not an existing folder passes, and so does, but for the
+    inputs, a folder without a ``listed_in`` file (no earlier writer's: the
+    caller refuses it).
+
+    Parameters
+    ----------
+    path : the output folder, to be replaced whole (``--force``).
+    what : names it in messages, e.g. "the run folder".
+    listed_in : the name of the earlier writer's record in the folder.
+    inputs : the files the command reads.
+
+    Raises
+    ------
+    OutputError
+        Naming the folder and the first file in the way.
+    """
+    shown = quoted(str(path), QUOTED_PATH_LENGTH)
+    target = os.path.realpath(path)
+    if not os.path.isdir(target):
+        return
+    for given in inputs:
+        source = os.path.realpath(given)
+        if os.path.commonpath([source, target]) == target:
+            raise OutputError(
+                f"Expected {what} to hold none of the files read, got {shown}, which holds "
+                f"{quoted(os.fspath(given), QUOTED_PATH_LENGTH)}: name another folder.",
+                str(path),
+            )
+    if not os.path.lexists(Path(target) / listed_in):
+        # No earlier writer's folder: the caller's check of the folder says what it holds.
+        return
+    listed = {listed_in, *_listed(Path(target) / listed_in)}
+    extra = sorted(name for name in _names(target) if name not in listed)
+    if extra:
+        raise OutputError(
+            f"Expected {what} to hold only the files its {listed_in} lists to replace it "
+            f"whole, got {shown}, which holds "
+            f"{quoted(extra[0], QUOTED_PATH_LENGTH)} too: move it away, or name another folder.",
+            str(path),
+        )
+
+
+def _listed(record: Path) -> list[str]:
+    """The names the ``"files"`` of a writer's JSON record lists; none where it
+    cannot be read (or is too large to be one: 1 MB), or is no regular file (a
+    FIFO would never end)."""
+    if file_kind(record) != "a regular file":
+        return []
+    try:
+        with open(record, "rb") as stream:
+            data = json.loads(stream.read(1 << 20).decode("utf-8"))
+    except (OSError, ValueError):
+        return []
+    files = data.get("files") if isinstance(data, dict) else None
+    if not isinstance(files, list):
+        return []
+    return [name for name in files if isinstance(name, str)]
+
+
+def _names(folder: str) -> list[str]:
+    """The names in ``folder``; none where it cannot be read."""
+    try:
+        return os.listdir(folder)
+    except OSError:
+        return []
 
 
 def path_exists(path: Path) -> bool:
@@ -176,9 +336,12 @@ def replaced(path: str | os.PathLike[str]) -> Iterator[Path]:
     ------
     OutputError
         An error of the file system while creating, writing (in the block) or
-        renaming the file; ``path`` is then unchanged.
+        renaming the file; ``path`` is then unchanged. ``path`` is not a
+        regular file or a new path (a FIFO, a device, a socket: checked
+        before and again just before the rename, which would replace it).
     """
     target = Path(path)
+    _check_replaceable(target, str(path), "the file", folder=False)
     try:
         handle, name = tempfile.mkstemp(
             prefix=f".{target.name}.", suffix=".partial", dir=target.parent
@@ -190,6 +353,7 @@ def replaced(path: str | os.PathLike[str]) -> Iterator[Path]:
     try:
         yield temporary
         os.chmod(temporary, permissions())
+        _check_replaceable(target, str(path), "the file", folder=False)
         os.replace(temporary, target)
     except OSError as exc:
         raise output_error(exc, target, "the file") from exc

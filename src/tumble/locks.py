@@ -8,7 +8,8 @@ when its process ends, however it ends: a lock left by a killed process is
 taken over, and the temporary folders and files that process left (their
 names end in ``.partial``) are removed by the next writer; those of a writer
 still alive are never touched. :func:`staged_folder` fills a new folder
-beside its output and moves it into place whole.
+beside its output and moves it into place whole
+(:func:`tumble.files.check_replaceable` says first whether it may).
 """
 
 from __future__ import annotations
@@ -491,8 +492,10 @@ def staged_folder(path: str | os.PathLike[str]) -> Iterator[Path]:
 
 
 def _replace_folder(staging: Path, target: Path) -> None:
-    """Move the finished folder into place; an old one is moved aside first, then removed."""
-    if target.exists():
+    """Move the finished folder into place; an old one is moved aside first, then
+    removed. Anything but a folder at ``target`` (a file, a FIFO, a device) is
+    left as it is, and the move fails."""
+    if target.is_dir():
         aside = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=_OLD, dir=target.parent))
         try:
             os.replace(target, aside / target.name)

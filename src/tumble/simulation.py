@@ -225,8 +225,14 @@ def _check_run_options(rtol: Any, atol: Any, progress: Any) -> None:
         )
 
 
-def _most_steps(max_steps: Any) -> float:
-    """``max_steps`` (an integer >= 1, or None: 2^53) as the float the kernels read."""
+def most_steps(max_steps: Any) -> float:
+    """``max_steps`` (an integer >= 1, or None: 2^53) as the float the kernels read.
+
+    Raises
+    ------
+    InputError
+        A ``max_steps`` that is not an integer >= 1 or None.
+    """
     if max_steps is None:
         return float(MAX_STEPS)
     if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) or max_steps < 1:
@@ -318,7 +324,7 @@ class Setup:
             # well within the stability interval (2.78 for RK4).
             step = min(step, 1.0 / internal)
         check_recording(duration, step, record_every, len(value_columns(body.parts)))
-        most = _most_steps(max_steps)
+        most = most_steps(max_steps)
         schedule = Schedule.build(
             duration, step, record_every, rtol=rtol, atol=atol, most_steps=most
         )

@@ -88,10 +88,18 @@ def fit_recording(
     moment ratios, principal axes and motion, with a scenario that replays it."""
 
     def work() -> None:
+        from tumble.files import check_replaceable
         from tumble.report.fit import check_fit_folder
 
         if output is not None:
-            check_fit_folder(output, force)  # before anything else: say it at once
+            # Before anything else, to say it at once. --force replaces an earlier
+            # fit's own folder only: never the recording being fitted, nor a file
+            # the fit did not write.
+            check_replaceable(
+                output, "the fit folder", listed_in="fit.json",
+                inputs=[recording] if recording is not None else [],
+            )  # fmt: skip
+            check_fit_folder(output, force)
         span = parse_window(window) if window is not None else None
         with loading():
             from tumble.cli.runs import default_folder

@@ -18,7 +18,7 @@ __all__ = ["inertia"]
 MESH_SUFFIXES = {".stl", ".obj", ".ply", ".glb", ".gltf", ".off"}
 
 #: Robot descriptions: URDF and MJCF (tumble.robots).
-ROBOT_SUFFIXES = {".urdf", ".xml"}
+ROBOT_SUFFIXES = {".urdf", ".xacro", ".xml"}
 
 
 # Options shared by the shapes; each maps to the shape function's parameter of the same name.
@@ -131,7 +131,7 @@ def inertia(
             label, mp = _robot_body(body, joints or [], given_options)
         elif joints:
             raise InputError(
-                f"Expected --joints only with a robot file (.urdf, .xml), got {body!r}."
+                f"Expected --joints only with a robot file (.urdf, .xacro, .xml), got {body!r}."
             )
         else:
             label, mp = _build_body(
@@ -158,11 +158,16 @@ def _robot_body(
     if extra:
         raise InputError(f"Expected no {_option(extra[0])} for a robot file, got one: its links "
                          "declare their masses.")  # fmt: skip
-    values = {}
+    values: dict[str, str] = {}
     for item in joints:
         name, sign, value = item.partition("=")
         if not sign or not name.strip():
             raise InputError(f"Expected --joints NAME=VALUE, e.g. 'elbow=30 deg', got {item!r}.")
+        if name.strip() in values:  # the last one would win, silently
+            raise InputError(
+                f"Expected each joint once in --joints, got {name.strip()!r} twice: "
+                f"{values[name.strip()]!r} and {value.strip()!r}."
+            )
         values[name.strip()] = value.strip()
     robot = load(body)
     return f"{body} (robot {robot.name!r}, root link {robot.root!r})", robot.mass_properties(values)

@@ -66,12 +66,19 @@ def run_scenario(
     """Simulate a scenario, compare with theory, and write a run folder with a report."""
 
     def work() -> None:
+        from tumble.files import check_replaceable
         from tumble.locks import OutputLock
         from tumble.report import check_folder
 
         with contextlib.ExitStack() as claims:
             if output is not None:  # before anything else: say it at once
                 claims.enter_context(OutputLock(output, "the run folder"))
+                # --force replaces an earlier run's own folder only: never the
+                # scenario being run, nor a file the run did not write.
+                check_replaceable(
+                    output, "the run folder", listed_in="summary.json",
+                    inputs=[scenario] if scenario is not None and _is_path(scenario) else [],
+                )  # fmt: skip
                 check_folder(output, force)
             # Started first, so that importing matplotlib overlaps with the rest.
             workers = claims.enter_context(figure_workers(not no_figures))
@@ -243,6 +250,16 @@ def sweep(
             typer.echo(f"Report: {summary.report}")
 
     run_command(work)
+
+
+def _is_path(given: str) -> bool:
+    """Whether ``given`` names something on disk (else a built-in's name)."""
+    import os
+
+    try:
+        return os.path.lexists(given)
+    except (OSError, ValueError):  # a name too long, a NUL: no file
+        return False
 
 
 def default_folder(name: str, passed: Container[Path] = ()) -> Path:

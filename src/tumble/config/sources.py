@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 from tumble.config.errors import ConfigError, first_error
 from tumble.errors import QUOTED_PATH_LENGTH, quoted, unknown_choice
+from tumble.files import file_kind
 
 if TYPE_CHECKING:
     from pydantic import BaseModel
@@ -167,8 +168,9 @@ def read_source(given: str | os.PathLike[str], builtins: Builtins) -> Source:
             f"{exc.strerror or exc}."
         ) from None
     if path.suffix.lower() == ".toml" or exists:
-        if not path.is_file():
-            why = "a folder" if path.is_dir() else "no such file"
+        kind = file_kind(path)
+        if kind != "a regular file":  # a FIFO or a device would block the reader
+            why = {None: "no such file", "a folder": "a folder"}.get(kind, kind)
             raise builtins.error(f"Expected a {builtins.kind} file, got {shown} ({why}).")
         try:
             text = path.read_text(encoding="utf-8")

@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError, cut
+from tumble.files import check_regular_file
 from tumble.identification.tables import (
     HEAD_BYTES,
     check_samples,
@@ -169,7 +170,8 @@ def read_recording(
     Raises
     ------
     InputError
-        A missing or unreadable file, one neither CSV nor Parquet, columns that
+        A missing or unreadable file, one that is not a regular file (a FIFO,
+        a device), one neither CSV nor Parquet, columns that
         are not there (the message lists those there), a cell that is not a
         number (its line and column), units that are not rates or times, or
         ``units`` that contradict the header.
@@ -194,6 +196,7 @@ def read_recording(
         )
     if file.is_dir():
         raise InputError(f"Expected a recording file (CSV or Parquet), got {shown!r}, a folder.")
+    check_regular_file(file, "the recording")  # a FIFO would wait for a writer forever
     unit = rate_unit(units)
     notes: list[str] = []
     try:

@@ -42,7 +42,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core.polyhedron import mesh_integrals
-from tumble.errors import QUOTED_PATH_LENGTH, InputError, MeshError, quoted
+from tumble.errors import (
+    QUOTED_PATH_LENGTH,
+    InputError,
+    MeshError,
+    RequestTooLargeError,
+    quoted,
+)
 from tumble.massprops import MassProperties
 from tumble.mesh.checks import (
     DEFAULT_MERGE_FRACTION,
@@ -53,6 +59,7 @@ from tumble.mesh.checks import (
     cubic_metres,
     scaled_inertia,
 )
+from tumble.mesh.reading import check_mesh_file
 from tumble.mesh.step import STEP_SUFFIXES, tessellate_step
 from tumble.units import length_scale, to_si
 
@@ -60,6 +67,7 @@ __all__ = [
     "DEFAULT_MERGE_FRACTION",
     "MeshOrientationWarning",
     "MeshRepairWarning",
+    "check_mesh_file",
     "declared_scale",
     "from_mesh",
 ]
@@ -121,10 +129,14 @@ def from_mesh(
         Unreadable file (also a STEP file OpenCASCADE crashes on, or does not
         finish within its time limit, ``TUMBLE_STEP_TIME_LIMIT``), both or
         neither of density and mass, non-positive density or mass, a unit that
-        is not a length, a mass or inertia beyond float range.
+        is not a length, a mass or inertia beyond float range; a file that is
+        not a regular file (a FIFO, a device) or is sparse
+        (:func:`check_mesh_file`, before it is read).
     RequestTooLargeError
-        A STEP file whose tessellation reaches its memory limit (the memory
-        budget, ``TUMBLE_MEMORY_BUDGET``).
+        A file whose reading would take more than the memory budget
+        (``TUMBLE_MEMORY_BUDGET``), told from its size before it is read
+        (:func:`check_mesh_file`); a STEP file whose tessellation reaches its
+        memory limit (the same budget).
     MeshError
         No triangles, non-finite vertices (or numbers in a STEP file), a mesh
         wider than float range (a diagonal over 1.8e308 m), holes (the message counts the
@@ -222,6 +234,7 @@ def _load(mesh: Any) -> tuple[str, NDArray[np.float64], NDArray[np.int64], float
         path = Path(mesh)
         shown = quoted(path, QUOTED_PATH_LENGTH)
         label = f"mesh {shown}"
+        check_mesh_file(path, "`mesh`")  # before a byte is read: the file and its size
         try:
             why = None if path.is_file() else "a directory" if path.is_dir() else "no such file"
         except OSError as exc:  # a name too long, a folder that cannot be read
@@ -293,6 +306,12 @@ _OUT_OF_BOUNDS = re.compile(r"index (-?\d+) is out of bounds for axis \d+ with s
 def _unreadable(path: Path, label: str, exc: Exception) -> InputError:
     """The error for a file trimesh could not read: what is wrong with it, in the
     words of the format rather than numpy's where the cause is known."""
+    if isinstance(exc, MemoryError):  # its message is often empty
+        return RequestTooLargeError(
+            f"Expected `mesh` to be a mesh file that fits in memory, got "
+            f"{quoted(path, QUOTED_PATH_LENGTH)}: the system ran out of memory reading it "
+            "(use a mesh of fewer triangles)."
+        )
     text = str(exc)
     bounds = _OUT_OF_BOUNDS.search(text) if isinstance(exc, IndexError) else None
     if bounds:  # a face with a vertex index beyond the vertices
@@ -308,7 +327,7 @@ def _unreadable(path: Path, label: str, exc: Exception) -> InputError:
         )
     return InputError(
         f"Expected `mesh` to be a readable mesh file (STL, OBJ, PLY, GLB, STEP, ...), "
-        f"got {quoted(path, QUOTED_PATH_LENGTH)}: {text}"
+        f"got {quoted(path, QUOTED_PATH_LENGTH)}: {text or type(exc).__name__}"
     )
 
 

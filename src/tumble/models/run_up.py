@@ -39,11 +39,13 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from tumble.core import whirl
-from tumble.errors import InputError
+from tumble.errors import InputError, RequestTooLargeError
 from tumble.integrators.problem import Schedule
 from tumble.integrators.steps import step_in_chunks
 from tumble.kinematics import same_hemisphere
 from tumble.massprops import readonly
+from tumble.resources import DEFAULT_MAX_STEPS
+from tumble.simulation import most_steps
 from tumble.trajectory import Trajectory
 from tumble.units import to_si
 
@@ -91,6 +93,7 @@ def run_up(
     dt: Any = None,
     samples: int = 2001,
     progress: Callable[[int, int], object] | None = None,
+    max_steps: int | None = DEFAULT_MAX_STEPS,
 ) -> RunUp:
     """Run a rigid rotor on elastic bearings up (or at a constant speed) with an unbalance.
 
@@ -108,6 +111,9 @@ def run_up(
     samples : about how many evenly spaced samples to keep (≥ 2), the last at
         ``duration``.
     progress : called as ``progress(steps_done, steps_total)`` as the run goes.
+    max_steps : the most RK4 steps the run may take (default 5e7,
+        :data:`tumble.resources.DEFAULT_MAX_STEPS`, as :func:`tumble.simulate`;
+        None: up to 2^53): a longer run is refused before it starts.
 
     Returns
     -------
@@ -117,7 +123,10 @@ def run_up(
     ------
     InputError
         A rotor that is not a RigidRotor, a duration ≤ 0, fewer than 2
-        samples, or a spin that would change sign during the run.
+        samples, a ``max_steps`` that is not an integer >= 1 or None, or a spin
+        that would change sign (or overflow) during the run.
+    RequestTooLargeError
+        A run of more than ``max_steps`` steps (duration / dt).
 
     Examples
     --------
@@ -150,7 +159,13 @@ def run_up(
         raise InputError(f"Expected `duration` > 0 s, got {span!r}.")
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
         raise InputError(f"Expected `samples` to be an integer >= 2, got {samples!r}.")
+    most = most_steps(max_steps)
     end = start + rate * span
+    if not math.isfinite(end):
+        raise InputError(
+            f"Expected the spin at the end of the run to be finite, got {start!r} rad/s + "
+            f"{rate!r} rad/s² × {span!r} s = {end!r} rad/s."
+        )
     if start * end < 0:
         raise InputError(
             f"Expected the spin not to reverse during the run, got {start!r} rad/s at the start "
@@ -165,6 +180,12 @@ def run_up(
     schedule = Schedule.sampled(
         span, dt, fastest, "the fastest mode of the rotor", 1, samples - 1, 8
     )
+    if schedule.n_steps > most:
+        raise RequestTooLargeError(
+            f"Expected at most max_steps = {most:.6g} steps, got duration / dt = {span:.6g} s / "
+            f"{schedule.step:.3g} s = {schedule.n_steps:.3g} steps: use a larger dt or a shorter "
+            "duration, or raise `max_steps=`."
+        )
     inverse = np.linalg.inv(matrices[0])
     stacked = np.stack([inverse] + [inverse @ matrix for matrix in matrices[1:]])
     params = np.array([start, rate, u, arm])

@@ -102,8 +102,9 @@ def check_folder(
     replaced ``whole``, replaced whole (the current folder or one above it, a
     mount point), or that holds files unless ``force``; with ``force``, a folder
     that holds files but is not such a folder (no ``marker`` file) is refused
-    too, so that no other work is deleted."""
-    from tumble.files import check_output
+    too, so that no other work is deleted, and so is one holding a file its
+    ``marker`` does not list (:func:`tumble.files.check_replaceable`)."""
+    from tumble.files import check_output, check_replaceable
 
     check_output(folder, f"the {kind} folder", folder=True)
     target = Path(os.path.abspath(folder))
@@ -128,6 +129,8 @@ def check_folder(
                 f"{marker}), got {str(folder)!r}, which holds other files: name "
                 "another folder."
             )
+        if whole:
+            check_replaceable(folder, f"the {kind} folder", listed_in=marker)
 
 
 def write_run(

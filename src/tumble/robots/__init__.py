@@ -2,7 +2,8 @@
 should be, the whole robot at a pose, and the audit that finds and corrects
 inertias no body has.
 
-* :func:`load` reads a URDF or an MJCF file into a :class:`Robot`;
+* :func:`load` reads a URDF, a xacro or an MJCF file into a :class:`Robot`
+  (:func:`robot_files` lists those of a folder);
 * :func:`audit` judges every link's declared values (:class:`Audit`,
   :class:`Finding`), and :func:`write_corrected` writes a copy with the
   corrections in which nothing else changes.
@@ -10,39 +11,54 @@ inertias no body has.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from tumble.errors import JointLimitWarning
 from tumble.robots.findings import CODES, Audit, Finding, LinkSummary
 from tumble.robots.fix import write_corrected
-from tumble.robots.load import load
-from tumble.robots.model import Joint, Link, Robot, Shape
+from tumble.robots.load import load, robot_files
+from tumble.robots.model import Joint, Link, Notice, Robot, Shape
+from tumble.robots.ros import NotARobot
 
 __all__ = [
     "CODES",
     "Audit",
     "Finding",
     "Joint",
+    "JointLimitWarning",
     "Link",
     "LinkSummary",
+    "NotARobot",
+    "Notice",
     "Robot",
     "Shape",
     "audit",
     "example_path",
     "load",
+    "robot_files",
     "write_corrected",
 ]
 
 
-def audit(path: Any, geometry: str = "collision") -> Audit:
+def audit(
+    path: Any,
+    geometry: str = "collision",
+    *,
+    packages: Mapping[str, Any] | None = None,
+    xacro_args: Mapping[str, Any] | None = None,
+) -> Audit:
     """Audit the declared inertias of every link of a robot file.
 
     Parameters
     ----------
-    path : a URDF (``.urdf``) or MJCF (``.xml``) file, or a :class:`Robot`.
+    path : a URDF (``.urdf``), xacro (``.urdf.xacro``) or MJCF (``.xml``) file,
+        or a :class:`Robot`.
     geometry : the shapes the declared values are compared with,
         ``"collision"`` (default), ``"visual"``, or ``"none"`` (the declared
         values judged alone: fast, no mesh read).
+    packages, xacro_args : as for :func:`load` (a file only).
 
     Returns
     -------
@@ -66,7 +82,10 @@ def audit(path: Any, geometry: str = "collision") -> Audit:
     """
     from tumble.robots.auditing import audit_robot
 
-    robot = path if isinstance(path, Robot) else load(path)
+    if isinstance(path, Robot):
+        robot = path
+    else:
+        robot = load(path, packages=packages, xacro_args=xacro_args)
     return audit_robot(robot, geometry)
 
 

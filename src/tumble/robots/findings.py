@@ -10,9 +10,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.massprops import MassProperties
-from tumble.robots.model import Robot
+from tumble.robots.model import Link, Robot
 
-__all__ = ["CODES", "Audit", "Finding", "LinkSummary"]
+__all__ = ["CODES", "Audit", "Finding", "LinkSummary", "link_finding"]
 
 Array = NDArray[np.float64]
 
@@ -26,16 +26,22 @@ CODES = {
     "power-of-ten": "error",
     "swapped-attributes": "error",
     "row-major": "error",
+    "unreadable-inertial": "error",
+    "round-off": "warning",
     "massless-with-geometry": "warning",
     "geometry-mismatch": "warning",
     "implausible-density": "warning",
     "missing-mesh": "warning",
+    "malformed-number": "warning",
+    "unknown-geometry": "warning",
+    "invalid-joint": "warning",
     "geometry-unavailable": "info",
 }
 
 #: The order in which a link's corrections are chosen: the smallest edit first.
 _PRIORITY = (
     "negative-mass",
+    "round-off",
     "power-of-ten",
     "swapped-attributes",
     "row-major",
@@ -64,6 +70,14 @@ class Finding:
     severity: str
     message: str
     correction: dict[str, Any] | None = None
+
+
+def link_finding(
+    link: Link, code: str, message: str, correction: dict[str, Any] | None = None
+) -> Finding:
+    """The finding ``code`` (with its severity from :data:`CODES`) of ``link``,
+    saying ``message``, with ``correction`` (see :class:`Finding`) or None."""
+    return Finding(link.name, code, CODES[code], message, correction)
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,5 @@
-"""A robot description as tumble reads it: links, joints and the shapes of each link.
+"""A robot description as tumble reads it: links and joints (each link's shapes are in
+:mod:`tumble.robots.geometry`).
 
 The declared values of a link are kept as written (``mass``, ``center_of_mass``,
 ``inertia``): an invalid tensor is a value the audit must be able to hold, so a
@@ -10,10 +11,9 @@ link's frame.
 
 from __future__ import annotations
 
-import math
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 from typing import Any
@@ -21,176 +21,29 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import QUOTED_PATH_LENGTH, InputError, quoted, unknown_choice
+from tumble.errors import InputError, quoted, unknown_choice
 from tumble.massprops import MassProperties
+from tumble.robots.geometry import GEOMETRY_KINDS, Shape, at_own_mass, scaled, shown
 
 __all__ = [
     "GEOMETRY_KINDS",
+    "JOINT_KINDS",
     "Inertial",
     "Joint",
     "Link",
+    "Notice",
     "Robot",
     "Shape",
     "at_own_mass",
+    "mimic_order",
     "rotation_about",
     "shown",
 ]
 
 Array = NDArray[np.float64]
 
-#: The sets of shapes a link has: those it collides with and those it is drawn with.
-GEOMETRY_KINDS = ("collision", "visual")
-
 #: The attributes of URDF's ``<inertia>``, in the order of :attr:`Inertial.values`.
 INERTIA_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-
-
-@dataclass(frozen=True)
-class Shape:
-    """One collision or visual shape of a link, in the link's coordinates.
-
-    ``kind`` is ``"box"`` (``size`` its three edges, m), ``"cylinder"`` (radius,
-    length; axis z), ``"sphere"`` (radius), ``"capsule"`` (radius, length of the
-    cylinder between the caps; axis z), ``"ellipsoid"`` (semi-axes) or ``"mesh"``
-    (``mesh`` the file, ``scale`` its three factors). ``rotation`` and
-    ``translation`` place the shape's frame in the link's (x_link = R x + t).
-    ``mass`` and ``density`` are the shape's own where the file gives them
-    (MJCF's geoms); a URDF's shapes share their link's declared mass in
-    proportion to their volumes."""
-
-    kind: str
-    size: tuple[float, ...] = ()
-    rotation: Array = field(default_factory=lambda: np.eye(3))
-    translation: Array = field(default_factory=lambda: np.zeros(3))
-    mesh: Path | None = None
-    scale: tuple[float, ...] = (1.0, 1.0, 1.0)
-    mass: float | None = None
-    density: float | None = None
-    vertices: Array | None = None
-    faces: NDArray[np.int64] | None = None
-
-    def unit_density(self) -> MassProperties:
-        """The shape as a solid of density 1 kg/m³ (its mass is its volume in m³),
-        in the link's coordinates."""
-        return _unit_density(self).transformed(self.rotation, self.translation)
-
-    def corners(self) -> Array:
-        """Points (n, 3) whose box holds the shape, in the link's coordinates: the
-        corners of the box around it in its own frame, placed."""
-        half = _half_extents(self)
-        if self.kind == "mesh" and self.vertices is not None:
-            low, high = _inline_mesh(self)[1:]
-        elif self.kind == "mesh":
-            low, high = _mesh_solid(self.mesh, self.scale)[1:]  # type: ignore[arg-type]
-        else:
-            low, high = -half, half
-        signs = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])
-        own = np.where(signs == 0, low, high)
-        return own @ self.rotation.T + self.translation
-
-    @property
-    def label(self) -> str:
-        """How a message names the shape: its kind, or its mesh file."""
-        return f"mesh {self.mesh}" if self.mesh is not None else self.kind
-
-
-def _unit_density(shape: Shape) -> MassProperties:
-    from tumble import shapes
-
-    kind, size = shape.kind, shape.size
-    if kind == "box":
-        return shapes.box(size[0] * size[1] * size[2], size)
-    if kind == "cylinder":
-        radius, length = size
-        return shapes.solid_cylinder(math.pi * radius * radius * length, radius, length)
-    if kind == "sphere":
-        return shapes.solid_sphere(4.0 / 3.0 * math.pi * size[0] ** 3, size[0])
-    if kind == "capsule":
-        radius, length = size
-        volume = math.pi * radius * radius * (length + 4.0 * radius / 3.0)
-        return shapes.capsule(volume, radius, length)
-    if kind == "ellipsoid":
-        return shapes.ellipsoid(4.0 / 3.0 * math.pi * size[0] * size[1] * size[2], size)
-    if kind == "mesh" and shape.vertices is not None and shape.faces is not None:
-        return _inline_mesh(shape)[0]
-    if kind == "mesh":
-        if shape.mesh is None:
-            raise InputError("Expected a mesh shape to name its file, got none.")
-        return _mesh_solid(shape.mesh, shape.scale)[0]
-    raise unknown_choice(
-        kind, ("box", "cylinder", "sphere", "capsule", "ellipsoid", "mesh"), "a shape's kind"
-    )
-
-
-def _half_extents(shape: Shape) -> Array:
-    """Half the edges of the box around a primitive shape, in its own frame."""
-    size = shape.size
-    if shape.kind == "box":
-        return np.array(size) / 2
-    if shape.kind == "cylinder":
-        return np.array([size[0], size[0], size[1] / 2])
-    if shape.kind == "capsule":
-        return np.array([size[0], size[0], size[1] / 2 + size[0]])
-    if shape.kind == "sphere":
-        return np.full(3, size[0])
-    if shape.kind == "ellipsoid":
-        return np.array(size)
-    return np.zeros(3)
-
-
-_MESHES: dict[tuple[str, int, tuple[float, ...]], tuple[MassProperties, Array, Array]] = {}
-
-
-def _inline_mesh(shape: Shape) -> tuple[MassProperties, Array, Array]:
-    """A mesh given by its arrays (MJCF's compiled meshes) at density 1, and its box."""
-    from tumble.mesh import mesh_mass_properties
-
-    vertices = np.asarray(shape.vertices, dtype=float) * np.asarray(shape.scale)
-    solid = mesh_mass_properties(
-        vertices, np.asarray(shape.faces), density=1.0, label="a mesh geom"
-    )
-    return solid, vertices.min(axis=0), vertices.max(axis=0)
-
-
-def _mesh_solid(path: Path, scale: tuple[float, ...]) -> tuple[MassProperties, Array, Array]:
-    """A mesh file's solid at density 1, its vertices scaled by ``scale``, and the
-    corners of the box around them; read once a process for each file (as last
-    modified) and scale: a robot's legs share their meshes."""
-    try:
-        stamp = path.stat().st_mtime_ns
-    except OSError as error:
-        raise InputError(
-            f"Expected the mesh file {shown(path)} to exist, got {error.strerror}."
-        ) from error
-    key = (str(path), stamp, scale)
-    if key not in _MESHES:
-        import trimesh
-
-        from tumble.mesh import MeshOrientationWarning, declared_scale, from_mesh
-
-        try:
-            loaded = trimesh.load(path, force="mesh", process=False)
-        except Exception as error:  # trimesh raises many kinds for unreadable files
-            raise InputError(
-                f"Expected a readable mesh file, got {shown(path)}: {error}"
-            ) from error
-        matrix = np.eye(4)
-        matrix[:3, :3] = np.diag(scale)
-        loaded.apply_transform(matrix)
-        with warnings.catch_warnings():
-            # A mirrored mesh (a negative scale) is inside out: reversed, as meant.
-            warnings.simplefilter("ignore", MeshOrientationWarning)
-            try:
-                solid = from_mesh(loaded, density=1.0)
-            except InputError as error:
-                # Read from a loaded mesh, its messages say "mesh": name the file.
-                text = str(error).replace("mesh", f"the mesh {shown(path)}", 1)
-                raise type(error)(text) from None
-        # The box in metres: from_mesh scales by the unit the file declares (COLLADA's).
-        unit = declared_scale(loaded) or 1.0
-        low, high = unit * np.asarray(loaded.bounds, dtype=float)
-        _MESHES[key] = (solid, low, high)
-    return _MESHES[key]
 
 
 @dataclass(frozen=True)
@@ -230,12 +83,20 @@ class Link:
     ``mass`` (kg), ``center_of_mass`` (m, link coordinates) and ``inertia``
     (kg·m², about the centre of mass, link axes) are as the file declares them,
     valid or not; a link that declares nothing has mass 0. ``shapes`` maps
-    ``"collision"`` and ``"visual"`` to the link's shapes."""
+    ``"collision"`` and ``"visual"`` to the link's shapes. ``unreadable``: why
+    the file's ``<inertial>`` could not be read (its values are then unknown:
+    ``inertial`` is None and :meth:`Robot.mass_properties` refuses the link),
+    empty where it was read. ``compiled``: the link's mass properties as the
+    engine that reads the file compiles them, where they differ from those
+    declared (MuJoCo's compiler scales, bounds and balances); None where the
+    declared ones are what the engine uses."""
 
     name: str
     inertial: Inertial | None
     shapes: Mapping[str, tuple[Shape, ...]]
     line: int = 0
+    unreadable: str = ""
+    compiled: Inertial | None = None
 
     @property
     def mass(self) -> float:
@@ -249,15 +110,25 @@ class Link:
 
     @property
     def inertia(self) -> Array:
-        """The declared inertia about the centre of mass, kg·m², link axes."""
+        """The declared inertia about the centre of mass, kg·m², link axes (entries
+        beyond float64 turned by the rotation are infinite, for the audit to refuse)."""
         if self.inertial is None:
             return np.zeros((3, 3))
         rotation = self.inertial.rotation
-        return rotation @ self.inertial.tensor @ rotation.T
+        with np.errstate(over="ignore", invalid="ignore"):
+            return np.asarray(rotation @ self.inertial.tensor @ rotation.T, dtype=float)
+
+    def counted(self) -> Link:
+        """The link as :meth:`Robot.mass_properties` counts it: with its
+        :attr:`compiled` values where the engine gives them, else as declared."""
+        return (
+            self if self.compiled is None else replace(self, inertial=self.compiled, compiled=None)
+        )
 
     def geometry(self, kind: str = "collision", mass: Any = None) -> MassProperties:
         """The link's ``kind`` shapes (``"collision"`` or ``"visual"``) as one uniform
-        solid, in link coordinates: at ``mass`` (kg; default the declared mass),
+        solid, in link coordinates: at ``mass`` (kg, or a string with units such as
+        ``"2 kg"``; default the declared mass),
         shared among the shapes in proportion to their volumes. Shapes that
         carry their own mass or density (MJCF's geoms) keep it, as MuJoCo counts
         them, and ``mass`` is then ignored. Overlapping shapes count twice.
@@ -279,13 +150,15 @@ class Link:
             return sum(parts[1:], start=parts[0])
         solids = [shape.unit_density() for shape in shapes]
         volume = sum(solid.mass for solid in solids)
-        total = self.mass if mass is None else float(mass)
+        from tumble.units import to_si
+
+        total = self.mass if mass is None else to_si(mass, "mass", "mass")
         if not total > 0:
             raise InputError(
                 f"Expected a mass > 0 kg to give link {self.name!r}'s geometry, got {total!r}."
             )
-        scaled = [_scaled(solid, total / volume) for solid in solids]
-        return sum(scaled[1:], start=scaled[0])
+        scaled_solids = [scaled(solid, total / volume) for solid in solids]
+        return sum(scaled_solids[1:], start=scaled_solids[0])
 
     def volume(self, kind: str = "collision") -> float:
         """The summed volume of the link's ``kind`` shapes, m³."""
@@ -300,26 +173,55 @@ class Link:
         return shapes
 
 
-def _scaled(solid: MassProperties, factor: float) -> MassProperties:
-    return MassProperties(solid.mass * factor, solid.center_of_mass, solid.inertia * factor)
+@dataclass(frozen=True)
+class Notice:
+    """Something in a robot file that its reader could not take as written and read
+    another way, or left out (a malformed number outside the inertials, a shape of
+    an unknown kind): the audit reports each as a :class:`~tumble.robots.Finding`.
 
+    Attributes
+    ----------
+    link : the link (or joint) it belongs to, by name.
+    code : what it is, a key of :data:`tumble.robots.CODES`.
+    message : one sentence: the file's line, what was written, and how it was read.
+    line : the line in the file, or in its xacro expansion for a xacro file (0
+        where unknown).
+    """
 
-def at_own_mass(shape: Shape) -> MassProperties | None:
-    """A shape at its own mass, or its density times its volume (MJCF's geoms);
-    None for a massless one."""
-    solid = shape.unit_density()
-    mass = shape.mass if shape.mass is not None else (shape.density or 0.0) * solid.mass
-    return _scaled(solid, mass / solid.mass) if mass > 0 else None
+    link: str
+    code: str
+    message: str
+    line: int = 0
 
 
 @dataclass(frozen=True)
 class Joint:
     """A joint: it places ``child``'s frame in ``parent``'s at ``rotation`` and
     ``translation`` (x_parent = R x + t), then moves it by its value about or
-    along ``axis`` (a unit vector of that frame). ``kind``: ``"revolute"``,
-    ``"continuous"`` (rad), ``"prismatic"`` (m), ``"fixed"``, ``"floating"`` or
-    ``"planar"`` (held at their origin). ``mimic``: (joint, multiplier, offset),
-    whose value is multiplier × that joint's + offset."""
+    along ``axis`` (a unit vector of that frame).
+
+    ``kind``, one of :data:`JOINT_KINDS`:
+
+    - ``"revolute"``: turns about ``axis``, value in rad, between ``limits``
+      (URDF's revolute, MJCF's hinge);
+    - ``"continuous"``: turns about ``axis`` without limits, rad (URDF);
+    - ``"prismatic"``: slides along ``axis``, value in m (URDF's prismatic,
+      MJCF's slide);
+    - ``"fixed"``: never moves (URDF);
+    - ``"floating"``: free in all six degrees of freedom (URDF's floating,
+      MJCF's free joint);
+    - ``"planar"``: moves in the plane normal to ``axis`` (URDF);
+    - ``"spherical"``: turns about any axis through its origin (PyBullet's
+      URDF extension ``spherical``, MJCF's ball joint).
+
+    A configuration gives values only to the kinds in :data:`MOVING`; the
+    others are held at their origin. ``mimic``: (joint, multiplier, offset),
+    whose value is multiplier × that joint's + offset. ``limits``: the (lower,
+    upper) values the file allows, where it gives them; ``slack``: how far beyond
+    each a value still rounds to the digits written (half a unit of the last
+    digit: ``1.57`` allows π/2). ``unread``: why the
+    file's placement or axis of the joint could not be read (a default stands
+    in; poses through the joint are refused), empty where it was read."""
 
     name: str
     kind: str
@@ -331,6 +233,9 @@ class Joint:
     mimic: tuple[str, float, float] | None = None
     anchor: Array = field(default_factory=lambda: np.zeros(3))
     reference: float = 0.0
+    limits: tuple[float, float] | None = None
+    slack: tuple[float, float] = (0.0, 0.0)
+    unread: str = ""
 
     def motion(self, value: float) -> tuple[Array, Array]:
         """The child frame's move at ``value`` (rad or m) in the frame the joint
@@ -344,8 +249,14 @@ class Joint:
         return np.eye(3), np.zeros(3)
 
 
+#: Every kind of :class:`Joint`, whatever the file's own word for it.
+JOINT_KINDS = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar", "spherical")
+
 #: The joint kinds a configuration sets, and what their values are.
 MOVING = {"revolute": "angle", "continuous": "angle", "prismatic": "length"}
+
+#: The SI unit of each kind of joint value in :data:`MOVING`.
+UNITS = {"angle": "rad", "length": "m"}
 
 
 @dataclass(frozen=True)
@@ -359,6 +270,10 @@ class Robot:
     links : ``{name: Link}``.
     joints : ``{name: Joint}``.
     root : the name of the root link (the child of no joint).
+    notices : what the reader could not take as written (:class:`Notice`).
+    refusal : why the joints do not make a tree of links that poses can be
+        computed on (a link with two parents, a cycle, a duplicate joint name),
+        as an error message; empty where they do.
     """
 
     name: str
@@ -366,6 +281,8 @@ class Robot:
     links: Mapping[str, Link]
     joints: Mapping[str, Joint]
     root: str
+    notices: tuple[Notice, ...] = ()
+    refusal: str = ""
 
     @cached_property
     def _tree(self) -> tuple[dict[str, list[str]], dict[str, list[Joint]]]:
@@ -382,7 +299,9 @@ class Robot:
     def link_poses(self, joints: Mapping[str, Any] | None = None) -> dict[str, tuple[Array, Array]]:
         """Every link's frame in the root link's, ``{name: (R, t)}`` (x_root = R x + t),
         at the configuration ``joints`` (see :meth:`mass_properties`)."""
-        values = self._configuration(joints or {})
+        if self.refusal:
+            raise InputError(self.refusal)
+        values = self._configuration({} if joints is None else joints)
         children, between = self._tree
         poses = {self.root: (np.eye(3), np.zeros(3))}
         stack = [self.root]
@@ -405,18 +324,30 @@ class Robot:
         configuration: ``joints`` maps joint names to values (rad for revolute
         and continuous joints, m for prismatic ones; numbers or strings such as
         ``"30 deg"``); joints not given are at their reference (0; an MJCF joint's
-        ``ref``), mimic joints follow theirs.
+        ``ref``), mimic joints follow theirs. Each link counts with its
+        :attr:`Link.compiled` values where it has them, else as declared.
+
+        A value outside a joint's limits (URDF's ``<limit lower upper>``) is
+        used, with a :class:`~tumble.errors.JointLimitWarning`.
 
         Raises
         ------
         InputError
-            An unknown joint, a value for a fixed or mimic joint, a link whose
-            declared mass or inertia is not physical (``tumble audit`` says
-            which and how to correct it), or a robot without mass.
+            ``joints`` not a mapping, an unknown joint, a value for a fixed or
+            mimic joint, mimic joints that follow each other in a cycle, joints
+            that do not make a tree (:attr:`refusal`), a link whose inertial
+            could not be read or whose declared mass or inertia is not physical
+            (``tumble audit`` says which and how to correct it), a joint whose
+            placement could not be read with a link of mass beyond it, or a
+            robot without mass.
         """
+        poses = self.link_poses(joints)
+        self._refuse_unread()
         total: MassProperties | None = None
-        for name, (rotation, translation) in self.link_poses(joints).items():
-            link = self.links[name]
+        for name, (rotation, translation) in poses.items():
+            link = self.links[name].counted()
+            if link.unreadable:
+                raise InputError(link.unreadable)
             if link.mass == 0.0:
                 continue
             try:
@@ -432,9 +363,32 @@ class Robot:
             raise InputError(f"Expected a robot with mass, got no link with mass in {self.path}.")
         return total
 
+    def _refuse_unread(self) -> None:
+        """Refuses a joint whose placement could not be read when a link with mass
+        (or with an unread inertial) lies beyond it: the pose of that link is unknown."""
+        children = self._tree[0]
+        for joint in self.joints.values():
+            if not joint.unread:
+                continue
+            stack = [joint.child]
+            while stack:
+                link = self.links[stack.pop()].counted()
+                if link.mass != 0.0 or link.unreadable:
+                    raise InputError(
+                        f"{joint.unread[:-1]}; link {link.name!r} beyond it has mass, so its "
+                        "pose is unknown."
+                    )
+                stack += children[link.name]
+
     def _configuration(self, given: Mapping[str, Any]) -> dict[str, float]:
+        from tumble.errors import JointLimitWarning
         from tumble.units import to_si
 
+        if not isinstance(given, Mapping):
+            raise InputError(
+                "Expected `joints` to be a mapping of joint names to values, e.g. "
+                f"{{'elbow': '30 deg'}}, got {quoted(given)}."
+            )
         values: dict[str, float] = {}
         for name, value in given.items():
             joint = self.joints.get(name)
@@ -447,46 +401,100 @@ class Robot:
                     f"got {name!r}, {what}."
                 )
             values[name] = to_si(value, MOVING[joint.kind], f"joints[{name!r}]")
-        for joint in self.joints.values():
-            if joint.mimic is not None and joint.kind in MOVING:
-                source, multiplier, offset = joint.mimic
-                if source not in self.joints:
-                    raise InputError(
-                        f"Expected joint {joint.name!r} to mimic a joint of the robot, got "
-                        f"{source!r}."
-                    )
-                values[joint.name] = multiplier * values.get(source, 0.0) + offset
+        for name in self._mimic_order:
+            source, multiplier, offset = self.joints[name].mimic  # type: ignore[misc]
+            values[name] = multiplier * values.get(source, 0.0) + offset
+        for name, value in values.items():
+            joint = self.joints[name]
+            limits, slack = joint.limits, joint.slack
+            if limits is not None and not limits[0] - slack[0] <= value <= limits[1] + slack[1]:
+                unit = UNITS[MOVING[joint.kind]]
+                mimicking = "" if joint.mimic is None else f" (mimicking {joint.mimic[0]!r})"
+                warnings.warn(
+                    f"Joint {name!r}{mimicking} at {value:g} {unit} is outside its limits "
+                    f"[{limits[0]:g}, {limits[1]:g}] {unit}: used as given.",
+                    JointLimitWarning,
+                    stacklevel=4,
+                )
         return values
 
+    @cached_property
+    def _mimic_order(self) -> tuple[str, ...]:
+        """The moving mimic joints in the order their values are computed (see
+        :func:`mimic_order`); refuses a mimic of an unknown joint and mimic
+        joints that follow each other in a cycle."""
+        for joint in self.joints.values():
+            source = None if joint.mimic is None else joint.mimic[0]
+            if joint.kind in MOVING and source is not None and source not in self.joints:
+                raise InputError(
+                    f"Expected joint {joint.name!r} to mimic a joint of the robot, got {source!r}."
+                )
+        order, cycles = mimic_order(self.joints)
+        if cycles:
+            raise InputError(
+                "Expected mimic joints that follow a joint that moves, got a cycle: "
+                f"{shown_cycle(cycles[0])}."
+            )
+        return order
 
-def shown(path: Any) -> str:
-    """A file's path as a message shows it."""
-    return quoted(str(path), QUOTED_PATH_LENGTH)
+
+def mimic_order(
+    joints: Mapping[str, Joint],
+) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:
+    """The moving mimic joints in an order in which each comes after the mimic
+    joint it follows, whatever their order in ``joints``, and the cycles of
+    mimic joints that follow each other (a joint that mimics itself is one).
+
+    Returns
+    -------
+    order : the mimic joints whose values can be computed, sources first.
+    cycles : each cycle's joints in the order they follow each other, starting
+        from the first met in ``joints``; the joints of a cycle, and those that
+        follow one, are in no ``order``.
+    """
+    follows = {
+        name: joint.mimic[0]
+        for name, joint in joints.items()
+        if joint.mimic is not None and joint.kind in MOVING
+    }
+    order: list[str] = []
+    cycles: list[tuple[str, ...]] = []
+    done: set[str] = set()
+    broken: set[str] = set()
+    for start in follows:
+        chain: list[str] = []
+        name = start
+        while name in follows and name not in done and name not in chain:
+            chain.append(name)
+            name = follows[name]
+        done.update(chain)
+        if name in chain:
+            cycles.append(tuple(chain[chain.index(name) :]))
+            broken.update(chain)
+        elif name in broken:
+            broken.update(chain)
+        else:
+            # The chain runs from follower to source: its sources come first.
+            order.extend(reversed(chain))
+    return tuple(order), tuple(cycles)
+
+
+def shown_cycle(cycle: tuple[str, ...]) -> str:
+    """A cycle of mimic joints as ``'a' -> 'b' -> 'a'``."""
+    return " -> ".join(repr(name) for name in (*cycle, cycle[0]))
 
 
 def rotation_from_rpy(rpy: tuple[float, ...]) -> Array:
-    """URDF's fixed-axis roll, pitch, yaw (rad): R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    roll, pitch, yaw = rpy
-    cr, sr, cp, sp, cy, sy = (
-        math.cos(roll),
-        math.sin(roll),
-        math.cos(pitch),
-        math.sin(pitch),
-        math.cos(yaw),
-        math.sin(yaw),
-    )
-    return np.array(
-        [
-            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-            [-sp, cp * sr, cp * cr],
-        ]
-    )
+    """URDF's fixed-axis roll, pitch, yaw (rad) as a matrix: R = Rz(yaw) Ry(pitch)
+    Rx(roll), scipy's extrinsic ``"xyz"`` Euler angles."""
+    from scipy.spatial.transform import Rotation
+
+    return np.asarray(Rotation.from_euler("xyz", rpy).as_matrix(), dtype=float)
 
 
 def rotation_about(axis: Array, angle: float) -> Array:
-    """The rotation by ``angle`` (rad) about the unit vector ``axis`` (Rodrigues)."""
-    x, y, z = axis
-    c, s = math.cos(angle), math.sin(angle)
-    k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    return np.eye(3) + s * k + (1.0 - c) * (k @ k)
+    """The rotation by ``angle`` (rad) about the unit vector ``axis``."""
+    from scipy.spatial.transform import Rotation
+
+    vector = np.asarray(axis, dtype=float) * angle
+    return np.asarray(Rotation.from_rotvec(vector).as_matrix(), dtype=float)

@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from tumble.checks import Curve, Panel, comparison_row
 from tumble.scenario.build import at_key
+from tumble.scenario.schema import MAX_STEPS
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
@@ -79,7 +80,7 @@ def run_rotor(
             runs[label] = models.run_up(
                 rotor, settings.unbalance, duration=duration, speed=start, acceleration=rate,
                 position=settings.unbalance_position, dt=spec.simulation.dt,
-                samples=spec.output.samples, progress=report,
+                samples=spec.output.samples, progress=report, max_steps=MAX_STEPS,
             )  # fmt: skip
     speeds = np.linspace(low, high, CURVE_POINTS)
     names = _bearing_names(rotor)

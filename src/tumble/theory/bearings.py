@@ -24,48 +24,34 @@ modes are at √(Σk/m) and the conical at (±I_p Ω + √(I_p² Ω² + 4 I_t K_
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.errors import InputError
+from tumble.errors import InputError, quoted
 from tumble.massprops import MassProperties, as_mass_properties, readonly
-from tumble.theory.common import as_flat, spin_axis
+from tumble.resources import check_memory
+from tumble.theory.common import spin_axis
+from tumble.theory.rotor_checks import (
+    check_matrices,
+    check_tilt_held,
+    checked_speeds,
+    rotor_moments,
+    transverse_pair,
+)
 from tumble.units import to_si, vector_to_si
 
 __all__ = ["Bearing", "RigidRotor", "Whirl"]
 
 Array = NDArray[np.float64]
 
-#: How far the two transverse moments may differ (relative) for the rotor to be
-#: axisymmetric: beyond it the equations in the fixed frame have coefficients
-#: that vary with the spin angle, which this model does not solve.
-SYMMETRY_TOLERANCE = 1e-3
-
-
-def transverse_pair(value: Any, kind: str, name: str) -> tuple[float, float]:
-    """A value of a bearing in SI units of ``kind``: one number or quantity (the
-    same along both transverse axes) or a pair (x, y), each ≥ 0.
-
-    Raises
-    ------
-    InputError
-        A value of the wrong unit, shape or sign, naming ``name``.
-    """
-    # One value: a number, a quantity, or a string without a comma ("1e6 N/m",
-    # where "1e6, 2e6 N/m" is a pair).
-    text = isinstance(value, str)
-    if (text and "," not in value) or (not text and np.ndim(value) == 0):
-        number = to_si(value, kind, name)
-        if not number >= 0:
-            raise InputError(f"Expected `{name}` >= 0, got {number!r}.")
-        return number, number
-    pair = vector_to_si(value, kind, name, (2,))
-    if not np.all(pair >= 0):
-        raise InputError(f"Expected `{name}` >= 0 along x and y, got {pair.tolist()}.")
-    return float(pair[0]), float(pair[1])
+#: Speeds solved at once: the stacked eigenproblems (or solves) of this many
+#: speeds take a few MB, so that millions of speeds run in bounded memory beside
+#: their result, as fast as in one stack (the per-call cost is small at this size).
+CHUNK = 4096
 
 
 @dataclass(frozen=True)
@@ -100,7 +86,9 @@ class Whirl:
     ----------
     speeds : (n,) spin speeds, rad/s.
     frequencies : (n, 4) damped natural frequencies, rad/s, ascending.
-    forward : (n, 4) True where the mode whirls with the spin.
+    forward : (n, 4) True where the mode whirls with the spin: its orbit turns from
+        x towards y at a positive speed, from y towards x at a negative one (at
+        rest, from x towards y).
     damping_ratios : (n, 4) −Re λ / |λ|.
     shapes : (n, 4, 4) complex mode shapes, (x, y, α, β) of each mode, scaled to
         a largest component of 1.
@@ -171,41 +159,9 @@ class RigidRotor:
         mp: MassProperties = as_mass_properties(body, "body")
         n = spin_axis(axis)
         p = vector_to_si(point, "length", "point", (3,))
-        inertia = mp.inertia
-        polar = float(n @ inertia @ n)
-        coupling = inertia @ n - polar * n
-        scale = float(np.abs(inertia).max())
-        if np.linalg.norm(coupling) > 1e-9 * scale:
-            raise InputError(
-                f"Expected `axis` {n.round(6).tolist()} to be a principal axis of the body, got "
-                f"products of inertia with it of {np.linalg.norm(coupling):.3g} kg·m²: a "
-                "dynamically unbalanced rotor; give its axis along a principal axis "
-                "(body.principal()) and its imbalance as an unbalance."
-            )
-        transverse = np.linalg.eigvalsh(inertia - polar * np.outer(n, n))[1:]
-        if abs(transverse[1] - transverse[0]) > SYMMETRY_TOLERANCE * transverse[1]:
-            raise InputError(
-                f"Expected an axisymmetric rotor (equal moments about the axes perpendicular to "
-                f"`axis`), got {transverse[0]:.6g} and {transverse[1]:.6g} kg·m²."
-            )
-        offset = mp.center_of_mass - p
-        along = float(offset @ n)
-        off_axis = float(np.linalg.norm(offset - along * n))
-        if off_axis > 1e-9 * max(1.0, float(np.linalg.norm(offset))):
-            raise InputError(
-                f"Expected the rotor's centre of mass on its axis, got it {off_axis:.3g} m off: "
-                "give the offset as an unbalance."
-            )
-        bearings = list(bearings)
-        if not all(isinstance(b, Bearing) for b in bearings):
-            raise InputError("Expected `bearings` to be tumble.theory.Bearing objects.")
-        for k, direction in enumerate("xy"):
-            stiff = {b.position for b in bearings if b.stiffness[k] > 0}
-            if len(stiff) < 2:
-                raise InputError(
-                    f"Expected bearings with stiffness along {direction} at two or more axial "
-                    f"positions (to hold the rotor's tilt), got {len(stiff)}."
-                )
+        polar, transverse, along = rotor_moments(mp, n, p)
+        bearings = _bearing_list(bearings)
+        check_tilt_held(transverse, bearings)
         self.body = mp
         self.frame = _rotor_frame(n)
         self.mass = mp.mass
@@ -214,11 +170,13 @@ class RigidRotor:
         self.centre = along
         self.bearings = tuple(bearings)
         self.arms = np.array([b.position - along for b in bearings])
-        self.stiffness = self._matrix([b.stiffness for b in bearings])
-        self.damping = self._matrix([b.damping for b in bearings])
+        with np.errstate(over="ignore", invalid="ignore"):  # refused below
+            self.stiffness = self._matrix([b.stiffness for b in bearings])
+            self.damping = self._matrix([b.damping for b in bearings])
         self.mass_matrix = np.diag([self.mass, self.mass, self.transverse, self.transverse])
         self.gyroscopic = np.zeros((4, 4))
         self.gyroscopic[2, 3], self.gyroscopic[3, 2] = polar, -polar
+        check_matrices(self)
 
     def _matrix(self, pairs: list[tuple[float, float]]) -> Array:
         """K (or C) of the bearings' (x, y) values at their arms a from the centre of mass."""
@@ -231,15 +189,40 @@ class RigidRotor:
              [(kx * a).sum(), 0.0, 0.0, (kx * a * a).sum()]]
         )  # fmt: skip
 
-    def _speeds(self, speeds: Any) -> tuple[Array, bool]:
-        """Speeds (rad/s) as an array, and whether one was given as a scalar."""
-        values, shape = as_flat(speeds, "angular_velocity", "speeds")
-        return values, shape == ()
+    @staticmethod
+    def _fits(count: int, output: int, working: int, what: str) -> None:
+        """Refuse results of ``output`` bytes a speed for ``count`` speeds that would not
+        fit in the memory budget, with the ``working`` bytes a speed of one chunk takes."""
+        check_memory(
+            count * output + min(count, CHUNK) * working,
+            lambda: f"{what} at {count} speeds ({output} bytes each)",
+            "Ask for fewer speeds at once.",
+        )
+
+    def _speeds_in_budget(
+        self, speeds: Any, output: int, working: int, what: str
+    ) -> tuple[Array, bool]:
+        """The speeds (rad/s, see :func:`~tumble.theory.rotor_checks.checked_speeds`) and
+        whether one was given as a scalar, refusing ``what`` (``output`` bytes a speed,
+        ``working`` bytes a speed of one chunk) where it would not fit in the memory budget."""
+        values, scalar = checked_speeds(self, speeds)
+        self._fits(len(values), output, working, what)
+        return values, scalar
 
     def state_matrices(self, speeds: Any) -> Array:
         """(n, 8, 8) the first-order system ẏ = A y of each spin speed (rad/s), for the
-        state y = (q, q̇), q = (x, y, α, β): its eigenvalues are the modes."""
-        speeds, _ = self._speeds(speeds)
+        state y = (q, q̇), q = (x, y, α, β): its eigenvalues are the modes.
+
+        Raises
+        ------
+        RequestTooLargeError
+            Matrices that would not fit in the memory budget.
+        """
+        values, _ = self._speeds_in_budget(speeds, 512, 0, "the state matrices")
+        return self._state_matrices(values)
+
+    def _state_matrices(self, speeds: Array) -> Array:
+        """(n, 8, 8) the state matrices of the speeds (rad/s, checked)."""
         inverse = np.linalg.inv(self.mass_matrix)
         matrices = np.zeros((len(speeds), 8, 8))
         matrices[:, :4, 4:] = np.eye(4)
@@ -249,24 +232,51 @@ class RigidRotor:
         )
         return matrices
 
-    def _forward(self, shapes: NDArray[np.complex128]) -> NDArray[np.bool_]:
+    def _forward(self, shapes: NDArray[np.complex128], speeds: Any = 1.0) -> NDArray[np.bool_]:
         """Whether modes (..., 4) whirl forward: the orbit of the bearing point with
-        the largest motion turns the way of the spin (x towards y)."""
+        the largest motion turns the way of the spin, from x towards y at
+        ``speeds`` ≥ 0 (rad/s, broadcast against the modes; at rest, that way by
+        convention) and from y towards x below 0. A flat orbit (a line) is not
+        forward."""
         x = shapes[..., [0]] + self.arms * shapes[..., [3]]
         y = shapes[..., [1]] - self.arms * shapes[..., [2]]
         k = np.argmax(np.abs(x) ** 2 + np.abs(y) ** 2, axis=-1)[..., None]
         xk = np.take_along_axis(x, k, axis=-1)[..., 0]
         yk = np.take_along_axis(y, k, axis=-1)[..., 0]
         # x = Re(X e^{iωt}), y = Re(Y e^{iωt}) turns from x to y when Im(conj(X) Y) < 0.
-        return np.asarray(np.imag(np.conj(xk) * yk) < 0)
+        turning = np.imag(np.conj(xk) * yk)
+        return np.asarray(np.where(np.asarray(speeds) < 0, turning > 0, turning < 0))
 
     def whirl(self, speeds: Any) -> Whirl:
         """The four modes at each spin speed (rad/s): damped natural frequencies
         (the imaginary parts of the eigenvalues with positive imaginary part),
-        their direction, damping ratio and shape. One stacked eigenproblem for
-        all the speeds."""
-        values, _ = self._speeds(speeds)
-        eigenvalues, vectors = np.linalg.eig(self.state_matrices(values))
+        their direction (forward: with the spin, at either sign of the speed),
+        damping ratio and shape. Stacked eigenproblems of :data:`CHUNK` speeds.
+
+        Raises
+        ------
+        RequestTooLargeError
+            Results that would not fit in the memory budget.
+        """
+        # The results (8 + 32 + 1 + 32 + 256 bytes a speed), and a chunk's
+        # matrices, eigenvectors and their copies.
+        what = "the whirl (frequencies, directions, damping ratios, shapes)"
+        values, _ = self._speeds_in_budget(speeds, 329, 4096, what)
+        n = len(values)
+        frequencies, ratios = np.empty((n, 4)), np.empty((n, 4))
+        forward = np.empty((n, 4), dtype=bool)
+        shapes = np.empty((n, 4, 4), dtype=complex)
+        for part in _chunks(n):
+            (frequencies[part], forward[part], ratios[part],
+             shapes[part]) = self._whirl(values[part])  # fmt: skip
+        return Whirl(readonly(values), readonly(frequencies), forward, readonly(ratios), shapes)
+
+    def _whirl(
+        self, values: Array
+    ) -> tuple[Array, NDArray[np.bool_], Array, NDArray[np.complex128]]:
+        """The frequencies, directions, damping ratios and shapes of :meth:`whirl`
+        at the speeds ``values`` (rad/s, checked), in one stacked eigenproblem."""
+        eigenvalues, vectors = np.linalg.eig(self._state_matrices(values))
         order = np.argsort(-eigenvalues.imag, axis=1)[:, :4]  # the four of Im λ ≥ 0
         order = np.take_along_axis(order, np.argsort(
             np.take_along_axis(eigenvalues.imag, order, axis=1), axis=1), axis=1)  # fmt: skip
@@ -279,7 +289,7 @@ class RigidRotor:
         frequencies = np.maximum(lam.imag, 0.0)
         size = np.abs(lam)
         ratios = np.where(size > 0, -lam.real / np.where(size > 0, size, 1.0), 1.0)
-        forward = self._forward(shapes) & (lam.imag > 0)
+        forward = self._forward(shapes, values[:, None]) & (lam.imag > 0)
         # A repeated frequency (isotropic bearings: cylindrical modes, and every
         # mode at rest) is one forward and one backward circular whirl, whatever
         # pair of eigenvectors the solver returned.
@@ -287,17 +297,27 @@ class RigidRotor:
             close = (np.abs(frequencies[:, j + 1] - frequencies[:, j])
                      <= 1e-9 * frequencies[:, j + 1]) & (frequencies[:, j] > 0)  # fmt: skip
             forward[close, j], forward[close, j + 1] = False, True
-        return Whirl(readonly(values), readonly(frequencies), forward, readonly(ratios), shapes)
+        return frequencies, forward, ratios, shapes
 
     def frequencies(self, speeds: Any) -> Array:
-        """Damped natural frequencies, rad/s, ascending: (n, 4), or (4,) for a scalar speed."""
-        values, scalar = self._speeds(speeds)
-        # The eigenvalues alone (no eigenvectors): what whirl() gives, in half the time.
-        eigenvalues = np.linalg.eigvals(self.state_matrices(values))
-        result = np.maximum(np.sort(eigenvalues.imag, axis=1)[:, 4:], 0.0)
+        """Damped natural frequencies, rad/s, ascending: (n, 4), or (4,) for a scalar speed.
+
+        Raises
+        ------
+        RequestTooLargeError
+            Results that would not fit in the memory budget.
+        """
+        # The results, and a chunk's matrices and eigenvalues.
+        values, scalar = self._speeds_in_budget(speeds, 32, 1024, "the natural frequencies")
+        n = len(values)
+        result = np.empty((n, 4))
+        for part in _chunks(n):
+            # The eigenvalues alone (no eigenvectors): what whirl() gives, in half the time.
+            eigenvalues = np.linalg.eigvals(self._state_matrices(values[part]))
+            result[part] = np.maximum(np.sort(eigenvalues.imag, axis=1)[:, 4:], 0.0)
         return result[0] if scalar else result
 
-    def critical_speeds(self, backward: bool | None = None) -> Array:
+    def critical_speeds(self, backward: bool | np.bool_ | None = None) -> Array:
         """The spin speeds (rad/s, ascending) where an unbalance makes the rotor
         resonate, undamped: the real positive Ω² of ``K v = Ω² (M − i G) v`` (the
         synchronous solution ``q = v e^{iΩt}``).
@@ -310,9 +330,16 @@ class RigidRotor:
         whichever way it turns: the roots of backward whirl count too.
         ``backward`` = True or False includes or leaves out those roots
         whatever the bearings (default: included on anisotropic bearings).
+
+        Raises
+        ------
+        InputError
+            A ``backward`` that is not None, True or False.
         """
         if backward is None:
             backward = any(b.stiffness[0] != b.stiffness[1] for b in self.bearings)
+        elif not isinstance(backward, bool | np.bool_):
+            raise InputError(f"Expected `backward` to be None, True or False, got {backward!r}.")
         import scipy.linalg
 
         inertial = self.mass_matrix - 1j * self.gyroscopic  # Hermitian
@@ -342,28 +369,102 @@ class RigidRotor:
         """The steady orbits at the bearings for an unbalance ``unbalance`` (kg·m, the
         mass times its distance from the axis) in the plane at axial ``position``
         (m from ``point``), turning with the rotor: complex amplitudes (n, n_bearings,
-        2) of (x, y), each coordinate ``Re(A e^{iΩt})`` (m)."""
-        values, _ = self._speeds(speeds)
+        2) of (x, y), each coordinate ``Re(A e^{iΩt})`` (m).
+
+        Raises
+        ------
+        InputError
+            Speeds, unbalance and position whose orbits overflow float64.
+        RequestTooLargeError
+            Results that would not fit in the memory budget.
+        """
+        values, u, arm = self._unbalance(speeds, unbalance, position)
+        n, count = len(values), len(self.bearings)
+        self._fits(n, 32 * count, 1024 + 64 * count, "the unbalance orbits")
+        orbits = np.empty((n, count, 2), dtype=complex)
+        for part in _chunks(n):
+            orbits[part] = self._orbits(values[part], u, arm)
+        return orbits
+
+    def _unbalance(self, speeds: Any, unbalance: Any, position: Any) -> tuple[Array, float, float]:
+        """The speeds (rad/s), the unbalance (kg·m) and its arm from the centre of mass (m)."""
+        values, _ = checked_speeds(self, speeds)
         u = to_si(unbalance, "unbalance", "unbalance")
         arm = to_si(position, "length", "position") - self.centre
+        return values, u, arm
+
+    def _orbits(self, values: Array, u: float, arm: float) -> NDArray[np.complex128]:
+        """(n, n_bearings, 2) :meth:`unbalance_orbits` at the speeds ``values`` (rad/s)."""
         scale = 1.0 / np.sqrt(np.diag(self.stiffness))
         w = values[:, None, None]
-        forces = u * values[:, None] ** 2 * np.array([1.0, -1j, 1j * arm, arm])
-        matrices = (self.stiffness - w**2 * self.mass_matrix
-                    + 1j * w * (self.damping + w * self.gyroscopic))  # fmt: skip
-        # Scaled by the stiffness's diagonal: translations (N/m) and tilts
-        # (N·m/rad) differ by orders of magnitude, and the solve keeps its digits.
-        scaled = np.linalg.solve(scale[:, None] * matrices * scale, (scale * forces)[..., None])
-        q = scale * scaled[..., 0]
-        x = q[:, [0]] + self.arms * q[:, [3]]
-        y = q[:, [1]] - self.arms * q[:, [2]]
-        return np.stack([x, y], axis=2)
+        with np.errstate(over="ignore", invalid="ignore"):
+            forces = u * values[:, None] ** 2 * np.array([1.0, -1j, 1j * arm, arm])
+            matrices = (self.stiffness - w**2 * self.mass_matrix
+                        + 1j * w * (self.damping + w * self.gyroscopic))  # fmt: skip
+            # Scaled by the stiffness's diagonal: translations (N/m) and tilts
+            # (N·m/rad) differ by orders of magnitude, and the solve keeps its digits.
+            matrices = scale[:, None] * matrices * scale
+            finite = np.isfinite(matrices).all(axis=(1, 2)) & np.isfinite(forces).all(axis=1)
+            q = np.zeros((len(values), 4), dtype=complex)
+            q[finite] = np.linalg.solve(matrices[finite], (scale * forces[finite])[..., None])[
+                ..., 0
+            ]
+            q = scale * q
+            x = q[:, [0]] + self.arms * q[:, [3]]
+            y = q[:, [1]] - self.arms * q[:, [2]]
+            orbits = np.stack([x, y], axis=2)
+        bad = ~(finite & np.isfinite(orbits).all(axis=(1, 2)))
+        if bad.any():
+            raise InputError(
+                f"Expected a speed, `unbalance` and `position` whose steady orbits are finite "
+                f"in float64, got {float(values[bad][0])!r} rad/s with {u!r} kg·m at "
+                f"{arm + self.centre!r} m: they overflow."
+            )
+        return np.asarray(orbits, dtype=complex)
 
     def unbalance_response(self, speeds: Any, unbalance: Any, position: Any = 0.0) -> Array:
         """The major semi-axis of the steady orbit at each bearing, m: (n, n_bearings)
-        (see :meth:`unbalance_orbits`; a circle's radius on isotropic bearings)."""
-        orbits = self.unbalance_orbits(speeds, unbalance, position)
-        return major_semi_axis(orbits[..., 0], orbits[..., 1])
+        (see :meth:`unbalance_orbits`; a circle's radius on isotropic bearings).
+
+        Raises
+        ------
+        InputError, RequestTooLargeError
+            As :meth:`unbalance_orbits`.
+        """
+        values, u, arm = self._unbalance(speeds, unbalance, position)
+        n, count = len(values), len(self.bearings)
+        self._fits(n, 8 * count, 1024 + 96 * count, "the unbalance response")
+        response = np.empty((n, count))
+        for part in _chunks(n):
+            orbits = self._orbits(values[part], u, arm)
+            response[part] = major_semi_axis(orbits[..., 0], orbits[..., 1])
+        return response
+
+
+def _chunks(count: int) -> Iterator[slice]:
+    """Slices of :data:`CHUNK` of ``count`` items, in order."""
+    for start in range(0, count, CHUNK):
+        yield slice(start, min(start + CHUNK, count))
+
+
+def _bearing_list(bearings: Any) -> list[Bearing]:
+    """``bearings`` as a list of :class:`Bearing`.
+
+    Raises
+    ------
+    InputError
+        Anything but a sequence of Bearing objects.
+    """
+    try:
+        items = None if isinstance(bearings, str | bytes | Bearing) else list(bearings)
+    except TypeError:
+        items = None
+    if items is None or not all(isinstance(b, Bearing) for b in items):
+        raise InputError(
+            f"Expected `bearings` to be a list of tumble.theory.Bearing objects, got "
+            f"{quoted(bearings)}."
+        )
+    return items
 
 
 def major_semi_axis(x: Any, y: Any) -> Any:
