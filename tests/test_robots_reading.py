@@ -434,3 +434,20 @@ def test_a_package_mesh_is_never_taken_from_another_package(
     found = resolve_mesh("package://a/meshes/base.stl", urdf)
     assert found == tmp_path / "workspace" / "a" / "meshes" / "base.stl"
     assert resolve_mesh("package://b/meshes/base.stl", urdf).is_file()
+
+
+def test_a_mesh_of_no_package_is_found_under_a_parent_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # example-robot-data's layout: share/example-robot-data/robots/x_data/robots/x.urdf
+    # names its meshes package:///example-robot-data/robots/x_data/meshes/m.stl.
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    data = tmp_path / "share" / "example-robot-data" / "robots" / "x_data"
+    (data / "meshes").mkdir(parents=True)
+    (data / "robots").mkdir()
+    (data / "meshes" / "m.stl").write_bytes(b"")
+    urdf = data / "robots" / "x.urdf"
+    found = resolve_mesh("package:///example-robot-data/robots/x_data/meshes/m.stl", urdf)
+    assert found == data / "meshes" / "m.stl"
+    # Found nowhere: beside the URDF, for the error to name.
+    assert resolve_mesh("package:///gone/m.stl", urdf) == data / "robots" / "gone" / "m.stl"

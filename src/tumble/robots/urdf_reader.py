@@ -7,6 +7,7 @@ what it read another way than urdfdom does (see :mod:`tumble.robots.urdf`).
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -268,13 +269,25 @@ def resolve_mesh(name: str, urdf: Path, packages: Mapping[str, Path] | None = No
     """The file a URDF's mesh ``filename`` names: ``package://pkg/rest`` is ``rest``
     in the folder of package ``pkg`` (:func:`tumble.robots.ros.find_package`:
     ``packages``, then the URDF's parent folders, then ``ROS_PACKAGE_PATH``);
-    ``file://`` paths as they are; others relative to the URDF's folder. A
-    package found nowhere gives ``rest`` in a folder ``pkg`` beside the URDF,
-    for the error to name."""
+    ``package:///rest`` (no package) is ``rest`` under the nearest of those
+    folders that holds it; ``file://`` paths as they are; others relative to
+    the URDF's folder. A package found nowhere gives ``rest`` in a folder
+    ``pkg`` beside the URDF, for the error to name."""
     if name.startswith("file://"):
         return Path(name[len("file://") :])
     if not name.startswith("package://"):
         return urdf.parent / name
     package, _, rest = name[len("package://") :].partition("/")
+    if not package:
+        # ``package:///rest`` names no package: ``rest`` under the folder that holds
+        # it, as the URDF's parent folders and ROS_PACKAGE_PATH are searched for it
+        # (example-robot-data writes its meshes so).
+        roots = [*Path(os.path.abspath(urdf)).parents]
+        roots += [
+            Path(entry)
+            for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep)
+            if entry
+        ]
+        return next((root / rest for root in roots if (root / rest).is_file()), urdf.parent / rest)
     folder = find_package(package, urdf, packages)
     return (urdf.parent / package if folder is None else folder) / rest
