@@ -131,11 +131,11 @@ def from_mesh(
         neither of density and mass, non-positive density or mass, a unit that
         is not a length, a mass or inertia beyond float range; a file that is
         not a regular file (a FIFO, a device) or is sparse
-        (:func:`check_mesh_file`, before it is read).
+        (``tumble.mesh.check_mesh_file``, before it is read).
     RequestTooLargeError
         A file whose reading would take more than the memory budget
         (``TUMBLE_MEMORY_BUDGET``), told from its size before it is read
-        (:func:`check_mesh_file`); a STEP file whose tessellation reaches its
+        (``tumble.mesh.check_mesh_file``); a STEP file whose tessellation reaches its
         memory limit (the same budget).
     MeshError
         No triangles, non-finite vertices (or numbers in a STEP file), a mesh

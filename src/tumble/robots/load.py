@@ -70,11 +70,12 @@ def load(
         geometry is asked for. A xacro file is expanded by the ``xacro`` package
         first (see :mod:`tumble.robots.ros`). An MJCF is compiled by MuJoCo. Both
         need the ``robots`` extra: ``pip install 'tumble[robots]'``.
-    packages : ROS package names and their folders (``{"kuka_kr16_support":
-        "kuka_kr16"}``), for ``$(find pkg)`` and ``package://pkg/...``: packaged
-        copies often rename package folders. URDF and xacro files only.
-    xacro_args : values of a xacro file's ``<xacro:arg>``, by name (as ``xacro
-        file.urdf.xacro name:=value``). xacro files only.
+    packages : ROS package names and their folders (for example
+        ``{"kuka_kr16_support": "kuka_kr16"}``), for ``$(find pkg)`` and
+        ``package://pkg/...``: packaged copies often rename package folders.
+        URDF and xacro files only.
+    xacro_args : values of a xacro file's ``<xacro:arg>``, by name (as
+        ``xacro file.urdf.xacro name:=value`` gives them). xacro files only.
 
     Returns
     -------

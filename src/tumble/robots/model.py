@@ -120,7 +120,7 @@ class Link:
 
     def counted(self) -> Link:
         """The link as :meth:`Robot.mass_properties` counts it: with its
-        :attr:`compiled` values where the engine gives them, else as declared."""
+        ``compiled`` values where the engine gives them, else as declared."""
         return (
             self if self.compiled is None else replace(self, inertial=self.compiled, compiled=None)
         )
@@ -200,7 +200,7 @@ class Joint:
     ``translation`` (x_parent = R x + t), then moves it by its value about or
     along ``axis`` (a unit vector of that frame).
 
-    ``kind``, one of :data:`JOINT_KINDS`:
+    ``kind``, one of ``JOINT_KINDS``:
 
     - ``"revolute"``: turns about ``axis``, value in rad, between ``limits``
       (URDF's revolute, MJCF's hinge);
@@ -214,7 +214,7 @@ class Joint:
     - ``"spherical"``: turns about any axis through its origin (PyBullet's
       URDF extension ``spherical``, MJCF's ball joint).
 
-    A configuration gives values only to the kinds in :data:`MOVING`; the
+    A configuration gives values only to the kinds in ``MOVING``; the
     others are held at their origin. ``mimic``: (joint, multiplier, offset),
     whose value is multiplier × that joint's + offset. ``limits``: the (lower,
     upper) values the file allows, where it gives them; ``slack``: how far beyond
@@ -255,7 +255,7 @@ JOINT_KINDS = ("revolute", "continuous", "prismatic", "fixed", "floating", "plan
 #: The joint kinds a configuration sets, and what their values are.
 MOVING = {"revolute": "angle", "continuous": "angle", "prismatic": "length"}
 
-#: The SI unit of each kind of joint value in :data:`MOVING`.
+#: The SI unit of each kind of joint value in ``MOVING``.
 UNITS = {"angle": "rad", "length": "m"}
 
 
@@ -325,7 +325,7 @@ class Robot:
         and continuous joints, m for prismatic ones; numbers or strings such as
         ``"30 deg"``); joints not given are at their reference (0; an MJCF joint's
         ``ref``), mimic joints follow theirs. Each link counts with its
-        :attr:`Link.compiled` values where it has them, else as declared.
+        ``Link.compiled`` values where it has them, else as declared.
 
         A value outside a joint's limits (URDF's ``<limit lower upper>``) is
         used, with a :class:`~tumble.errors.JointLimitWarning`.
@@ -335,7 +335,7 @@ class Robot:
         InputError
             ``joints`` not a mapping, an unknown joint, a value for a fixed or
             mimic joint, mimic joints that follow each other in a cycle, joints
-            that do not make a tree (:attr:`refusal`), a link whose inertial
+            that do not make a tree (``refusal``), a link whose inertial
             could not be read or whose declared mass or inertia is not physical
             (``tumble audit`` says which and how to correct it), a joint whose
             placement could not be read with a link of mass beyond it, or a

@@ -251,7 +251,7 @@ class RigidRotor:
         """The four modes at each spin speed (rad/s): damped natural frequencies
         (the imaginary parts of the eigenvalues with positive imaginary part),
         their direction (forward: with the spin, at either sign of the speed),
-        damping ratio and shape. Stacked eigenproblems of :data:`CHUNK` speeds.
+        damping ratio and shape. Stacked eigenproblems of ``CHUNK`` speeds.
 
         Raises
         ------
@@ -442,7 +442,7 @@ class RigidRotor:
 
 
 def _chunks(count: int) -> Iterator[slice]:
-    """Slices of :data:`CHUNK` of ``count`` items, in order."""
+    """Slices of ``CHUNK`` of ``count`` items, in order."""
     for start in range(0, count, CHUNK):
         yield slice(start, min(start + CHUNK, count))
 
