@@ -96,9 +96,11 @@ def fit_recording(
             # fit's own folder only: never the recording being fitted, nor a file
             # the fit did not write.
             check_replaceable(
-                output, "the fit folder", listed_in="fit.json",
+                output,
+                "the fit folder",
+                listed_in="fit.json",
                 inputs=[recording] if recording is not None else [],
-            )  # fmt: skip
+            )
             check_fit_folder(output, force)
         span = parse_window(window) if window is not None else None
         with loading():

@@ -76,9 +76,11 @@ def run_scenario(
                 # --force replaces an earlier run's own folder only: never the
                 # scenario being run, nor a file the run did not write.
                 check_replaceable(
-                    output, "the run folder", listed_in="summary.json",
+                    output,
+                    "the run folder",
+                    listed_in="summary.json",
                     inputs=[scenario] if scenario is not None and _is_path(scenario) else [],
-                )  # fmt: skip
+                )
                 check_folder(output, force)
             # Started first, so that importing matplotlib overlaps with the rest.
             workers = claims.enter_context(figure_workers(not no_figures))

@@ -293,8 +293,11 @@ def _shape_difference(link: Link, at_mass: MassProperties) -> tuple[str, str, fl
         expected = float(np.sum(expected_moments))
     if not np.isfinite(ratio) or not 1 / MOMENT_FACTOR <= ratio <= MOMENT_FACTOR:
         hint, unit = "", None
-        for factor, what in ((1e6, "kg·mm² for kg·m²"), (1e4, "kg·cm² for kg·m²"),
-                             (1e3, "g·m² for kg·m²")):  # fmt: skip
+        for factor, what in (
+            (1e6, "kg·mm² for kg·m²"),
+            (1e4, "kg·cm² for kg·m²"),
+            (1e3, "g·m² for kg·m²"),
+        ):
             if 1 / MOMENT_FACTOR <= ratio / factor <= MOMENT_FACTOR:
                 hint, unit = f" A factor of {factor:g}: {what}?", factor
                 break

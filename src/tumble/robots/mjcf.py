@@ -265,9 +265,14 @@ def _robot(
             links[k] = link
             weld = f"{link.name} (welded)"
             joints[weld] = Joint(
-                weld, "fixed", names[of_model.index(parent)], link.name, rotation, translation,
+                weld,
+                "fixed",
+                names[of_model.index(parent)],
+                link.name,
+                rotation,
+                translation,
                 np.zeros(3),
-            )  # fmt: skip
+            )
     ordered = {link.name: link for _, link in sorted(links.items())}
     return Robot(spec.modelname or path.stem, path, ordered, joints, names[0])
 

@@ -267,8 +267,9 @@ class RigidRotor:
         forward = np.empty((n, 4), dtype=bool)
         shapes = np.empty((n, 4, 4), dtype=complex)
         for part in _chunks(n):
-            (frequencies[part], forward[part], ratios[part],
-             shapes[part]) = self._whirl(values[part])  # fmt: skip
+            (frequencies[part], forward[part], ratios[part], shapes[part]) = self._whirl(
+                values[part]
+            )
         return Whirl(readonly(values), readonly(frequencies), forward, readonly(ratios), shapes)
 
     def _whirl(
@@ -399,8 +400,11 @@ class RigidRotor:
         w = values[:, None, None]
         with np.errstate(over="ignore", invalid="ignore"):
             forces = u * values[:, None] ** 2 * np.array([1.0, -1j, 1j * arm, arm])
-            matrices = (self.stiffness - w**2 * self.mass_matrix
-                        + 1j * w * (self.damping + w * self.gyroscopic))  # fmt: skip
+            matrices = (
+                self.stiffness
+                - w**2 * self.mass_matrix
+                + 1j * w * (self.damping + w * self.gyroscopic)
+            )
             # Scaled by the stiffness's diagonal: translations (N/m) and tilts
             # (N·m/rad) differ by orders of magnitude, and the solve keeps its digits.
             matrices = scale[:, None] * matrices * scale

@@ -22,8 +22,13 @@ from tumble.units import to_si, vector_to_si
 if TYPE_CHECKING:
     from tumble.theory.bearings import Bearing, RigidRotor
 
-__all__ = ["check_matrices", "check_tilt_held", "checked_speeds", "rotor_moments",
-           "transverse_pair"]  # fmt: skip
+__all__ = [
+    "check_matrices",
+    "check_tilt_held",
+    "checked_speeds",
+    "rotor_moments",
+    "transverse_pair",
+]
 
 Array = NDArray[np.float64]
 
@@ -135,8 +140,10 @@ def check_matrices(rotor: RigidRotor) -> None:
         Either, with the bearings' values and positions.
     """
     inverse = 1.0 / np.diag(rotor.mass_matrix)
-    for name, matrix, unit in (("stiffness", rotor.stiffness, "N/m"),
-                               ("damping", rotor.damping, "N·s/m")):  # fmt: skip
+    for name, matrix, unit in (
+        ("stiffness", rotor.stiffness, "N/m"),
+        ("damping", rotor.damping, "N·s/m"),
+    ):
         with np.errstate(over="ignore", invalid="ignore"):
             finite = np.all(np.isfinite(matrix)) and np.all(np.isfinite(inverse[:, None] * matrix))
         if not finite:
