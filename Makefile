@@ -33,7 +33,7 @@ browser:
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[dev,docs,robots,robot-files]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,docs,robots,robot-files,engines]'
 	@echo "Compiling the default run's kernels (tumble warm-up)"
 	$(BIN)/tumble warm-up --quiet
 	@touch $(STAMP)

@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     # What type checkers see: every name of _PUBLIC, imported where it is defined
     # ("X as X" marks it re-exported). tests/test_public.py holds it to the table.
     from tumble import analysis as analysis
+    from tumble import conformance as conformance
     from tumble import identification as identification
     from tumble import models as models
     from tumble import robots as robots
@@ -87,6 +88,7 @@ _PUBLIC = {
     "MeshRepairWarning": "tumble.mesh",
     # public modules
     "analysis": "tumble.analysis",
+    "conformance": "tumble.conformance",
     "identification": "tumble.identification",
     "models": "tumble.models",
     "robots": "tumble.robots",

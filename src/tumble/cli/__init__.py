@@ -15,7 +15,7 @@ from typing import Any
 
 import typer
 
-from tumble.cli import audit, catalogue, fit, inertia, runs  # noqa: F401 - registers the commands
+from tumble.cli import audit, catalogue, conform, fit, inertia, runs  # noqa: F401 - registers the commands
 from tumble.cli.app import USER_ERROR, app
 
 __all__ = ["USER_ERROR", "app", "main"]
