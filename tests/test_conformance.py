@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator
 from typing import ClassVar
 
@@ -360,3 +361,26 @@ def test_order_and_safe_step_from_rows() -> None:
     rows[0]["failed_at"] = 1.0
     assert safe_step(rows, 1.0) == 1e-2
     assert np.isnan(observed_order(rows[:1]))
+
+
+def test_native_output_is_kept_off_the_terminal_and_reported(
+    capfd: pytest.CaptureFixture[str],
+) -> None:
+    # What native code writes to file descriptors 1 and 2 (as an engine's C++ does)
+    # lands in the capture, colour codes dropped from its first line, not on the terminal.
+    from tumble.conformance.engine import NativeOutput
+
+    output = NativeOutput()
+    with output:
+        os.write(2, b"\x1b[1;33mWarning\x1b[0m non-finite acceleration\n")
+        os.write(1, b"banner\n")
+    assert output.lines == ["\x1b[1;33mWarning\x1b[0m non-finite acceleration", "banner"]
+    assert output.first == "Warning non-finite acceleration"
+    with output:
+        pass
+    assert output.lines == [] and output.first == "Warning non-finite acceleration"
+    output.reset()
+    assert output.first == ""
+    output.close()
+    os.write(2, b"after\n")
+    assert capfd.readouterr().err == "after\n"

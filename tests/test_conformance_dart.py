@@ -14,7 +14,7 @@ from tumble.errors import InputError
 
 pytest.importorskip("dartpy")
 
-#: I = (1, 2, 3) kg·m², 1 kg: the body of the issue's scenarios.
+#: I = (1, 2, 3) kg·m², 1 kg: the body of the named torque-free scenarios.
 MOMENTS = np.array([1.0, 2.0, 3.0])
 BODY = EngineBody(mass=1.0, moments=MOMENTS)
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
@@ -190,3 +190,20 @@ def test_heavy_top_attitude_error_is_first_order():
 def test_unknown_variant_is_refused():
     with pytest.raises(InputError, match="variant of dart"):
         DartEngine("rk4")
+
+
+def test_what_dart_prints_while_stepping_is_its_report():
+    # DART's only report of trouble is text on stderr ("Warning [...] Non-finite joint
+    # accelerations ..."): printed during a step, it is kept off the terminal and becomes
+    # the run's failure while the state is still finite.
+    import os
+
+    engine = DartEngine()
+    engine.build(EngineBody(1.0, np.array([1.0, 2.0, 3.0])), 1e-3)
+    engine.set_state(np.array([1.0, 0.0, 0.0, 0.0]), np.array([0.1, 0.0, 20.0]))
+    engine.step(10)
+    assert engine.failure() == ""
+    with engine._output:  # what DART's C++ would print inside a step
+        os.write(2, b"\x1b[1;33mWarning [GenericJoint.hpp:2544]\x1b[0m Non-finite joint\n")
+    assert engine.failure() == "DART warned: Warning [GenericJoint.hpp:2544] Non-finite joint"
+    engine.close()

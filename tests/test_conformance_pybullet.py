@@ -15,7 +15,7 @@ from tumble.theory.motions import symmetric_top
 pytest.importorskip("pybullet")
 
 VARIANTS = list(PyBulletEngine.variants)
-#: The body of the issue's scenarios: principal moments (1, 2, 3) kg·m², 1 kg.
+#: The body of the named torque-free scenarios: principal moments (1, 2, 3) kg·m², 1 kg.
 MOMENTS = np.array([1.0, 2.0, 3.0])
 BODY = EngineBody(mass=1.0, moments=MOMENTS)
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])

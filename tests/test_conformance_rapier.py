@@ -17,7 +17,7 @@ from tumble.conformance.engines.rapier_engine import RapierEngine  # noqa: E402
 from tumble.errors import InputError  # noqa: E402
 
 VARIANTS = list(RapierEngine.variants)
-#: I = (1, 2, 3) kg·m², 1 kg: the body of the issue's scenarios.
+#: I = (1, 2, 3) kg·m², 1 kg: the body of the named torque-free scenarios.
 MOMENTS = np.array([1.0, 2.0, 3.0])
 BODY = EngineBody(mass=1.0, moments=MOMENTS)
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])

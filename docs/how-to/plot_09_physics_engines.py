@@ -17,8 +17,8 @@ shell:
 
 .. code-block:: console
 
-   $ tumble conform --list                                   # every engine/variant, installed or not
-   $ tumble conform --scenario intermediate-fast --dt 1e-3   # every installed engine, 20 s
+   $ tumble conform --list                                  # every engine/variant, installed?
+   $ tumble conform --scenario intermediate-fast --dt 1e-3  # every installed engine, 20 s
    $ tumble conform --engines mujoco,tumble/rk4 --scenario intermediate-slow \\
          --dt 0.02,0.01,0.005,0.0025 --duration 5 -o engines/  # a dt sweep, with an HTML report
    $ tumble conform --inertia 1,2,3 --omega 0.1,20,0.1 --duration 10 --json   # your own body
@@ -155,64 +155,79 @@ plt.show()
 # a straight step along a tangent leaves the ellipsoid outwards: every step adds
 # exactly :math:`\tfrac12 h^2\,\dot\omega \cdot I\dot\omega` to the energy, and
 # :math:`|\mathbf L|` grows the same way. The four engines take the same step, so
-# their rows agree to the digits printed: about +59 % of energy in 20 s here.
+# their rows agree to every digit printed: about +59 % of energy in 20 s here.
 # Physically the body speeds up with nothing driving it; the flips still happen,
 # but the attitude is soon anywhere (an attitude error near π rad).
-#
-# **Implicit schemes lose it.** MuJoCo's ``implicit`` and ``implicitfast`` and
-# PyBullet's maximal-coordinates rigid body evaluate the gyroscopic term at the
-# *new* ω, which removes the same :math:`\tfrac12 h^2` term instead of adding
-# it: about −31 % here. The loss acts like a damping nobody put in, and it damps
-# the nutation about *either* stable axis (printed below): real internal
-# dissipation would turn a body spinning about its minor axis over to its major
-# axis (Explorer 1), the implicit step instead pulls it onto the minor axis.
-#
+
+euler_like = ["mujoco/euler", "pybullet/undamped", "drake/discrete", "dart"]
+for name in (name for name in euler_like if row(fast, name)):
+    print(f"{name:18} energy {row(fast, name)['energy_drift_max']:+.6f}")
+gains = [row(fast, name)["energy_drift_max"] for name in euler_like if row(fast, name)]
+# The same explicit velocity step in float64: the same gain to well below the digits printed.
+assert max(gains, default=0.0) - min(gains, default=0.0) < 1e-6
+assert all(gain > 0.3 for gain in gains)
+
+# %%
+# **Implicit schemes lose energy.** MuJoCo's ``implicit`` and ``implicitfast``
+# (on a free body; on a ball joint ``implicitfast`` steps as ``Euler`` does, see
+# the heavy top below) and PyBullet's maximal-coordinates rigid body evaluate the
+# gyroscopic term at the *new* ω, which removes (to leading order) the same
+# :math:`\tfrac12 h^2` term instead of adding it: about −31 % here. The loss
+# acts like a damping nobody put in; it damps the nutation about *either* stable
+# axis (measured further down), where real internal dissipation would turn a
+# body spinning about its minor axis over to its major axis (Explorer 1).
+
+implicit = ["mujoco/implicit", "mujoco/implicitfast", "pybullet/maximal"]
+for name in (name for name in implicit if row(fast, name)):
+    print(f"{name:18} energy {row(fast, name)['energy_drift_max']:+.6f}")
+assert all(row(fast, name)["energy_drift_max"] < -0.2 for name in implicit if row(fast, name))
+
+# %%
 # **PyBullet's default damping removes almost all of it.** A PyBullet body is
 # created with ``linearDamping`` and ``angularDamping`` 0.04, applied to the
 # base as the torque :math:`-I\omega\,(0.04 + 0.04\,|\omega|)` every step. At
-# 20 rad/s that is a decay rate of 0.84 /s, and the body has lost 99.9 % of its
-# energy after 20 s; it flips 3 times instead of 18. The model predicts the
-# final |ω|:
-#
-# **Drake's default integrator miscounts the flips.** Drake's continuous plant
-# is stepped by an error-controlled third-order Runge–Kutta at accuracy 1e-4,
-# which keeps the energy to about 3e-4, but near the intermediate axis the time
-# between flips depends on the energy (logarithmically, near the separatrix), so
-# a small error in it moves every flip: 25 flips where the exact motion has 18,
-# and ω ends pointing the other way (ω error 2, relative to |ω0|).
-#
-# **Rapier drifts with the number of steps.** Rapier computes in float32 and
-# turns ω into body axes and back in each of its four substeps; each turn adds a
-# fixed fraction of an ulp to |ω|. The gain per step does not depend on ``dt``,
-# so a smaller step, more steps, gains *more* (measured below): +1.5 % of energy
-# in 20 s at 1 ms, and 22 flips for 18.
-
-for name in ("mujoco/euler", "pybullet/undamped", "drake/discrete", "dart"):
-    if row(fast, name):
-        print(f"{name:18} energy {row(fast, name)['energy_drift_max']:+.6f}")
-for name in ("mujoco/implicit", "mujoco/implicitfast", "pybullet/maximal"):
-    if row(fast, name):
-        print(f"{name:18} energy {row(fast, name)['energy_drift_max']:+.6f}")
-
-euler_like = [row(fast, n) for n in ("mujoco/euler", "pybullet/undamped", "drake/discrete", "dart")]
-gains = [one["energy_drift_max"] for one in euler_like if one]
-# The same explicit velocity step, in float64: the same gain to well below the digits printed.
-assert max(gains, default=0.0) - min(gains, default=0.0) < 1e-6
-assert all(gain > 0.3 for gain in gains)
-implicit = [row(fast, n) for n in ("mujoco/implicit", "mujoco/implicitfast", "pybullet/maximal")]
-assert all(one["energy_drift_max"] < -0.2 for one in implicit if one)
-if row(fast, "drake/continuous"):
-    assert row(fast, "drake/continuous")["flips"] != row(fast, "drake/continuous")["flips_exact"]
-
-# %%
-# PyBullet's damping, −Iω(0.04 + 0.04|ω|), on each component: d|ω|/dt = −0.04 |ω| (1 + |ω|),
-# whose solution has |ω| / (1 + |ω|) decaying as exp(−0.04 t).
+# 20 rad/s that is a decay rate of 0.84 /s: the body has lost 99.9 % of its
+# energy after 20 s, and flips 3 times instead of 18. The model says how fast:
+# on each component :math:`d|\omega|/dt = -0.04\,|\omega|\,(1 + |\omega|)`, whose
+# solution has :math:`|\omega| / (1 + |\omega|)` decaying as :math:`e^{-0.04 t}`.
 
 if "pybullet" in runs:
     u = 20.0 / 21.0 * math.exp(-0.04 * 20.0)
     final = np.linalg.norm(runs["pybullet"].samples.omega[-1])
+    damped = row(fast, "pybullet")
+    print(f"energy {damped['energy_drift_final']:+.4f}, "
+          f"flips {damped['flips']} (exact {damped['flips_exact']})")  # fmt: skip
     print(f"|ω| after 20 s: {final:.3f} rad/s measured, {u / (1 - u):.3f} rad/s from the model")
     assert abs(final - u / (1 - u)) < 0.05 * final  # the model, to 5 % (ω0 is not on one axis)
+
+# %%
+# **Drake's default integrator miscounts the flips.** Drake's continuous plant
+# is stepped by an error-controlled third-order Runge–Kutta at accuracy 1e-4.
+# It keeps the energy to a few parts in 10⁴, but near the intermediate axis the
+# time between flips depends on the energy (logarithmically, near the
+# separatrix), so a small error in it moves every flip: it counts about half as
+# many flips again as the exact motion has, and ω ends pointing the other way
+# (an ω error of 2, relative to :math:`|\omega_0|`).
+
+if row(fast, "drake/continuous"):
+    drake_row = row(fast, "drake/continuous")
+    print(f"energy {drake_row['energy_drift_max']:+.2e}, flips {drake_row['flips']} "
+          f"(exact {drake_row['flips_exact']}), "
+          f"ω error {drake_row['omega_error_max']:.2f}")  # fmt: skip
+    assert drake_row["flips"] > drake_row["flips_exact"]
+
+# %%
+# **Rapier drifts with the number of steps.** Rapier computes in float32 and
+# turns ω into body axes and back in each of its four substeps; each turn adds a
+# fixed fraction of an ulp to :math:`|\omega|`. That gain per step does not depend on
+# ``dt``, so a smaller step, which takes more steps, gains *more* (measured
+# below). At 1 ms it gains about 1.5 % of energy in 20 s, and its flips drift as
+# Drake's do.
+
+if row(fast, "rapier"):
+    rapier_row = row(fast, "rapier")
+    print(f"energy {rapier_row['energy_drift_max']:+.2e}, flips {rapier_row['flips']} "
+          f"(exact {rapier_row['flips_exact']})")  # fmt: skip
 
 # %%
 # The stable spins under Euler and under an implicit step: the tilt of
@@ -254,10 +269,12 @@ show(sleeping, {**COLUMNS, "failure": "failure"})
 # ---------------------------
 #
 # A spin of 20 rad/s about the major axis is stable: the exact motion nutates
-# by 0.2° for ever. The energy that semi-implicit Euler adds tilts the spin away
-# from its axis, slowly at first and then faster, since the gain per step grows
-# with ω; once the spin is fast enough the step is unstable and the state
-# explodes. 45 s at ``dt = 1e-3`` s:
+# within 0.2° of the axis for ever. The energy that semi-implicit Euler adds
+# tilts the spin away from its axis, and the tilt grows exponentially (a
+# straight line on the log axis of the figure below): the spin about the major
+# axis, stable for the exact motion, is unstable for the scheme. Once the body
+# tumbles fast enough the step itself is unstable and the state explodes. 45 s
+# at ``dt = 1e-3`` s:
 
 blowup_engines = ["mujoco/euler", "dart", "drake/discrete", "pybullet/undamped", "mujoco/rk4"]
 blowup = tb.conformance.run(blowup_engines, "major-spin", dt=1e-3, duration=45.0)
@@ -270,23 +287,28 @@ for one in blowup.table.itertuples():
 # axis, and when it crosses the separatrix (where :math:`|\mathbf L|^2 / 2E`
 # falls to the intermediate moment, 2 kg·m²) and starts to tumble:
 
-fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
+fig, (upper, lower) = plt.subplots(2, 1, figsize=(7, 5.5), layout="constrained", sharex=True)
 for one in blowup.runs:
+    t = one.samples.t
     momentum = one.samples.omega * moments
     size = np.linalg.norm(momentum, axis=1)
     tilt = np.degrees(np.arccos(np.abs(momentum[:, 2]) / size))
-    ax.semilogy(one.samples.t, np.linalg.norm(one.samples.omega, axis=1), label=one.engine)
+    (line,) = upper.semilogy(t, tilt, label=one.engine, lw=1)
+    lower.semilogy(t, np.linalg.norm(one.samples.omega, axis=1), color=line.get_color(), lw=1)
+    if not math.isnan(one.row["failed_at"]):
+        lower.plot(t[-1], np.linalg.norm(one.samples.omega[-1]), "x", color=line.get_color())
     if one.engine in ("mujoco/euler", "dart"):
-        t = one.samples.t
         marks = ", ".join(f"{tilt[np.searchsorted(t, s)]:.1f}° at {s:g} s" for s in (5, 10, 20, 25))
         effective = size**2 / np.sum(momentum * one.samples.omega, axis=1)
         tumbling = t[np.argmax(effective < 2.0)] if effective.min() < 2.0 else math.nan
         print(f"{one.engine}: tilt {marks}; past 45° at {t[np.argmax(tilt > 45)]:.1f} s; "
-              f"tumbling from {tumbling:.1f} s; failed at {one.row['failed_at']:.2f} s")  # fmt: skip
-ax.set_xlabel("time (s)")
-ax.set_ylabel("|ω| (rad/s)")
-ax.set_title("major-spin, dt = 1 ms: the stable spin speeds up, then blows up")
-ax.legend(fontsize="small")
+              f"tumbling from {tumbling:.1f} s; "
+              f"failed at {one.row['failed_at']:.2f} s")  # fmt: skip
+upper.set_ylabel("tilt of L from the\nmajor axis (degrees)")
+upper.set_title("major-spin, dt = 1 ms (the semi-implicit Euler engines' lines coincide)")
+upper.legend(fontsize="small")
+lower.set_xlabel("time (s)")
+lower.set_ylabel("|ω| (rad/s); × failed")
 plt.show()
 
 for name in ("mujoco/euler", "dart", "drake/discrete", "pybullet/undamped"):
@@ -297,14 +319,14 @@ if row(blowup, "mujoco/rk4"):
 
 # %%
 # The engines fail differently, and the suite reports each in ``failed_at`` and
-# ``failure``. MuJoCo warns ``mjWARN_BADQACC`` and resets the body to its
-# initial state, and a simulation that does not read its warnings simply goes
-# on. DART raises nothing: its |ω| climbs from 10³ rad/s to beyond 10¹⁰⁰ within
-# about 65 ms, then its state turns non-finite, with warnings on the console
-# only. Drake's discrete plant goes non-finite silently. PyBullet's steps turn
-# the body by more than π/4 rad before it fails, where Bullet caps the angle of
-# the attitude update and the rotation is no longer the one ω gives. MuJoCo's
-# RK4 keeps the spin to round-off.
+# ``failure``. MuJoCo warns ``mjWARN_BADQACC`` and resets the body to the
+# model's reference pose at rest, and a simulation that does not read its
+# warnings simply goes on. DART raises nothing: its :math:`|\omega|` climbs from
+# 10³ rad/s to beyond 10¹⁰⁰ within about 65 ms, then its state turns non-finite,
+# with warnings on the console only. Drake's discrete plant goes non-finite
+# silently. PyBullet's steps turn the body by more than π/4 rad before it fails,
+# where Bullet caps the angle of the attitude update and the rotation is no
+# longer the one ω gives. MuJoCo's RK4 keeps the spin to round-off.
 #
 # Convergence and the largest safe step
 # -------------------------------------
@@ -316,19 +338,21 @@ if row(blowup, "mujoco/rk4"):
 # tolerance (1e-6 by default). A slow tumble (2 rad/s) over 5 s:
 
 dts = [0.02, 0.01, 0.005, 0.0025]
-order = tb.conformance.sweep(["mujoco/euler", "mujoco/rk4", "tumble/rk4"], "intermediate-slow", dts, 5.0)
+order = tb.conformance.sweep(
+    ["mujoco/euler", "mujoco/rk4", "tumble/rk4"], "intermediate-slow", dts, 5.0
+)
 show(order, {**COLUMNS, "dt": "dt", "order": "order", "safe_dt": "safe dt"})
 
 fig, ax = plt.subplots(figsize=(6, 4), layout="constrained")
 for name, group in order.table.groupby("engine", sort=False):
     slope = group["order"].iloc[0]
     ax.loglog(group["dt"], group["omega_error_max"], "o-", label=f"{name} (order {slope:.2f})")
-    # The line of the observed order through the smallest step's error.
-    ax.loglog(group["dt"], group["omega_error_max"].iloc[-1] * (group["dt"] / dts[-1]) ** slope,
+    # The slope of the observed order, drawn a factor 5 below the errors.
+    ax.loglog(group["dt"], group["omega_error_max"].iloc[-1] / 5 * (group["dt"] / dts[-1]) ** slope,
               ":", color="grey")  # fmt: skip
 ax.set_xlabel("dt (s)")
 ax.set_ylabel("largest ω error / |ω₀|")
-ax.set_title("intermediate-slow, 5 s")
+ax.set_title("intermediate-slow, 5 s (dotted: the observed slopes)")
 ax.legend(fontsize="small")
 plt.show()
 
@@ -339,8 +363,21 @@ for name, expected, spread in (("mujoco/rk4", 4.0, 0.3), ("mujoco/euler", 1.0, 0
 # %%
 # RK4 is fourth order and, for this body at this spin, keeps the energy and the
 # attitude to 1e-6 at every step of the sweep, up to 20 ms; Euler is first order
-# and keeps them at none: it would take a step near a microsecond. The same
-# holds for every engine whose row in the first table matches MuJoCo's Euler.
+# and keeps them at none. Its errors shrink in proportion to dt, so the step it
+# would need follows from its smallest step's errors:
+
+euler = order.table[order.table["engine"] == "mujoco/euler"]
+if not euler.empty:
+    last = euler.iloc[-1]
+    needed = last["dt"] * 1e-6 / max(abs(last["energy_drift_max"]), last["attitude_error_max"])
+    print(f"mujoco/euler: dt ≈ {needed:.1e} s to keep both within 1e-6 over 5 s")
+    assert math.isnan(last["safe_dt"])
+if row(order, "mujoco/rk4"):
+    assert row(order, "mujoco/rk4")["safe_dt"] == max(dts)
+
+# %%
+# The same holds for every engine whose row in the first table matches MuJoCo's
+# Euler.
 #
 # A body on a pivot
 # -----------------
@@ -358,14 +395,22 @@ for cls in ENGINES.values():
 # momentum is the vertical component of :math:`\mathbf L` about the pivot (the
 # one that is conserved), relative to :math:`|\mathbf L(0)|`:
 
-top = tb.conformance.run(None, "heavy-top", dt=1e-3, duration=5.0)
-show(top)
+heavy = tb.conformance.run(None, "heavy-top", dt=1e-3, duration=5.0)
+show(heavy)
 
 # %%
-# PyBullet's default damping again takes most of the energy, and Drake's discrete
-# plant gets the nutation wrong (too few sign changes of ω's y component). On a
-# pivot the constraint adds its own error: PyBullet's maximal-coordinates body is
-# held by a point-to-point constraint that the solver keeps to about 1e-5 m.
+# PyBullet's default damping again takes most of the energy. On a pivot the
+# "flips" count the sign changes of ω's y component as the top nutates: the
+# semi-implicit Euler engines lose the phase of the nutation (fewer sign changes
+# than the exact count; Drake's discrete plant fewest), while RK4 and Drake's
+# continuous plant keep it. The joint adds its own error: PyBullet's
+# maximal-coordinates body is held by a point-to-point constraint that its
+# solver keeps to about 1e-5 m (the adapter's note):
+
+for name, notes in heavy.notes.items():
+    for note in notes:
+        if "pivot" in note or "joint" in note:
+            print(f"{name:26} {note}")
 #
 # The settings that fix each
 # --------------------------
@@ -449,7 +494,12 @@ mine = tb.conformance.run(["by-hand", "mujoco/euler"], "intermediate-fast", dt=1
 show(mine)
 if row(mine, "mujoco/euler"):
     # The same scheme in float64: equal up to round-off accumulated over 20 000 steps.
-    assert abs(row(mine, "by-hand")["energy_drift_max"] - row(mine, "mujoco/euler")["energy_drift_max"]) < 1e-6
+    assert (
+        abs(
+            row(mine, "by-hand")["energy_drift_max"] - row(mine, "mujoco/euler")["energy_drift_max"]
+        )
+        < 1e-6
+    )
 
 # %%
 # A subclass of a built-in adapter adds a variant with other settings: here
@@ -476,12 +526,16 @@ class AccurateDrake(DrakeEngine):
 drake = tb.conformance.run(["drake/continuous", "drake-accuracy/*"], "intermediate-fast", dt=1e-3)
 show(drake)
 if row(drake, "drake-accuracy/1e-8"):
-    assert row(drake, "drake-accuracy/1e-8")["flips"] == row(drake, "drake-accuracy/1e-8")["flips_exact"]
+    assert (
+        row(drake, "drake-accuracy/1e-8")["flips"]
+        == row(drake, "drake-accuracy/1e-8")["flips_exact"]
+    )
 
 # %%
-# Each ten times tighter costs more steps (the ``steps/s`` column counts the
-# output intervals of 1 ms per second of wall time); at 1e-8 the flips are all
-# there and the attitude is right to a fraction of a radian after 20 s.
+# A tighter accuracy costs more of the integrator's own steps (``steps/s`` is the
+# 20 s horizon counted in steps of 1 ms, per second of wall time); at 1e-8 the
+# flips are all there and the attitude is right to a fraction of a radian after
+# 20 s.
 #
 # The two examples stay in the registry for the rest of the session; a script
 # that is done with them removes them:

@@ -17,12 +17,18 @@ resets, sleeping bodies (:meth:`Engine.failure`, :attr:`Engine.notes`).
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import importlib.util
 import math
+import os
+import re
+import sys
+import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -35,6 +41,7 @@ __all__ = [
     "EXTRA",
     "Engine",
     "EngineBody",
+    "NativeOutput",
     "Samples",
     "engine_class",
     "engine_names",
@@ -118,9 +125,9 @@ class Engine:
     A subclass sets the class attributes and implements :meth:`build`,
     :meth:`inertia`, :meth:`set_state`, :meth:`step` and :meth:`state` (and,
     as needed, :meth:`failure` and :meth:`close`), or overrides
-    :meth:`simulate` whole. The variant it runs is :attr:`variant`; notes for
+    :meth:`simulate` whole. The variant it runs is ``variant``; notes for
     the user (a setting the adapter changed, such as sleeping turned off) go to
-    :attr:`notes`.
+    ``notes``.
     """
 
     #: The engine's name, the part of "engine/variant" before the slash.
@@ -235,6 +242,72 @@ class Engine:
         return Samples(
             np.array(times), np.array(quaternions), np.array(omegas), failed_at, failure, wall, done
         )
+
+
+class NativeOutput:
+    """What an engine's native code prints (to the process's stdout and stderr, file
+    descriptors 1 and 2) while a block runs, kept instead of shown: the warnings of an
+    engine that has no other way to report them (DART's "Non-finite joint
+    accelerations", PyBullet's build banner) become its adapter's report, not noise in
+    the user's terminal. One temporary file serves every block of an adapter.
+
+    Use ``with output:`` around the engine's calls; :attr:`lines` then holds what they
+    printed (from the last block), :attr:`first` the first line printed since
+    :meth:`reset`.
+    """
+
+    def __init__(self) -> None:
+        self._sink: Any = None
+        self.lines: list[str] = []
+        self.first = ""
+
+    def __enter__(self) -> NativeOutput:
+        if self._sink is None:
+            self._sink = tempfile.TemporaryFile()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        self._saved = (os.dup(1), os.dup(2))
+        os.dup2(self._sink.fileno(), 1)
+        os.dup2(self._sink.fileno(), 2)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        _flush_native()
+        for descriptor, saved in zip((1, 2), self._saved, strict=True):
+            os.dup2(saved, descriptor)
+            os.close(saved)
+        sink = self._sink
+        size = sink.tell()
+        self.lines = []
+        if size:
+            sink.seek(0)
+            text = sink.read(min(size, 65536)).decode("utf-8", errors="replace")
+            self.lines = [" ".join(line.split()) for line in text.splitlines() if line.strip()]
+            sink.seek(0)
+            sink.truncate()
+        if self.lines and not self.first:
+            self.first = _plain(self.lines[0])
+
+    def reset(self) -> None:
+        """Forget what was printed (a new run)."""
+        self.lines, self.first = [], ""
+
+    def close(self) -> None:
+        """Remove the temporary file."""
+        if self._sink is not None:
+            self._sink.close()
+            self._sink = None
+
+
+def _flush_native() -> None:
+    """Flush C's stdio buffers, so that what native code printed lands in the capture."""
+    with contextlib.suppress(OSError, AttributeError):  # no C library here to flush
+        ctypes.CDLL(None).fflush(None)
+
+
+def _plain(line: str) -> str:
+    """A printed line without terminal colour codes."""
+    return re.sub(r"\x1b\[[0-9;]*m", "", line).strip()
 
 
 def rotation(quaternion: Array) -> Rotation:

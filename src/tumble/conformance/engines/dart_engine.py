@@ -24,7 +24,14 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from tumble.conformance.engine import Array, Engine, EngineBody, register_engine, rotation
+from tumble.conformance.engine import (
+    Array,
+    Engine,
+    EngineBody,
+    NativeOutput,
+    register_engine,
+    rotation,
+)
 
 #: The note of a run: the setting the adapter changed.
 SLEEPING_OFF = "automatic deactivation (sleeping) turned off"
@@ -51,6 +58,7 @@ class DartEngine(Engine):
         self._joint: Any = None
         self._node: Any = None
         self._pivot: Array | None = None
+        self._output = NativeOutput()
 
     def build(self, body: EngineBody, dt: float) -> None:
         """Create a World stepping at ``dt`` (s) with one Skeleton of one BodyNode whose
@@ -58,6 +66,7 @@ class DartEngine(Engine):
         # Imported by name: dartpy ships no type stubs, and an adapter never imports its
         # engine before it is built.
         dartpy = importlib.import_module("dartpy")
+        self._output.reset()
         self._dart = dartpy
         world = dartpy.simulation.World()
         world.setTimeStep(float(dt))
@@ -108,8 +117,11 @@ class DartEngine(Engine):
     def step(self, count: int) -> None:
         """Advance ``count`` steps of the World's time step."""
         step = self._world.step
-        for _ in range(int(count)):
-            step()
+        # DART prints its warnings (non-finite accelerations, forces, transforms) to
+        # stderr at every step once the state has blown up: kept as its report.
+        with self._output:
+            for _ in range(int(count)):
+                step()
 
     def state(self) -> tuple[Array, Array]:
         """The attitude (scalar first, body → space) of the BodyNode and ω (space axes,
@@ -134,8 +146,11 @@ class DartEngine(Engine):
         velocities = np.asarray(self._joint.getVelocities(), dtype=float)
         if not (np.all(np.isfinite(positions)) and np.all(np.isfinite(velocities))):
             return "DART's joint positions or velocities are not finite"
+        if self._output.first:
+            return f"DART warned: {self._output.first}"
         return ""
 
     def close(self) -> None:
         """Drop the World and its Skeleton."""
         self._world = self._joint = self._node = None
+        self._output.close()

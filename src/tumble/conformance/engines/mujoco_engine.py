@@ -84,6 +84,7 @@ class MujocoEngine(Engine):
         self.data = mujoco.MjData(self.model)
         self._free = pivot is None
         self._badqacc = int(mujoco.mjtWarning.mjWARN_BADQACC)
+        self._message = ""
         self._instability = int(mujoco.mjtWarning.mjWARN_BADQVEL)
 
     def inertia(self) -> tuple[float, Array]:
@@ -110,7 +111,19 @@ class MujocoEngine(Engine):
         self._mujoco.mj_forward(self.model, data)
 
     def step(self, count: int) -> None:
-        self._mujoco.mj_step(self.model, self.data, nstep=count)
+        # MuJoCo prints its warnings and appends them to MUJOCO_LOG.TXT in the working
+        # folder unless a handler takes them: this one keeps them for failure().
+        mujoco = self._mujoco
+        previous = mujoco.get_mju_user_warning()
+        mujoco.set_mju_user_warning(self._warned)
+        try:
+            mujoco.mj_step(self.model, self.data, nstep=count)
+        finally:
+            mujoco.set_mju_user_warning(previous)
+
+    def _warned(self, message: str) -> None:
+        if not self._message:
+            self._message = " ".join(str(message).split())
 
     def state(self) -> tuple[Array, Array]:
         data = self.data
@@ -121,7 +134,8 @@ class MujocoEngine(Engine):
     def failure(self) -> str:
         warnings = self.data.warning
         if warnings[self._badqacc].number > 0:
-            return "MuJoCo warned of bad accelerations (mjWARN_BADQACC) and reset the state"
+            said = f": {self._message}" if self._message else ""
+            return f"MuJoCo warned of bad accelerations (mjWARN_BADQACC) and reset the state{said}"
         if warnings[self._instability].number > 0:
             return "MuJoCo warned of a bad velocity (mjWARN_BADQVEL) and reset the state"
         return ""

@@ -21,7 +21,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.conformance.engine import Engine, EngineBody, register_engine, rotation
+from tumble.conformance.engine import Engine, EngineBody, NativeOutput, register_engine, rotation
 
 __all__ = ["PyBulletEngine"]
 
@@ -90,12 +90,15 @@ class PyBulletEngine(Engine):
 
     def build(self, body: EngineBody, dt: float) -> None:
         """Create a DIRECT PyBullet client stepping ``dt`` (s) with this one body."""
-        import pybullet  # type: ignore[import-not-found, unused-ignore]
+        # PyBullet prints a banner when it is imported and connected: kept off the terminal.
+        with NativeOutput() as banner:
+            import pybullet  # type: ignore[import-not-found, unused-ignore]
 
-        self.close()
-        self.notes = []
-        p = self._pybullet = pybullet
-        client = self._client = p.connect(p.DIRECT)
+            self.close()
+            self.notes = []
+            p = self._pybullet = pybullet
+            client = self._client = p.connect(p.DIRECT)
+        banner.close()
         # numSubSteps = 0: each stepSimulation is one step of fixedTimeStep.
         p.setPhysicsEngineParameter(fixedTimeStep=dt, numSubSteps=0, physicsClientId=client)
         p.setGravity(*(float(g) for g in body.gravity), physicsClientId=client)
