@@ -52,7 +52,7 @@ from scipy.spatial.transform import Rotation
 import tumble as tb
 from machine import describe
 from tumble.identification import PhoneRecording, synthetic_phone
-from tumble.identification.fit import principal_rates
+from tumble.identification.result import principal_rates
 from tumble.theory import flip_period
 
 Array = NDArray[np.float64]

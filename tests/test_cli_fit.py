@@ -111,7 +111,7 @@ def test_the_default_folder_is_under_runs(tmp_path: Path, monkeypatch: pytest.Mo
     monkeypatch.chdir(tmp_path)
     path = tmp_path / "my throw.csv"
     path.write_text(example_recording_path().read_text())
-    code, out, _ = invoke("fit", str(path), "--no-figures", "--no-bias")
+    code, out, _ = invoke("fit", str(path), "--no-figures", "--no-bias", "--torque", "free")
     assert code == 0
     (folder,) = (tmp_path / "runs").iterdir()
     assert folder.name.startswith("my-throw-fit-")

@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation
 import tumble as tb
 from tumble.errors import InputError
 from tumble.identification import free_flight, noise_level, synthetic_phone
-from tumble.identification.fit import principal_rates
+from tumble.identification.result import principal_rates
 
 SENSOR = Rotation.from_euler("xyz", [20.0, -35.0, 50.0], degrees=True).as_matrix()
 BIAS = np.array([0.01, -0.02, 0.005])
@@ -230,6 +230,12 @@ def test_a_window_that_is_not_free_flight_is_refused() -> None:
     with pytest.raises(InputError, match=r"to follow a torque-free motion, got residuals of .* "
                        r"rad/s against noise of .* is the window all free flight\? \(the rates "
                        r"break \|dω/dt\| ≤ \|ω\|²/√3 too, at .*: a hand's torque does, "):  # fmt: skip
+        tb.identify(phone.t, phone.omega, window=(0.5, phone.catch), torque="free")
+    # With a torque offered too, no model fits either: each is named with its residual.
+    with pytest.raises(InputError, match=r"Expected a window that one of the torque models fits, "
+                       r"got none, against noise of .* rad/s: free: residuals of .* rad/s; drag: "
+                       r"residuals of .* rad/s; quadratic-drag: residuals of .* rad/s: is the "
+                       r"window all free flight\? \(the rates break \|dω/dt\| ≤ \|ω\|²/√3 too"):  # fmt: skip
         tb.identify(phone.t, phone.omega, window=(0.5, phone.catch))
 
 

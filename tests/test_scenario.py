@@ -587,7 +587,7 @@ duration = "2 s"
         (
             'type = "damping"',
             'type = "dampng"',
-            r"spun\.toml, line 13, `torques\[0\]\.type`: Expected `type` to be one of gravity, constant-body, constant-space, damping, hold-rotation, rotor-momentum, attitude-control, gravity-gradient, got 'dampng'\. Did you mean damping\?",
+            r"spun\.toml, line 13, `torques\[0\]\.type`: Expected `type` to be one of gravity, constant-body, constant-space, damping, hold-rotation, rotor-momentum, drag, quadratic-drag, attitude-control, gravity-gradient, got 'dampng'\. Did you mean damping\?",
         ),
         (
             'type = "damping"',

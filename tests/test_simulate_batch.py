@@ -123,7 +123,7 @@ def _user_torque(t, omega, quaternion, params, out):
         ),
         (
             {"torque": tb.torques.Gravity()},
-            r"Expected `torque` of models that batches accept \(constant-body, constant-space, damping, rotor-momentum, gravity-gradient\), got Gravity\(\[0.0, 0.0, -9.81\] m/s²\) \(use simulate for it\)",
+            r"Expected `torque` of models that batches accept \(constant-body, constant-space, damping, rotor-momentum, drag, quadratic-drag, gravity-gradient\), got Gravity\(\[0.0, 0.0, -9.81\] m/s²\) \(use simulate for it\)",
         ),
         ({"torque": 3.0}, r"Expected `torque` to be a model from tumble.torques, got float"),
         ({"record_every": 0}, r"Expected `record_every` to be None or an integer >= 1, got 0"),

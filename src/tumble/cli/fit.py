@@ -69,6 +69,16 @@ def fit_recording(
             "least_squares for outliers (soft_l1, huber, cauchy, arctan).",
         ),
     ] = "linear",
+    torque: Annotated[
+        str,
+        typer.Option(
+            "--torque",
+            metavar="auto|free|drag|quadratic-drag",
+            help="The torque the body flew under: free (the exact torque-free motion), drag "
+            "(linear air drag per principal axis), quadratic-drag, or auto (torque-free when "
+            "its residuals look like the noise, else the model of least BIC).",
+        ),
+    ] = "auto",
     output: Annotated[
         Path | None,
         typer.Option(
@@ -84,8 +94,9 @@ def fit_recording(
     no_figures: Annotated[bool, typer.Option("--no-figures", help="Write no PNG figures.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")] = False,
 ) -> None:
-    """Fit a torque-free body to a gyroscope's recording (a phone thrown spinning): its
-    moment ratios, principal axes and motion, with a scenario that replays it."""
+    """Fit a body to a gyroscope's recording (a phone thrown spinning), torque-free or under
+    air drag: its moment ratios, principal axes, motion and drag, with a scenario that
+    replays it."""
 
     def work() -> None:
         from tumble.files import check_replaceable
@@ -105,7 +116,7 @@ def fit_recording(
         span = parse_window(window) if window is not None else None
         with loading():
             from tumble.cli.runs import default_folder
-            from tumble.identification.checks import check_loss
+            from tumble.identification.checks import check_loss, check_torque
             from tumble.identification.fit import identify
             from tumble.identification.recordings import (
                 example_recording_path,
@@ -116,11 +127,14 @@ def fit_recording(
 
         # The library's own checks, before the recording is read: said at once.
         check_loss(loss, "--loss")
+        check_torque(torque, "--torque")
         rate_unit(units, "--units")
         path = Path(recording) if recording is not None else example_recording_path()
         source = str(path) if recording is not None else path.name
         measured = read_recording(path, columns, units)
-        fit = identify(measured.t, measured.omega, window=span, bias=not no_bias, loss=loss)
+        fit = identify(
+            measured.t, measured.omega, window=span, bias=not no_bias, loss=loss, torque=torque
+        )
         folder = output if output is not None else default_folder(fit_name(source))
         write_fit(
             fit, measured, folder, source=source, noise=fit.noise, found=span is None,
@@ -187,16 +201,21 @@ def print_fit(
     table.add_row(
         "flip period", f"{period:.4g}" if math.isfinite(period) else "inf (separatrix)", "", "s"
     )
+    if fit.torque != "free":
+        for k in range(3):
+            value, error = _with_error(fit.torque_parameters[k], fit.torque_uncertainty[k])
+            table.add_row(f"c{k + 1}/I3 ({fit.torque})", value, error, fit.torque_units)
     table.add_row("residual rms", f"{fit.residual_rms:.3g}", "", "rad/s")
     table.add_row("sensor noise σ", f"{noise:.3g}", "", "rad/s")
     for k, axis in enumerate("xyz"):
-        if errors.size > 8:
+        if fit.bias_fitted:
             table.add_row(f"bias {axis}", *_with_error(fit.bias[k], errors[8 + k]), "rad/s")
         else:
             table.add_row(f"bias {axis}", "0", "not fitted", "rad/s")
     for k in range(3):
         table.add_row(f"ω{k + 1} at start", *_with_error(fit.omega0[k], errors[5 + k]), "rad/s")
     console.print(table)
+    console.print(f"Torque: {fit.choice}", highlight=False, soft_wrap=True)
     console.print("Principal axes (columns) in the sensor's axes", style="italic")
     axes = Table()
     axes.add_column("")

@@ -16,7 +16,7 @@ Examples
 ['mujoco/rk4', 'tumble/rk4']
 """
 
-from tumble.conformance import engines
+from tumble.conformance import engines  # noqa: F401 - registers the built-in adapters
 from tumble.conformance.engine import (
     ENGINES,
     EXTRA,
@@ -48,7 +48,6 @@ __all__ = [
     "Samples",
     "Scenario",
     "engine_names",
-    "engines",
     "get_scenario",
     "register_engine",
     "run",

@@ -288,3 +288,42 @@ def rotor_momentum(t, w, q, params, row, column, context):  # type: ignore[no-un
         -(w1 * h2 - w2 * h1) - params[row + 5, column],
         0.0,
     )
+
+
+@njit(inline="always")
+def _per_axis_drag(w, params, row, column, quadratic):  # type: ignore[no-untyped-def]
+    """``−Σᵢ cᵢ uᵢ eᵢ`` (or ``−Σᵢ cᵢ uᵢ |uᵢ| eᵢ`` when ``quadratic``), ``uᵢ = eᵢ · ω``
+    the rate about body axis i: fields c1, c2, c3 and then e1, e2, e3, the body's
+    own axes in principal coordinates (three components each)."""
+    t1 = 0.0
+    t2 = 0.0
+    t3 = 0.0
+    for i in range(3):
+        base = row + 3 + 3 * i
+        e1 = params[base, column]
+        e2 = params[base + 1, column]
+        e3 = params[base + 2, column]
+        rate = e1 * w[0] + e2 * w[1] + e3 * w[2]
+        size = params[row + i, column] * (rate * abs(rate) if quadratic else rate)
+        t1 -= size * e1
+        t2 -= size * e2
+        t3 -= size * e3
+    return t1, t2, t3
+
+
+@njit(inline="always")
+def axis_drag(t, w, q, params, row, column, context):  # type: ignore[no-untyped-def]
+    """Linear drag about each body axis, ``τᵢ = −cᵢ ωᵢ`` in body axes, turned into
+    principal axes; fields c1, c2, c3 (N·m·s) and the body axes e1, e2, e3 in
+    principal coordinates."""
+    t1, t2, t3 = _per_axis_drag(w, params, row, column, False)
+    return t1, t2, t3, 0.0
+
+
+@njit(inline="always")
+def quadratic_axis_drag(t, w, q, params, row, column, context):  # type: ignore[no-untyped-def]
+    """Quadratic drag about each body axis, ``τᵢ = −cᵢ ωᵢ |ωᵢ|`` in body axes, turned
+    into principal axes; fields c1, c2, c3 (N·m·s²) and the body axes e1, e2, e3
+    in principal coordinates."""
+    t1, t2, t3 = _per_axis_drag(w, params, row, column, True)
+    return t1, t2, t3, 0.0

@@ -19,10 +19,10 @@ averaged to fewer samples first (:mod:`tumble.identification.decimation`).
 
 from __future__ import annotations
 
-from tumble.identification.fit import PARAMETERS, BodyFit
 from tumble.identification.flight import free_flight, noise_level
 from tumble.identification.phone import PhoneRecording, synthetic_phone
 from tumble.identification.recordings import Recording, example_recording_path, read_recording
+from tumble.identification.result import PARAMETERS, BodyFit
 
 __all__ = [
     "PARAMETERS",

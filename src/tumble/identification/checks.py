@@ -14,15 +14,24 @@ from tumble.units import pint, vector_to_si
 
 __all__ = [
     "FREE_BODY_BOUND",
+    "LAGS",
     "LOSSES",
+    "MAX_MISS",
+    "MAX_RATIO_ERROR",
+    "MIN_RATIO",
     "MIN_SAMPLES",
     "breaks_free_body",
+    "canonical",
     "check_bias",
+    "check_determined",
     "check_loss",
     "check_motion",
+    "check_torque",
     "flag",
     "free_body_ratio",
+    "looks_like_noise",
     "samples",
+    "symmetric_within_errors",
     "window_bounds",
 ]
 
@@ -109,6 +118,14 @@ def flag(value: Any, name: str) -> bool:
     return bool(value)
 
 
+def check_torque(torque: Any, name: str = "`torque`") -> str:
+    """A torque model of a fit: "auto", "free", "drag" or "quadratic-drag"."""
+    choices = ["auto", "free", "drag", "quadratic-drag"]
+    if not isinstance(torque, str) or torque not in choices:
+        raise unknown_choice(torque, choices, name)
+    return torque
+
+
 def check_loss(loss: Any, name: str = "`loss`") -> str:
     """``loss``, one of :data:`LOSSES` (``name``: how the message calls it)."""
     if not isinstance(loss, str) or loss not in LOSSES:
@@ -182,3 +199,92 @@ def check_bias(bias: Array, rates: Array) -> None:
             "as rad/s (57.3 times), or in turn/s (6.28 times)? (Give them in rad/s, or as "
             "quantities with their unit.)"
         )
+
+
+#: The most a ratio's standard error may be for the ratios to count as
+#: identified: beyond it the recording does not determine them.
+MAX_RATIO_ERROR = 0.05
+
+#: The smallest I1/I3 a fit returns: below it the fit has run to the limit of a
+#: line of mass, where ω along it is not determined (no real body comes close).
+MIN_RATIO = 1e-4
+
+#: The most the residuals of a fit may be, in noise levels: beyond it no
+#: torque-free body matched the samples (a hand or an impact in the window, or a
+#: start from which the fit did not find the motion).
+MAX_MISS = 10.0
+
+#: Lags of the residuals' autocorrelation that tell a miss from noise (:func:`looks_like_noise`).
+LAGS = 10
+
+
+def canonical(moments: Array, axes: Array, omega0: Array) -> tuple[Array, Array, Array]:
+    """The same body with moments ascending and scaled to the largest, axes a
+    proper rotation with a fixed choice of signs, and ω0 in those axes."""
+    order = np.argsort(moments, kind="stable")
+    axes = axes[:, order]
+    omega0 = omega0[order]
+    # Signs: each of the first two axes has its largest component positive; the
+    # third completes a right-handed frame (ω0 follows each flip).
+    for k in range(2):
+        if axes[np.argmax(np.abs(axes[:, k])), k] < 0:
+            axes[:, k] *= -1.0
+            omega0[k] *= -1.0
+    if np.linalg.det(axes) < 0:
+        axes[:, 2] *= -1.0
+        omega0[2] *= -1.0
+    return moments[order] / moments[order][2], axes, omega0
+
+
+def symmetric_within_errors(ratios: Array, covariance: Array) -> bool:
+    """Whether two of the moments (r1, r2, 1) are equal within 3 standard errors
+    of their difference (from the covariance of the ratios)."""
+    v11, v22, v12 = covariance[0, 0], covariance[1, 1], covariance[0, 1]
+    upper = 1.0 - ratios[1] < 3.0 * np.sqrt(max(v22, 0.0))
+    lower = ratios[1] - ratios[0] < 3.0 * np.sqrt(max(v11 + v22 - 2 * v12, 0.0))
+    return bool(upper or lower)
+
+
+def check_determined(jacobian: Array, bias: bool) -> None:
+    """Refuse a fit whose ratios some change of the other parameters can make up
+    for exactly: a direction of the parameters (columns scaled to unit norm) the
+    Jacobian does not see, with a share of the ratios. (A symmetric body's axes
+    about its symmetry axis are such a direction too, but leave the ratios as
+    they are: that is not refused.)"""
+    norms = np.linalg.norm(jacobian, axis=0)
+    norms[norms == 0] = 1.0
+    _, values, directions = np.linalg.svd(jacobian / norms, full_matrices=False)
+    unseen = directions[values < 1e-8 * values[0]]
+    if any(np.linalg.norm(v[:2]) > 0.1 for v in unseen):
+        advice = (
+            "with a bias, a symmetric body's ratios trade off against it: fit with "
+            "bias=False if the sensor has none, or record a less symmetric body"
+            if bias
+            else "record a longer or less regular motion"
+        )
+        raise InputError(
+            "Expected a recording that determines the moment ratios, got one that other "
+            f"ratios reproduce exactly ({advice})."
+        )
+
+
+def looks_like_noise(residuals: Array, noise: float, scale: float) -> bool:
+    """Whether residuals (n, 3) look like the sensor's noise: about its size, and
+    uncorrelated along the samples. A wrong body leaves a smooth pattern,
+    correlated over many samples however small it is; the sum of the
+    autocorrelations at lags 1 to m of white noise is 0 within √(m/n) (n the
+    number of residuals), and a smooth pattern adds about m times its share.
+    Outliers (beyond 5 σ√3, impacts and glitches) are left out of the judgement."""
+    rms = float(np.sqrt(np.mean(residuals**2)))
+    if rms <= 1e-12 * scale:
+        return True
+    inliers = residuals[np.linalg.norm(residuals, axis=1) <= 5.0 * np.sqrt(3.0) * noise]
+    if len(inliers) < 0.9 * len(residuals):
+        return False
+    residuals = inliers
+    rms = float(np.sqrt(np.mean(residuals**2)))
+    centred = residuals - residuals.mean(axis=0)
+    power = float(np.sum(centred**2))
+    lags = min(LAGS, len(centred) // 4)
+    correlation = sum(float(np.sum(centred[k:] * centred[:-k])) / power for k in range(1, lags + 1))
+    return rms < 1.5 * noise and correlation < 4.0 * np.sqrt(lags / residuals.size)

@@ -16,52 +16,63 @@ J. Guid. Control Dyn. 20 (1997)).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import re
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-from tumble.core import rate_model
+from tumble.core import drag_model, rate_model
 from tumble.errors import InputError
 from tumble.identification.checks import (
+    MAX_MISS,
+    MAX_RATIO_ERROR,
+    MIN_RATIO,
     MIN_SAMPLES,
     breaks_free_body,
+    canonical,
     check_bias,
+    check_determined,
     check_loss,
     check_motion,
+    check_torque,
     flag,
     free_body_ratio,
+    looks_like_noise,
     samples,
+    symmetric_within_errors,
     window_bounds,
 )
 from tumble.identification.decimation import averaged
 from tumble.identification.flight import free_flight, noise_level
+from tumble.identification.result import TORQUE_MODELS, BodyFit
 from tumble.identification.start import linear_start, smoothed
 from tumble.resources import check_memory
 from tumble.theory import flip_period
 
-__all__ = ["BodyFit", "identify", "principal_rates"]
+__all__ = ["identify"]
 
 Array = NDArray[np.float64]
-
-#: The most a ratio's standard error may be for the ratios to count as
-#: identified: beyond it the recording does not determine them.
-MAX_RATIO_ERROR = 0.05
-
-#: The smallest I1/I3 a fit returns: below it the fit has run to the limit of a
-#: line of mass, where ω along it is not determined (no real body comes close).
-MIN_RATIO = 1e-4
-
-#: The most the residuals of a fit may be, in noise levels: beyond it no
-#: torque-free body matched the samples (a hand or an impact in the window, or a
-#: start from which the fit did not find the motion).
-MAX_MISS = 10.0
 
 #: Starts of the ratios tried when the fit from the linear start leaves residuals
 #: well above the noise: points of the triangle r1 ≤ r2 ≤ 1 ≤ r1 + r2.
 RATIO_STARTS = ((0.3, 0.8), (0.5, 0.6), (0.45, 0.9), (0.7, 0.85), (0.15, 0.95), (0.6, 0.95))
+
+#: The difference of the Bayesian information criterion that counts as decisive evidence
+#: for a torque over the torque-free body (Kass & Raftery, J. Am. Stat. Assoc. 90 (1995):
+#: "very strong" beyond 10).
+DECISIVE = 10.0
+
+#: Why ``torque="auto"`` keeps a body torque-free.
+FREE_CHOICE = "torque-free: its residuals look like the noise"
+
+#: A refusal of a fit for its residuals: the models with a torque may fit instead.
+MISSED = re.compile(r"to follow a .*?, got residuals of ([0-9.e+-]+) rad/s")
+
+#: The best torque-free results of the search a drag is searched from.
+DRAG_STARTS = 3
 
 #: Samples a start of the fit is tried on (:func:`_fit`).
 START_SAMPLES = 1000
@@ -73,100 +84,15 @@ START_SAMPLES = 1000
 #: a sample.
 FIT_BYTES = 2500
 
-#: Lags of the residuals' autocorrelation that tell a miss from noise (:func:`_fits`).
-LAGS = 10
-
-PARAMETERS = ("r1", "r2", "rx", "ry", "rz", "w1", "w2", "w3", "bx", "by", "bz")
-
-
-@dataclass(frozen=True, eq=False)
-class BodyFit:
-    """A body and its motion, fitted to measured rates by :func:`tumble.identify`.
-
-    Attributes
-    ----------
-    moment_ratios : (2,) ``(I1/I3, I2/I3)``, principal moments ascending.
-    uncertainty : (2,) standard errors of ``moment_ratios``.
-    axes : (3, 3) principal axes as columns, in the sensor's axes (a proper
-        rotation: the sensor's axes → principal axes is its transpose).
-    omega0 : (3,) angular velocity at ``window[0]`` in the principal axes, rad/s.
-    bias : (3,) sensor bias in the sensor's axes, rad/s (zeros if not fitted).
-    covariance : (k, k) covariance of the parameters :data:`PARAMETERS` (the
-        first 8 without a bias): the ratios, a small rotation of the axes (rad,
-        about the fitted principal axes), ``omega0`` (rad/s) and the bias (rad/s).
-    residual_rms : root-mean-square of the residuals, rad/s (the sensor's noise
-        when the model fits).
-    flip_period : period of ω(t) of the fitted body, s
-        (:func:`tumble.theory.flip_period`): near the intermediate axis the body
-        flips twice in it; ``inf`` on the separatrix.
-    window : (start, end) of the samples fitted, s.
-    t, measured : the samples fitted, s and rad/s (sensor's axes): block means
-        of the samples given when they were averaged (see ``note``).
-    noise : the noise σ of the samples fitted, rad/s per component (of the
-        samples given over √k when k were averaged at a time).
-    note : what was done to the samples before the fit, one sentence (a
-        recording sampled far faster than its motion needs is averaged to
-        fewer samples); "" when nothing was.
-    """
-
-    moment_ratios: Array
-    uncertainty: Array
-    axes: Array
-    omega0: Array
-    bias: Array
-    covariance: Array
-    residual_rms: float
-    flip_period: float
-    window: tuple[float, float]
-    t: Array
-    measured: Array
-    noise: float = 0.0
-    note: str = ""
-
-    def principal_rates(self, t: Any) -> Array:
-        """(n, 3) the fitted body's ω at times ``t`` (s), principal axes, rad/s."""
-        times = np.asarray(t, dtype=float) - self.window[0]
-        return principal_rates(np.array([*self.moment_ratios, 1.0]), self.omega0, times)
-
-    def predicted(self, t: Any) -> Array:
-        """(n, 3) the fitted measurement at times ``t`` (s): ω in the sensor's axes
-        plus the bias, rad/s."""
-        return np.asarray(self.principal_rates(t) @ self.axes.T + self.bias)
-
-    @property
-    def residuals(self) -> Array:
-        """(n, 3) measured − fitted, rad/s, at the times ``t``."""
-        return np.asarray(self.measured - self.predicted(self.t))
-
-    def __repr__(self) -> str:
-        r, e = self.moment_ratios, self.uncertainty
-        return (
-            f"BodyFit(I1/I3={r[0]:.5f} ± {e[0]:.1e}, I2/I3={r[1]:.5f} ± {e[1]:.1e}, "
-            f"flip_period={self.flip_period:.4g} s, residual_rms={self.residual_rms:.3g} rad/s, "
-            f"{len(self.t)} samples in {self.window[0]:.4g}–{self.window[1]:.4g} s)"
-        )
-
-
-def principal_rates(moments: Array, omega0: Array, times: Array) -> Array:
-    """(n, 3) exact torque-free ω(t) in the principal frame for moments in any
-    order (all > 0), ω(0) = ``omega0``: see
-    :func:`tumble.core.rate_model.principal_rates`."""
-    return np.asarray(
-        rate_model.principal_rates(
-            np.asarray(moments, dtype=float),
-            np.asarray(omega0, dtype=float),
-            np.ascontiguousarray(times, dtype=float),
-        )
-    )
-
 
 # ------------------------------------------------------------------ the model
-def _unpack(x: Array, frame: Array, with_bias: bool) -> tuple[Array, Array, Array, Array]:
-    """The moments, principal axes, ω0 and bias of the parameters ``x`` (see
-    :func:`tumble.core.rate_model.rate_residuals`)."""
+def _unpack(x: Array, frame: Array, with_bias: bool) -> tuple[Array, Array, Array, Array, Array]:
+    """The moments, principal axes, ω0, bias and drag coefficients (empty without a
+    torque) of the parameters ``x`` (see :func:`tumble.core.rate_model.rate_residuals`
+    and :func:`tumble.core.drag_model.drag_residuals`)."""
     moments, axes = rate_model.moments_and_axes(x, np.ascontiguousarray(frame))
     bias = x[8:11] if with_bias else np.zeros(3)
-    return moments, axes, x[5:8], bias
+    return moments, axes, x[5:8], bias, x[11 if with_bias else 8 :]
 
 
 def _solve(
@@ -178,27 +104,34 @@ def _solve(
     loss: str,
     tight: bool,
     noise: float,
+    torque: str = "free",
 ) -> Any:
     """Least squares from ``x0``: Levenberg–Marquardt (MINPACK) for the plain loss,
     the trust-region method for a robust one, whose residuals count in full up to
     3 σ of the noise (``f_scale``) and less beyond. The ratios are fitted as their
-    logarithms, so they stay positive without bounds."""
+    logarithms, so they stay positive without bounds. With a drag ``torque`` the
+    model is stepped (:mod:`tumble.core.drag_model`), its Jacobian compiled."""
     # The robust losses' trust region does not reach 1e-13: 1e-10 is far below
     # the errors of any fit with noise.
     tolerance = (1e-13 if loss == "linear" else 1e-10) if tight else 1e-9
     # Evaluations a parameter: a start is only a start, and the robust losses'
     # steps crawl near the end, long after the answer has stopped changing.
     budget = 200 if tight and loss == "linear" else 40
+    # Contiguous once here, not at each of the many evaluations.
+    args: tuple[Any, ...] = (
+        np.ascontiguousarray(frame),
+        np.ascontiguousarray(times),
+        np.ascontiguousarray(measured),
+        with_bias,
+    )
+    model: dict[str, Any] = {"fun": rate_model.rate_residuals}
+    if torque != "free":
+        args += (torque == "quadratic-drag",)
+        model = {"fun": drag_model.drag_residuals, "jac": drag_model.drag_jacobian}
     return least_squares(
-        rate_model.rate_residuals,
-        x0,
-        # Contiguous once here, not at each of the many evaluations.
-        args=(
-            np.ascontiguousarray(frame),
-            np.ascontiguousarray(times),
-            np.ascontiguousarray(measured),
-            with_bias,
-        ),
+        x0=x0,
+        args=args,
+        **model,
         method="lm" if loss == "linear" else "trf",
         # For trf: LSMR, not a dense SVD of the (3n, 11) Jacobian at every step.
         **({} if loss == "linear" else {"tr_solver": "lsmr"}),
@@ -212,24 +145,6 @@ def _solve(
     )
 
 
-def _canonical(moments: Array, axes: Array, omega0: Array) -> tuple[Array, Array, Array]:
-    """The same body with moments ascending and scaled to the largest, axes a
-    proper rotation with a fixed choice of signs, and ω0 in those axes."""
-    order = np.argsort(moments, kind="stable")
-    axes = axes[:, order]
-    omega0 = omega0[order]
-    # Signs: each of the first two axes has its largest component positive; the
-    # third completes a right-handed frame (ω0 follows each flip).
-    for k in range(2):
-        if axes[np.argmax(np.abs(axes[:, k])), k] < 0:
-            axes[:, k] *= -1.0
-            omega0[k] *= -1.0
-    if np.linalg.det(axes) < 0:
-        axes[:, 2] *= -1.0
-        omega0[2] *= -1.0
-    return moments[order] / moments[order][2], axes, omega0
-
-
 # ------------------------------------------------------------------ the fit
 def identify(
     t: Any,
@@ -238,8 +153,9 @@ def identify(
     window: Any = None,
     bias: bool = True,
     loss: str = "linear",
+    torque: str = "auto",
 ) -> BodyFit:
-    """Fit a torque-free rigid body to measured angular velocity.
+    """Fit a rigid body, torque-free or under air drag, to measured angular velocity.
 
     Parameters
     ----------
@@ -255,6 +171,13 @@ def identify(
         ``scipy.optimize.least_squares`` (``"soft_l1"``, ``"huber"``,
         ``"cauchy"``, ``"arctan"``) for recordings with outliers; the covariance
         then holds only roughly.
+    torque : the torque the body flew under: ``"free"`` (the exact torque-free
+        motion), ``"drag"`` (linear air drag per principal axis, τ_i = −c_i ω_i),
+        ``"quadratic-drag"`` (τ_i = −c_i ω_i |ω_i|), or ``"auto"``: torque-free when
+        its residuals look like the noise, else the model of the three with the
+        least Bayesian information criterion (``BodyFit.choice`` says why). A drag
+        model is stepped (classical Runge–Kutta, substeps turning 0.02 rad, far
+        below any gyroscope's noise) and fits the coefficients c_i / I3 too.
 
     Returns
     -------
@@ -311,7 +234,19 @@ def identify(
         f"a fit of {count} samples",
         "Fit a shorter window (`window=(start, end)`, --window START,END).",
     )
-    fit = _fit(times[inside], rates[inside], noise, bias, loss, note)
+    torque = check_torque(torque)
+    window_times, window_rates = times[inside], rates[inside]
+    if automatic and torque == "auto":
+        # The window found may hold a few samples of the hand: the torque-free fit
+        # narrows it first (below), and the torque is chosen on what is left.
+        try:
+            fit = _fit(window_times, window_rates, noise, bias, loss, note, "free")
+        except InputError as error:
+            if MISSED.search(str(error)) is None:
+                raise
+            fit = _fit_torque(window_times, window_rates, noise, bias, loss, note, torque)
+    else:
+        fit = _fit_torque(window_times, window_rates, noise, bias, loss, note, torque)
     if automatic:
         # The rule of free_flight can keep the last samples of a throw (a fast
         # spin-up ends with |ω|² above |ω̇|); the samples the fitted free motion
@@ -321,16 +256,114 @@ def identify(
         kept = np.flatnonzero(~misses)
         first, last = (kept[0], kept[-1]) if kept.size else (0, misses.size - 1)
         if (first > 0 or last < misses.size - 1) and last - first + 1 >= MIN_SAMPLES:
-            fit = _fit(
-                fit.t[first : last + 1], fit.measured[first : last + 1], noise, bias, loss, note
-            )
+            chosen, choice = fit.torque, fit.choice
+            if torque == "auto" and fit.choice == "as asked":
+                chosen = "auto"  # the narrowed window's torque is chosen now
+            kept_times, kept_rates = fit.t[first : last + 1], fit.measured[first : last + 1]
+            fit = _fit_torque(kept_times, kept_rates, noise, bias, loss, note, chosen)
+            if chosen != "auto":
+                fit = replace(fit, choice=choice)
+        elif torque == "auto" and fit.choice == "as asked":
+            if looks_like_noise(fit.residuals, noise, float(np.abs(fit.measured).max())):
+                fit = replace(fit, choice=FREE_CHOICE)
+            else:
+                fit = _fit_torque(fit.t, fit.measured, noise, bias, loss, note, "auto")
     return fit
 
 
-def _fit(
-    times: Array, rates: Array, noise: float, bias: bool, loss: str, note: str = ""
+def _fit_torque(
+    times: Array, rates: Array, noise: float, bias: bool, loss: str, note: str, torque: str
 ) -> BodyFit:
-    """The fit of the samples of one window (see :func:`tumble.identify`)."""
+    """The fit with the torque model asked for, or chosen (``"auto"``): torque-free when
+    its residuals look like the noise; else, of the models that fit, the one of least
+    Bayesian information criterion ``N ln(RSS/N) + k ln N`` (N residuals, k parameters:
+    three more for a drag), which asks a drag to pay for its coefficients. Refused only
+    when no model fits, naming each with its residual or its refusal."""
+    if torque != "auto":
+        return _fit(times, rates, noise, bias, loss, note, torque)
+    fits: dict[str, BodyFit] = {}
+    refusals: dict[str, str] = {}
+    hint = ""  # what the torque-free fit's refusal adds about the rates
+    for model in TORQUE_MODELS:
+        # Quadratic drag starts from the linear drag's fit, when there is one: a model
+        # that does not fit the samples would otherwise be searched from every start.
+        start_from = fits.get("drag") if model == "quadratic-drag" else None
+        try:
+            fits[model] = _fit(times, rates, noise, bias, loss, note, model, start_from)
+        except InputError as error:
+            missed = MISSED.search(str(error))
+            if model == "free" and missed is None:
+                raise  # not a motion a torque could explain: the rates, their unit, a spin
+            if model == "free":
+                hint = str(error).partition("is the window all free flight?")[2]
+            refusals[model] = (
+                f"residuals of {missed.group(1)} rad/s" if missed else str(error).rstrip(".")
+            )
+        if model == "free" and model in fits:
+            scale = float(np.abs(rates).max())
+            if looks_like_noise(fits[model].residuals, noise, scale):
+                return replace(fits[model], choice=FREE_CHOICE)
+    if not fits:
+        tried = "; ".join(f"{model}: {reason}" for model, reason in refusals.items())
+        raise InputError(
+            f"Expected a window that one of the torque models fits, got none, against noise of "
+            f"{noise:.3g} rad/s: {tried}: is the window all free flight?{hint}"
+        )
+    criteria = {model: _information(fit) for model, fit in fits.items()}
+    chosen = min(criteria, key=lambda model: criteria[model])
+    if "free" in fits and criteria["free"] - criteria[chosen] <= DECISIVE:
+        chosen = "free"  # a torque is chosen only on decisive evidence
+    said = ", ".join(
+        f"{model} {criteria[model]:.1f} (residual {fit.residual_rms:.3g} rad/s)"
+        for model, fit in fits.items()
+    )
+    refused = "".join(f"; {model} refused" for model in refusals)
+    rule = "the least" if chosen != "free" else "no decisive (by more than 10) gain over the"
+    choice = (
+        f"{chosen}: {rule} Bayesian information criterion of {said}{refused}, "
+        f"against noise {noise:.3g} rad/s"
+    )
+    return replace(fits[chosen], choice=choice)
+
+
+def _start_of(fit: BodyFit, relative: Array, torque: str, bias: bool) -> Array:
+    """The parameters of a fit of the same samples as the start of a fit with ``torque``:
+    its body, motion and bias; a linear drag's coefficients k turned into a quadratic
+    one's as k / ⟨|ω_i|⟩ (the same mean torque), and none where the fit had none."""
+    drag = np.zeros(0 if torque == "free" else 3)
+    if torque != "free" and fit.torque != "free":
+        drag = np.array(fit.torque_parameters, dtype=float)
+        if torque == "quadratic-drag" and fit.torque == "drag":
+            mean_rates = np.abs(fit.principal_rates(fit.t)).mean(axis=0)
+            drag = drag / np.maximum(mean_rates, 1e-12)
+    offset = fit.bias if bias else np.zeros(0)
+    ratios = np.log(fit.moment_ratios)
+    return np.concatenate([ratios, np.zeros(3), fit.omega0, offset, drag])
+
+
+def _information(fit: BodyFit) -> float:
+    """The Bayesian information criterion of a fit, ``N ln(RSS/N) + k ln N``."""
+    residuals = fit.residuals.ravel()
+    count = residuals.size
+    parameters = fit.covariance.shape[0]
+    squares = max(float(residuals @ residuals), 1e-300)
+    return float(count * math.log(squares / count) + parameters * math.log(count))
+
+
+def _fit(
+    times: Array,
+    rates: Array,
+    noise: float,
+    bias: bool,
+    loss: str,
+    note: str = "",
+    torque: str = "free",
+    start_from: BodyFit | None = None,
+) -> BodyFit:
+    """The fit of the samples of one window with one torque model (see
+    :func:`tumble.identify`); from the starts of the linear start and of a grid of
+    ratios, or only from the body, motion, bias (and drag) of ``start_from`` (a fit of
+    the same samples with another torque model)."""
     start = float(times[0])
     relative = times - start
     check_motion(rates, noise)
@@ -357,27 +390,57 @@ def _fit(
     # redescending loss (cauchy, arctan) crawls from a poor start, for minutes,
     # to a body off by several of its errors; the chosen loss polishes the best.
     search = "linear" if loss == "linear" else "soft_l1"
-    best = None
-    for ratios, axes in starts:
-        x = np.concatenate(
-            [np.log(ratios), np.zeros(3), axes.T @ first, np.zeros(3 if bias else 0)]
-        )
+    candidates = [
+        np.concatenate([np.log(ratios), np.zeros(3), axes.T @ first, np.zeros(3 if bias else 0)])
+        for ratios, axes in starts
+    ]
+    frames = [axes for _, axes in starts]
+    # Each start is searched torque-free (exact, fast, and unable to run off into a
+    # drag that decays faster than the samples); a drag is then searched from the best
+    # few torque-free results, the coefficients from none: the decay the torque-free
+    # body leaves over takes them from zero in a few steps. A fit of another model
+    # starts the drag directly.
+    searched = "free"
+    if start_from is not None:
+        candidates = [_start_of(start_from, relative, torque, bias)]
+        frames = [start_from.axes]
+        searched = torque
+    largest = float(np.abs(rates).max())
+    found = []
+    for x, axes in zip(candidates, frames, strict=True):
         for n in spans:
-            result = _solve(x, axes, some_times[:n], some_rates[:n], bias, search, False, noise)
+            result = _solve(
+                x, axes, some_times[:n], some_rates[:n], bias, search, False, noise, searched
+            )
             x = result.x
-        if best is None or result.cost < best.cost:
-            best, frame = result, axes
-        if _fits(best.fun.reshape(-1, 3), noise, float(np.abs(rates).max())):
+        found.append((result, axes))
+        if looks_like_noise(result.fun.reshape(-1, 3), noise, largest):
             break  # residuals like the noise: the other starts are for a miss
+    found.sort(key=lambda pair: pair[0].cost)
+    if torque != searched:
+        drags = []
+        for result, axes in found[:DRAG_STARTS]:
+            x = np.concatenate([result.x, np.zeros(3)])
+            drags.append(
+                (_solve(x, axes, some_times, some_rates, bias, search, False, noise, torque), axes)
+            )
+            if looks_like_noise(drags[-1][0].fun.reshape(-1, 3), noise, largest):
+                break
+        found = sorted(drags, key=lambda pair: pair[0].cost)
+    best, frame = found[0]
     assert best is not None
 
     # Polish in the canonical frame, from which the covariance is read.
-    body, axes, omega0, offset = _unpack(best.x, frame, bias)
-    moments, axes, omega0 = _canonical(body, axes, omega0)
-    x = np.concatenate([np.log(moments[:2]), np.zeros(3), omega0, offset if bias else []])
-    final = _solve(x, axes, relative, rates, bias, loss, tight=True, noise=noise)
-    body, axes, omega0, offset = _unpack(final.x, axes, bias)
-    moments, axes, omega0 = _canonical(body, axes, omega0)
+    body, axes, omega0, offset, drag = _unpack(best.x, frame, bias)
+    if drag.size:
+        drag = drag[np.argsort(body, kind="stable")]  # each coefficient with its axis
+    moments, axes, omega0 = canonical(body, axes, omega0)
+    x = np.concatenate([np.log(moments[:2]), np.zeros(3), omega0, offset if bias else [], drag])
+    final = _solve(x, axes, relative, rates, bias, loss, tight=True, noise=noise, torque=torque)
+    body, axes, omega0, offset, drag = _unpack(final.x, axes, bias)
+    if drag.size:
+        drag = drag[np.argsort(body, kind="stable")]
+    moments, axes, omega0 = canonical(body, axes, omega0)
 
     residual = float(np.sqrt(np.mean(final.fun**2)))
     # The typical residual (median-based: a few outliers do not count).
@@ -390,12 +453,13 @@ def _fit(
             if breaks_free_body(ratio)
             else ""
         )
+        motion = "torque-free motion" if torque == "free" else f"motion under {torque}"
         raise InputError(
-            f"Expected the samples of {start:.6g}–{times[-1]:.6g} s to follow a torque-free "
-            f"motion, got residuals of {typical:.3g} rad/s against noise of {noise:.3g} rad/s "
+            f"Expected the samples of {start:.6g}–{times[-1]:.6g} s to follow a {motion}, "
+            f"got residuals of {typical:.3g} rad/s against noise of {noise:.3g} rad/s "
             f"for the best body found: is the window all free flight?{also}"
         )
-    _check_determined(final.jac, bias)
+    check_determined(final.jac, bias)
     if moments[0] < MIN_RATIO:
         raise InputError(
             "Expected a recording that determines the moment ratios, got a fit that ran to a "
@@ -421,7 +485,7 @@ def _fit(
     # A torque-free body matched the samples and determines the ratios, but no
     # sensor reads mostly its own offset: a bias beyond the rates is a unit error.
     check_bias(offset, rates)
-    if bias and _symmetric(moments[:2], covariance):
+    if bias and symmetric_within_errors(moments[:2], covariance):
         raise InputError(
             "Expected a recording that determines the moment ratios, got a body symmetric "
             f"within its errors (I1/I3 = {moments[0]:.5g}, I2/I3 = {moments[1]:.5g}): with a "
@@ -445,58 +509,7 @@ def _fit(
         measured=rates,
         noise=noise,
         note=note,
+        torque=torque,
+        torque_parameters=drag,
+        torque_uncertainty=np.sqrt(np.abs(np.diag(covariance)[covariance.shape[0] - drag.size :])),
     )
-
-
-def _symmetric(ratios: Array, covariance: Array) -> bool:
-    """Whether two of the moments (r1, r2, 1) are equal within 3 standard errors
-    of their difference (from the covariance of the ratios)."""
-    v11, v22, v12 = covariance[0, 0], covariance[1, 1], covariance[0, 1]
-    upper = 1.0 - ratios[1] < 3.0 * np.sqrt(max(v22, 0.0))
-    lower = ratios[1] - ratios[0] < 3.0 * np.sqrt(max(v11 + v22 - 2 * v12, 0.0))
-    return bool(upper or lower)
-
-
-def _check_determined(jacobian: Array, bias: bool) -> None:
-    """Refuse a fit whose ratios some change of the other parameters can make up
-    for exactly: a direction of the parameters (columns scaled to unit norm) the
-    Jacobian does not see, with a share of the ratios. (A symmetric body's axes
-    about its symmetry axis are such a direction too, but leave the ratios as
-    they are: that is not refused.)"""
-    norms = np.linalg.norm(jacobian, axis=0)
-    norms[norms == 0] = 1.0
-    _, values, directions = np.linalg.svd(jacobian / norms, full_matrices=False)
-    unseen = directions[values < 1e-8 * values[0]]
-    if any(np.linalg.norm(v[:2]) > 0.1 for v in unseen):
-        advice = (
-            "with a bias, a symmetric body's ratios trade off against it: fit with "
-            "bias=False if the sensor has none, or record a less symmetric body"
-            if bias
-            else "record a longer or less regular motion"
-        )
-        raise InputError(
-            "Expected a recording that determines the moment ratios, got one that other "
-            f"ratios reproduce exactly ({advice})."
-        )
-
-
-def _fits(residuals: Array, noise: float, scale: float) -> bool:
-    """Whether residuals (n, 3) look like the sensor's noise: about its size, and
-    uncorrelated along the samples. A wrong body leaves a smooth pattern,
-    correlated over many samples however small it is; the sum of the
-    autocorrelations at lags 1 to m of white noise is 0 within √(m/n) (n the
-    number of residuals), and a smooth pattern adds about m times its share.
-    Outliers (beyond 5 σ√3, impacts and glitches) are left out of the judgement."""
-    rms = float(np.sqrt(np.mean(residuals**2)))
-    if rms <= 1e-12 * scale:
-        return True
-    inliers = residuals[np.linalg.norm(residuals, axis=1) <= 5.0 * np.sqrt(3.0) * noise]
-    if len(inliers) < 0.9 * len(residuals):
-        return False
-    residuals = inliers
-    rms = float(np.sqrt(np.mean(residuals**2)))
-    centred = residuals - residuals.mean(axis=0)
-    power = float(np.sum(centred**2))
-    lags = min(LAGS, len(centred) // 4)
-    correlation = sum(float(np.sum(centred[k:] * centred[:-k])) / power for k in range(1, lags + 1))
-    return rms < 1.5 * noise and correlation < 4.0 * np.sqrt(lags / residuals.size)

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from tumble.identification.fit import principal_rates
+from tumble.identification.result import principal_rates
 
 __all__ = ["PhoneRecording", "synthetic_phone"]
 

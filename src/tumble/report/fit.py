@@ -86,10 +86,8 @@ def fit_summary(
     value with its standard error, the covariance of the parameters, the
     residual against the sensor's ``noise`` (rad/s), and the conventions.
     ``found``: the window was found (not given); ``loss``: the loss fitted."""
-    from tumble.identification import PARAMETERS
-
     errors = np.sqrt(np.abs(np.diag(fit.covariance)))
-    fitted_bias = fit.covariance.shape[0] == len(PARAMETERS)
+    fitted_bias = fit.bias_fitted
     period = float(fit.flip_period)
     return {
         "recording": source,
@@ -112,7 +110,13 @@ def fit_summary(
         "residual_rms": float(fit.residual_rms),
         "noise": float(noise),
         "fit_note": fit.note,
-        "parameters": list(PARAMETERS[: fit.covariance.shape[0]]),
+        "torque": fit.torque,
+        "torque_parameters": fit.torque_parameters.tolist(),
+        "torque_parameters_standard_error": fit.torque_uncertainty.tolist(),
+        "torque_units": fit.torque_units,
+        "torque_choice": fit.choice,
+        "noise_ratio": float(fit.noise_ratio),
+        "parameters": list(fit.parameter_names),
         "covariance": fit.covariance.tolist(),
         "units": {"time": "s", "rates": "rad/s", "moment_ratios": "1", "rotation": "rad"},
         "conventions": (
@@ -121,7 +125,10 @@ def fit_summary(
             "the angular velocity at window[0] in the principal axes; bias: in the sensor's "
             "axes; covariance: of the parameters named, r1 and r2 the ratios, rx, ry, rz a "
             "small rotation of the axes about the fitted principal axes, w1..w3 omega0, "
-            "bx..bz the bias; flip_period: null on the separatrix (infinite)"
+            "bx..bz the bias, c1..c3 a drag's coefficients c_i / I3 per principal axis "
+            "(torque drag: tau_i = -c_i w_i, 1/s; quadratic-drag: tau_i = -c_i w_i |w_i|, "
+            "1/rad); flip_period: of the body without its torque, null on the separatrix "
+            "(infinite)"
         ),
     }
 
@@ -155,7 +162,8 @@ def fitted_scenario(fit: BodyFit, name: str, source: str) -> str:
         f"name = {json.dumps(name)}",
         f"title = {json.dumps(f'Body fitted to {Path(source).name}')}",
         'description = """',
-        f"The torque-free body fitted to the recording {shown}, samples of",
+        f"The {'torque-free ' if fit.torque == 'free' else ''}body fitted to the recording "
+        f"{shown}, samples of",
         f"{start:.6g} to {end:.6g} s: I1/I3 = {r[0]:.5f} ± {e[0]:.2g}, "
         f"I2/I3 = {r[1]:.5f} ± {e[1]:.2g}.",
         "Rates fix only the ratios of the moments: the body has a mass of 1 kg and the",
@@ -172,18 +180,41 @@ def fitted_scenario(fit: BodyFit, name: str, source: str) -> str:
         "[initial]",
         f"omega = {_numbers(fit.omega0)}   # rad/s, body axes",
         "",
+        *_torque_lines(fit),
         "[simulation]",
         f"duration = {float(end - start)!r}   # s",
-        'method = "exact"',
+        'method = "exact"' if fit.torque == "free" else 'method = "adaptive"',
         "",
         "[theory]",
-        f'model = "{"free-symmetric-top" if symmetric else "flip-period"}"',
+        f'model = "{_theory(fit, symmetric)}"',
         "",
         "[output]",
         f"samples = {min(max(int(fit.t.size), 100), 100_000)}",
         "",
     ]
     return "\n".join(lines)
+
+
+def _torque_lines(fit: BodyFit) -> list[str]:
+    """The ``[[torques]]`` table of a fitted drag: with I3 = 1 kg·m² the coefficients
+    c_i / I3 are the coefficients in N·m·s (N·m·s² for quadratic drag), and the body's
+    axes are the principal axes, so tumble's drag model of that name replays it."""
+    if fit.torque == "free":
+        return []
+    unit = "N·m·s" if fit.torque == "drag" else "N·m·s²"
+    return [
+        "[[torques]]",
+        f'type = "{fit.torque}"',
+        f"coefficients = {_numbers(fit.torque_parameters)}   # {unit}, principal axes",
+        "",
+    ]
+
+
+def _theory(fit: BodyFit, symmetric: bool) -> str:
+    """The closed form a replay is checked against: none under drag (no closed form)."""
+    if fit.torque != "free":
+        return "none"
+    return "free-symmetric-top" if symmetric else "flip-period"
 
 
 def _numbers(values: Array) -> str:

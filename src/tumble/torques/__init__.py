@@ -15,6 +15,8 @@ quantities the motion keeps under it.
 * :class:`ConstantBodyTorque` — fixed in body axes (a thruster, a motor).
 * :class:`ConstantSpaceTorque` — fixed in space axes.
 * :class:`LinearDamping` — ``τ = −c ω`` (bearing friction, air drag at low speed).
+* :class:`AxisDrag` — linear drag per body axis, ``τᵢ = −cᵢ ωᵢ`` (a thrown object).
+* :class:`QuadraticDrag` — quadratic drag per body axis, ``τᵢ = −cᵢ ωᵢ |ωᵢ|``.
 * :class:`GravityGradient` — the torque of a circular orbit, ``3 n² r × (I r)``.
 * :class:`HoldRotation` — the body-fixed torque ``ω0 × (I ω0)`` that keeps the
   initial rotation steady (a motor holding a shaft at a constant rate).
@@ -57,11 +59,13 @@ from __future__ import annotations
 
 from tumble.torques.binding import BoundTorque, bind
 from tumble.torques.builtin import (
+    AxisDrag,
     ConstantBodyTorque,
     ConstantSpaceTorque,
     Gravity,
     HoldRotation,
     LinearDamping,
+    QuadraticDrag,
     RotorMomentum,
 )
 from tumble.torques.control import AttitudeController
@@ -81,6 +85,7 @@ __all__ = [
     "ACTUATORS",
     "TORQUES",
     "AttitudeController",
+    "AxisDrag",
     "BoundTorque",
     "ConstantBodyTorque",
     "ConstantSpaceTorque",
@@ -89,6 +94,7 @@ __all__ = [
     "HoldRotation",
     "LinearDamping",
     "Parameter",
+    "QuadraticDrag",
     "RotorMomentum",
     "TorqueModel",
     "TorqueSum",

@@ -1,4 +1,4 @@
-"""The torque models tumble brings: gravity, constant torques, damping, a held rotation.
+"""The torque models tumble brings: gravity, constant torques, damping, drag, a held rotation.
 
 Each is one class, registered under its name in scenario files, with its
 compiled function in :mod:`tumble.core.torques`.
@@ -18,11 +18,13 @@ from tumble.invariants import FREE_BODY_INVARIANTS
 from tumble.torques.model import Parameter, TorqueModel, register_torque
 
 __all__ = [
+    "AxisDrag",
     "ConstantBodyTorque",
     "ConstantSpaceTorque",
     "Gravity",
     "HoldRotation",
     "LinearDamping",
+    "QuadraticDrag",
     "RotorMomentum",
 ]
 
@@ -305,3 +307,111 @@ class RotorMomentum(TorqueModel):
 
     def conserves(self, body: Any) -> frozenset[str]:
         return frozenset() if np.any(self.momentum_rate) else frozenset({"energy"})
+
+
+def _per_axis_fields() -> tuple[str, ...]:
+    """The fields of a drag per body axis: its three coefficients, then the body's
+    three axes in principal coordinates (what :func:`_pack_per_axis` packs)."""
+    axes = (f"axis_{i}_{k}" for i in (1, 2, 3) for k in (1, 2, 3))
+    return (*_vector_field("coefficient"), *axes)
+
+
+def _pack_per_axis(coefficients: Any, body: Any) -> Array:
+    """(12, 1) or (12, N): the coefficients (3,) or (N, 3), then each body axis in
+    the principal axes of its body (one column per body when they differ)."""
+    c = np.atleast_2d(np.asarray(coefficients, dtype=float))  # (1 or N, 3)
+    # Row i of each (3, 3): body axis i in principal coordinates, so the rate
+    # about it is axes[i] · ω and its torque turns back as τᵢ axes[i].
+    axes = np.stack([np.atleast_2d(body.to_principal(e)) for e in np.eye(3)], axis=1)
+    count = max(len(c), len(axes))
+    c = np.broadcast_to(c, (count, 3))
+    axes = np.broadcast_to(axes, (count, 3, 3)).reshape(count, 9)
+    return np.concatenate([c.T, axes.T])
+
+
+def _coefficients(kind: str, unit: str, sweep: str) -> tuple[Parameter, ...]:
+    """The one parameter of a drag per body axis: its three coefficients, >= 0."""
+    text = f"drag coefficient cᵢ about each body axis{unit}"
+    return (Parameter("coefficients", kind, (3,), text, 0.0, sweep=_vector_field(sweep)),)
+
+
+class _DragPerAxis(TorqueModel):
+    """What the drags per body axis share: their coefficients, one per body axis, packed
+    with the body axes in principal coordinates; dissipative, in batches too."""
+
+    coefficients: Any
+
+    fields = _per_axis_fields()
+    depends_on = frozenset({"omega"})
+    in_batches = True
+
+    def pack(self, body: Any, omega0: Array | None) -> Array:
+        return _pack_per_axis(self.coefficients, body)
+
+    def conserves(self, body: Any) -> frozenset[str]:
+        return frozenset()
+
+
+@register_torque
+@dataclass(frozen=True, eq=False, repr=False)
+class AxisDrag(_DragPerAxis):
+    """Linear air drag about each body axis, ``τᵢ = −cᵢ ωᵢ`` in body axes, with
+    ``coefficients`` c >= 0 in N·m·s: (3,), or (N, 3) one row per body of a batch.
+
+    The drag of a thrown object at moderate rates: each axis of the body meets the
+    air differently (a racquet's face, its handle). Equal coefficients make it
+    :class:`LinearDamping`. It dissipates: the motion keeps neither energy nor
+    angular momentum.
+
+    Examples
+    --------
+    On a ball (equal moments I, so each axis decays on its own) each rate falls
+    as ``exp(−cᵢ t / I)``:
+
+    >>> import numpy as np
+    >>> import tumble as tb
+    >>> ball = tb.shapes.solid_sphere(2.0, 0.1)  # I = 0.008 kg·m²
+    >>> drag = tb.torques.AxisDrag([0.008, 0.004, 0.0])
+    >>> drag
+    AxisDrag([0.008, 0.004, 0.0] N·m·s)
+    >>> traj = tb.simulate(ball, [1.0, 1.0, 1.0], torque=drag, duration=1.0, dt=0.01)
+    >>> print(np.round(traj.omega[-1], 6), np.round(np.exp([-1.0, -0.5, 0.0]), 6))
+    [0.367879 0.606531 1.      ] [0.367879 0.606531 1.      ]
+    """
+
+    coefficients: Any
+
+    name = "drag"
+    summary = "linear drag per body axis τᵢ = −cᵢ ωᵢ"
+    parameters = _coefficients("damping", "", "drag")
+    kernel = staticmethod(kernels.axis_drag)
+
+
+@register_torque
+@dataclass(frozen=True, eq=False, repr=False)
+class QuadraticDrag(_DragPerAxis):
+    """Quadratic air drag about each body axis, ``τᵢ = −cᵢ ωᵢ |ωᵢ|`` in body axes,
+    with ``coefficients`` c >= 0 in N·m·s² (= kg·m²): (3,), or (N, 3) one row per
+    body of a batch.
+
+    The drag of a fast-turning body whose air flow is turbulent. It dissipates:
+    the motion keeps neither energy nor angular momentum.
+
+    Examples
+    --------
+    About one axis of a ball, ``I ω̇ = −c ω²``, so ``ω(t) = ω0 / (1 + c ω0 t / I)``:
+
+    >>> import tumble as tb
+    >>> ball = tb.shapes.solid_sphere(2.0, 0.1)  # I = 0.008 kg·m²
+    >>> drag = tb.torques.QuadraticDrag([0.0, 0.0, 0.0008])
+    >>> traj = tb.simulate(ball, [0, 0, 10.0], torque=drag, duration=1.0, dt=0.01)
+    >>> print(f"{traj.omega[-1, 2]:.6f} rad/s, theory {10.0 / (1 + 0.0008 * 10.0 / 0.008):.6f}")
+    5.000000 rad/s, theory 5.000000
+    """
+
+    coefficients: Any
+
+    name = "quadratic-drag"
+    summary = "quadratic drag per body axis τᵢ = −cᵢ ωᵢ |ωᵢ|"
+    parameters = _coefficients("inertia", ", N·m·s²", "quadratic_drag")
+    kernel = staticmethod(kernels.quadratic_axis_drag)
