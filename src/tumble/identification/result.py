@@ -71,7 +71,7 @@ class BodyFit:
     note : what was done to the samples before the fit, one sentence (a
         recording sampled far faster than its motion needs is averaged to
         fewer samples); "" when nothing was.
-    torque : the torque model fitted, one of :data:`TORQUE_MODELS`: ``"free"``
+    torque : the torque model fitted, one of ``TORQUE_MODELS``: ``"free"``
         (the exact torque-free motion), ``"drag"`` (τ_i = −c_i ω_i per principal
         axis) or ``"quadratic-drag"`` (τ_i = −c_i ω_i |ω_i|).
     torque_parameters : (3,) the drag coefficients c_i / I3 per principal axis
@@ -101,13 +101,13 @@ class BodyFit:
 
     @property
     def torque_units(self) -> str:
-        """The units of :attr:`torque_parameters` ("1/s" for linear drag, "1/rad" for
+        """The units of ``torque_parameters`` ("1/s" for linear drag, "1/rad" for
         quadratic drag, "" without a torque)."""
         return TORQUE_UNITS[self.torque]
 
     @property
     def parameter_names(self) -> tuple[str, ...]:
-        """The names of the parameters of :attr:`covariance`, in its order
+        """The names of the parameters of ``covariance``, in its order
         (:data:`PARAMETERS`, the bias only when fitted, then ``c1, c2, c3`` for a drag)."""
         drag = self.torque_parameters.size
         core = self.covariance.shape[0] - drag
