@@ -412,6 +412,6 @@ class QuadraticDrag(_DragPerAxis):
     coefficients: Any
 
     name = "quadratic-drag"
-    summary = "quadratic drag per body axis τᵢ = −cᵢ ωᵢ |ωᵢ|"
+    summary = "quadratic drag per body axis τᵢ = −cᵢ ωᵢ² sign(ωᵢ)"
     parameters = _coefficients("inertia", ", N·m·s²", "quadratic_drag")
     kernel = staticmethod(kernels.quadratic_axis_drag)
