@@ -63,8 +63,15 @@ def main() -> None:
             f"{reference / engines:>8.2%}"
         )
         if arguments.table:
-            columns = ["engine", "energy_drift_final", "attitude_error_max", "flips",
-                       "flips_exact", "failed_at", "steps_per_second"]  # fmt: skip
+            columns = [
+                "engine",
+                "energy_drift_final",
+                "attitude_error_max",
+                "flips",
+                "flips_exact",
+                "failed_at",
+                "steps_per_second",
+            ]
             print(result.table[columns].to_string(index=False), "\n")
     worst = max(shares)
     verdict = "met" if worst <= TARGET else "NOT met"

@@ -113,9 +113,13 @@ def test_drag_acts_about_the_body_axes_when_they_are_not_principal(
     omega, _ = reference(body, omega0, q0, 1.0, torque=drag)
     assert np.max(np.abs(traj.omega[-1] - omega)) < 1e-8
     principal = tb.simulate(
-        tb.shapes.box(1.0, [0.1, 0.2, 0.3]), omega0, duration=1.0, dt=1e-3,
-        torque=model_class(c), method="rk4",
-    )  # fmt: skip
+        tb.shapes.box(1.0, [0.1, 0.2, 0.3]),
+        omega0,
+        duration=1.0,
+        dt=1e-3,
+        torque=model_class(c),
+        method="rk4",
+    )
     assert np.max(np.abs(principal.omega[-1] - omega)) > 1e-3  # another body, to see it differ
 
 
@@ -134,15 +138,23 @@ def test_a_batch_takes_drag_per_body_and_shared(
     per_body = np.array([[0.1, 0.0, 0.3], [0.05, 0.2, 0.01], [0.0, 0.0, 0.0]])
     for coefficients in (per_body, per_body[1]):
         batch = tb.simulate_batch(
-            tensors, omega, duration=0.5, dt=1e-3, torque=model_class(coefficients),
+            tensors,
+            omega,
+            duration=0.5,
+            dt=1e-3,
+            torque=model_class(coefficients),
             record_every=250,
-        )  # fmt: skip
+        )
         for k in range(3):
             alone = tb.simulate(
-                tb.MassProperties(1.0, [0, 0, 0], tensors[k]), omega[k], duration=0.5, dt=1e-3,
-                method="rk4", record_every=250,
+                tb.MassProperties(1.0, [0, 0, 0], tensors[k]),
+                omega[k],
+                duration=0.5,
+                dt=1e-3,
+                method="rk4",
+                record_every=250,
                 torque=model_class(coefficients if coefficients.ndim == 1 else coefficients[k]),
-            )  # fmt: skip
+            )
             assert batch.omega_history is not None
             assert_allclose(batch.omega_history[:, k], alone.omega, atol=1e-12)
     name = model_class.__name__
@@ -228,18 +240,42 @@ def test_a_scenario_file_refuses_bad_coefficients(old: str, new: str, message: s
 @pytest.mark.parametrize(
     ("model_class", "value", "message"),
     [
-        (AxisDrag, [0.1, -0.2, 0.3], r"Expected `coefficients` >= 0 N·m·s, got coefficients\[1\] = -0\.2\."),
-        (QuadraticDrag, [-1.0, 0, 0], r"Expected `coefficients` >= 0 kg·m², got coefficients\[0\] = -1\.0\."),
+        (
+            AxisDrag,
+            [0.1, -0.2, 0.3],
+            r"Expected `coefficients` >= 0 N·m·s, got coefficients\[1\] = -0\.2\.",
+        ),
+        (
+            QuadraticDrag,
+            [-1.0, 0, 0],
+            r"Expected `coefficients` >= 0 kg·m², got coefficients\[0\] = -1\.0\.",
+        ),
         (AxisDrag, [0.1, 0.2], r"Expected `coefficients` to have shape \(3,\), got \(2,\)\."),
         (QuadraticDrag, 0.1, r"Expected `coefficients` to be an array of shape \(3,\), got 0\.1\."),
         (AxisDrag, [[0.1, 0.2]], r"Expected `coefficients` to have shape \(n, 3\), got \(1, 2\)\."),
-        (AxisDrag, "1, 2, 3 m", r"Expected `coefficients` to be a damping in N\*m\*s, got .*\[length\]"),
-        (QuadraticDrag, "1, 2, 3 m", r"Expected `coefficients` to be an inertia in kg\*m\^2, got .*\[length\]"),
+        (
+            AxisDrag,
+            "1, 2, 3 m",
+            r"Expected `coefficients` to be a damping in N\*m\*s, got .*\[length\]",
+        ),
+        (
+            QuadraticDrag,
+            "1, 2, 3 m",
+            r"Expected `coefficients` to be an inertia in kg\*m\^2, got .*\[length\]",
+        ),
         (AxisDrag, [0.1, float("nan"), 0.3], r"Expected `coefficients` to be finite, got"),
     ],
-    ids=["negative", "negative-quadratic", "two", "number", "rows-of-two", "length",
-         "length-quadratic", "nan"],
-)  # fmt: skip
+    ids=[
+        "negative",
+        "negative-quadratic",
+        "two",
+        "number",
+        "rows-of-two",
+        "length",
+        "length-quadratic",
+        "nan",
+    ],
+)
 def test_bad_coefficients_are_refused(
     model_class: type[AxisDrag | QuadraticDrag], value: Any, message: str
 ) -> None:

@@ -32,10 +32,18 @@ def test_json_prints_one_record_per_engine_with_the_contract_s_columns() -> None
     records = [json.loads(line) for line in result.output.splitlines()]
     assert [record["engine"] for record in records] == ["tumble/rk4", "scipy/rk45"]
     for key in (
-        "dt", "energy_drift_max", "energy_drift_final", "momentum_drift_max",
-        "direction_drift_max", "attitude_error_max", "omega_error_max", "flips",
-        "flips_exact", "failed_at", "steps_per_second",
-    ):  # fmt: skip
+        "dt",
+        "energy_drift_max",
+        "energy_drift_final",
+        "momentum_drift_max",
+        "direction_drift_max",
+        "attitude_error_max",
+        "omega_error_max",
+        "flips",
+        "flips_exact",
+        "failed_at",
+        "steps_per_second",
+    ):
         assert key in records[0]
     assert records[0]["failed_at"] is None  # NaN in the table, null in JSON
 
@@ -43,9 +51,21 @@ def test_json_prints_one_record_per_engine_with_the_contract_s_columns() -> None
 def test_several_steps_make_a_sweep_with_orders() -> None:
     result = runner.invoke(
         app,
-        ["conform", "--engines", "tumble/rk4", "--scenario", "intermediate-slow",
-         "--duration", "5", "--dt", "0.04,0.02", "--dt", "0.01", "--json"],
-    )  # fmt: skip
+        [
+            "conform",
+            "--engines",
+            "tumble/rk4",
+            "--scenario",
+            "intermediate-slow",
+            "--duration",
+            "5",
+            "--dt",
+            "0.04,0.02",
+            "--dt",
+            "0.01",
+            "--json",
+        ],
+    )
     assert result.exit_code == 0, result.output
     records = [json.loads(line) for line in result.output.splitlines()]
     assert [record["dt"] for record in records] == [0.04, 0.02, 0.01]
@@ -118,8 +138,11 @@ def test_the_report_folder(tmp_path: Path) -> None:
     result = runner.invoke(app, ["conform", *QUICK, "-o", str(folder)])
     assert result.exit_code == 0, result.output
     assert {path.name for path in folder.iterdir()} >= {
-        "table.parquet", "table.json", "report.html", "conformance.json"
-    }  # fmt: skip
+        "table.parquet",
+        "table.json",
+        "report.html",
+        "conformance.json",
+    }
     again = runner.invoke(app, ["conform", *QUICK, "-o", str(folder)])
     assert again.exit_code == 2
     assert "--force" in again.output or "force" in again.output

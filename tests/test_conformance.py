@@ -351,10 +351,15 @@ def test_sweep_order_and_safe_step_of_tumble_s_integrators() -> None:
 
 def test_order_and_safe_step_from_rows() -> None:
     rows = [
-        {"dt": dt, "omega_error_max": 3.0 * dt**2, "failed_at": np.nan,
-         "energy_drift_max": dt**2, "attitude_error_max": dt**2}
+        {
+            "dt": dt,
+            "omega_error_max": 3.0 * dt**2,
+            "failed_at": np.nan,
+            "energy_drift_max": dt**2,
+            "attitude_error_max": dt**2,
+        }
         for dt in (1e-1, 1e-2, 1e-3, 1e-4)
-    ]  # fmt: skip
+    ]
     # Errors above 0.1 are left out; the rest lie on a line of slope 2.
     assert observed_order(rows) == pytest.approx(2.0, abs=1e-12)
     assert safe_step(rows, 1e-5) == 1e-3

@@ -232,10 +232,13 @@ def test_a_window_that_is_not_free_flight_is_refused() -> None:
                        r"break \|dω/dt\| ≤ \|ω\|²/√3 too, at .*: a hand's torque does, "):  # fmt: skip
         tb.identify(phone.t, phone.omega, window=(0.5, phone.catch), torque="free")
     # With a torque offered too, no model fits either: each is named with its residual.
-    with pytest.raises(InputError, match=r"Expected a window that one of the torque models fits, "
-                       r"got none, against noise of .* rad/s: free: residuals of .* rad/s; drag: "
-                       r"residuals of .* rad/s; quadratic-drag: residuals of .* rad/s: is the "
-                       r"window all free flight\? \(the rates break \|dω/dt\| ≤ \|ω\|²/√3 too"):  # fmt: skip
+    refusal = (
+        r"Expected a window that one of the torque models fits, got none, against noise of .* "
+        r"rad/s: free: residuals of .* rad/s; drag: residuals of .* rad/s; quadratic-drag: "
+        r"residuals of .* rad/s: is the window all free flight\? \(the rates break \|dω/dt\| "
+        r"≤ \|ω\|²/√3 too"
+    )
+    with pytest.raises(InputError, match=refusal):
         tb.identify(phone.t, phone.omega, window=(0.5, phone.catch))
 
 

@@ -100,9 +100,13 @@ def test_a_body_on_a_pivot_has_no_momentum_sphere(pivoted: ConformanceResult) ->
 
 def test_a_user_body_on_a_pivot_has_no_momentum_sphere() -> None:
     top = Scenario(
-        (0.05, 0.05, 0.08), (0.0, 0.0, 20.0), duration=1.0, pivot=(0.0, 0.0, -0.1),
-        gravity=9.81, attitude0=(np.cos(0.1), np.sin(0.1), 0.0, 0.0),
-    )  # fmt: skip
+        (0.05, 0.05, 0.08),
+        (0.0, 0.0, 20.0),
+        duration=1.0,
+        pivot=(0.0, 0.0, -0.1),
+        gravity=9.81,
+        attitude0=(np.cos(0.1), np.sin(0.1), 0.0, 0.0),
+    )
     result = conformance.run(["tumble/rk4"], top, dt=1e-2)
     assert "momentum-sphere" not in conformance_figures(result)
 
@@ -128,8 +132,9 @@ def test_the_momentum_sphere_is_seen_along_the_axis_the_polhode_circles(name: st
     momentum = moments * omega
     energy = 0.5 * float(omega @ momentum)
     middle = float(np.sort(moments)[1])
-    expected = int(np.argmax(moments) if momentum @ momentum > 2 * energy * middle
-                   else np.argmin(moments))  # fmt: skip
+    expected = int(
+        np.argmax(moments) if momentum @ momentum > 2 * energy * middle else np.argmin(moments)
+    )
     polhode = exact_polhode(scenario, 20.0)
     assert circulation_axis(polhode, moments) == expected
     # The polhode lies on the unit sphere (L/|L(0)|, |L| conserved): to round-off of

@@ -195,8 +195,10 @@ if "pybullet" in runs:
     u = 20.0 / 21.0 * math.exp(-0.04 * 20.0)
     final = np.linalg.norm(runs["pybullet"].samples.omega[-1])
     damped = row(fast, "pybullet")
-    print(f"energy {damped['energy_drift_final']:+.4f}, "
-          f"flips {damped['flips']} (exact {damped['flips_exact']})")  # fmt: skip
+    print(
+        f"energy {damped['energy_drift_final']:+.4f}, "
+        f"flips {damped['flips']} (exact {damped['flips_exact']})"
+    )
     print(f"|ω| after 20 s: {final:.3f} rad/s measured, {u / (1 - u):.3f} rad/s from the model")
     assert abs(final - u / (1 - u)) < 0.05 * final  # the model, to 5 % (ω0 is not on one axis)
 
@@ -211,9 +213,11 @@ if "pybullet" in runs:
 
 if row(fast, "drake/continuous"):
     drake_row = row(fast, "drake/continuous")
-    print(f"energy {drake_row['energy_drift_max']:+.2e}, flips {drake_row['flips']} "
-          f"(exact {drake_row['flips_exact']}), "
-          f"ω error {drake_row['omega_error_max']:.2f}")  # fmt: skip
+    print(
+        f"energy {drake_row['energy_drift_max']:+.2e}, flips {drake_row['flips']} "
+        f"(exact {drake_row['flips_exact']}), "
+        f"ω error {drake_row['omega_error_max']:.2f}"
+    )
     assert drake_row["flips"] > drake_row["flips_exact"]
 
 # %%
@@ -226,8 +230,10 @@ if row(fast, "drake/continuous"):
 
 if row(fast, "rapier"):
     rapier_row = row(fast, "rapier")
-    print(f"energy {rapier_row['energy_drift_max']:+.2e}, flips {rapier_row['flips']} "
-          f"(exact {rapier_row['flips_exact']})")  # fmt: skip
+    print(
+        f"energy {rapier_row['energy_drift_max']:+.2e}, flips {rapier_row['flips']} "
+        f"(exact {rapier_row['flips_exact']})"
+    )
 
 # %%
 # The stable spins under Euler and under an implicit step: the tilt of
@@ -249,8 +255,10 @@ for scenario, axis in (("minor-spin", 0), ("major-spin", 2)):
 rapier = tb.conformance.sweep(["rapier"], "intermediate-fast", [4e-3, 2e-3, 1e-3, 5e-4], 5.0)
 for one in rapier.table.itertuples():
     steps = round(5.0 / one.dt)
-    print(f"dt {one.dt:.4f} s: energy {one.energy_drift_final:+.2e}, "
-          f"{one.energy_drift_final / steps:.2e} per step")  # fmt: skip
+    print(
+        f"dt {one.dt:.4f} s: energy {one.energy_drift_final:+.2e}, "
+        f"{one.energy_drift_final / steps:.2e} per step"
+    )
 if not rapier.table.empty:
     assert rapier.table["energy_drift_final"].is_monotonic_increasing  # dts are decreasing
 
@@ -301,9 +309,11 @@ for one in blowup.runs:
         marks = ", ".join(f"{tilt[np.searchsorted(t, s)]:.1f}° at {s:g} s" for s in (5, 10, 20, 25))
         effective = size**2 / np.sum(momentum * one.samples.omega, axis=1)
         tumbling = t[np.argmax(effective < 2.0)] if effective.min() < 2.0 else math.nan
-        print(f"{one.engine}: tilt {marks}; past 45° at {t[np.argmax(tilt > 45)]:.1f} s; "
-              f"tumbling from {tumbling:.1f} s; "
-              f"failed at {one.row['failed_at']:.2f} s")  # fmt: skip
+        print(
+            f"{one.engine}: tilt {marks}; past 45° at {t[np.argmax(tilt > 45)]:.1f} s; "
+            f"tumbling from {tumbling:.1f} s; "
+            f"failed at {one.row['failed_at']:.2f} s"
+        )
 upper.set_ylabel("tilt of L from the\nmajor axis (degrees)")
 upper.set_title("major-spin, dt = 1 ms (the semi-implicit Euler engines' lines coincide)")
 upper.legend(fontsize="small")
@@ -348,8 +358,12 @@ for name, group in order.table.groupby("engine", sort=False):
     slope = group["order"].iloc[0]
     ax.loglog(group["dt"], group["omega_error_max"], "o-", label=f"{name} (order {slope:.2f})")
     # The slope of the observed order, drawn a factor 5 below the errors.
-    ax.loglog(group["dt"], group["omega_error_max"].iloc[-1] / 5 * (group["dt"] / dts[-1]) ** slope,
-              ":", color="grey")  # fmt: skip
+    ax.loglog(
+        group["dt"],
+        group["omega_error_max"].iloc[-1] / 5 * (group["dt"] / dts[-1]) ** slope,
+        ":",
+        color="grey",
+    )
 ax.set_xlabel("dt (s)")
 ax.set_ylabel("largest ω error / |ω₀|")
 ax.set_title("intermediate-slow, 5 s (dotted: the observed slopes)")

@@ -38,9 +38,17 @@ CONFORMANCE_FIGURES = ("energy", "attitude", "convergence", "momentum-sphere")
 #: Colours of the engines: more than the run report's six, since a table holds
 #: a dozen engines or more (matplotlib's "tab10"); past ten the dash changes too.
 PALETTE = (
-    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
-    "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf",
-)  # fmt: skip
+    "#1f77b4",
+    "#d62728",
+    "#2ca02c",
+    "#9467bd",
+    "#ff7f0e",
+    "#8c564b",
+    "#e377c2",
+    "#7f7f7f",
+    "#bcbd22",
+    "#17becf",
+)
 DASHES = ("-", "--", ":")
 
 #: Points of the exact polhode drawn over one period of ω(t).
@@ -98,8 +106,7 @@ def _exact_attitudes(scenario: Scenario, runs: Sequence[Run]) -> dict[int, Array
 def _legend_outside(figure: Figure) -> None:
     axes = figure.axes[0]
     if axes.get_legend_handles_labels()[0]:
-        axes.legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize="small",
-                    framealpha=0.8)  # fmt: skip
+        axes.legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize="small", framealpha=0.8)
 
 
 def _failure_points(runs: Sequence[Run], values: dict[int, Array], styles: Any) -> tuple:
@@ -110,18 +117,30 @@ def _failure_points(runs: Sequence[Run], values: dict[int, Array], styles: Any) 
         if math.isfinite(one.samples.failed_at) and finite.size:
             last = finite[-1]
             points.append(
-                Points(one.samples.t[last:last + 1], values[id(one)][last:last + 1],
-                       colour=styles[one.engine][0], size=40.0, marker="x", on_top=True)
-            )  # fmt: skip
+                Points(
+                    one.samples.t[last : last + 1],
+                    values[id(one)][last : last + 1],
+                    colour=styles[one.engine][0],
+                    size=40.0,
+                    marker="x",
+                    on_top=True,
+                )
+            )
     return tuple(points)
 
 
 def _time_lines(runs: Sequence[Run], values: dict[int, Array], styles: Any) -> tuple[Line, ...]:
     return tuple(
-        Line(one.samples.t, values[id(one)], label=one.engine, colour=styles[one.engine][0],
-             dash=styles[one.engine][1], width=1.2)
+        Line(
+            one.samples.t,
+            values[id(one)],
+            label=one.engine,
+            colour=styles[one.engine][0],
+            dash=styles[one.engine][1],
+            width=1.2,
+        )
         for one in runs
-    )  # fmt: skip
+    )
 
 
 def _dt_label(runs: Sequence[Run]) -> str:
@@ -142,9 +161,13 @@ def energy_figure(result: ConformanceResult) -> bytes:
             values[id(one)] = _finite((energy - energy[0]) / energy[0])
     chart = Chart(
         f"Relative energy error (E − E₀)/E₀, {_dt_label(runs)} (symmetric log scale)",
-        "t (s)", "(E − E₀)/E₀", lines=_time_lines(runs, values, styles),
-        points=_failure_points(runs, values, styles), legend=None, title_size="medium",
-    )  # fmt: skip
+        "t (s)",
+        "(E − E₀)/E₀",
+        lines=_time_lines(runs, values, styles),
+        points=_failure_points(runs, values, styles),
+        legend=None,
+        title_size="medium",
+    )
     figure = draw(Sheet((chart,), size=(10.0, 4.5), margins=_MARGINS))
     # A symmetric log scale: the errors span from round-off (1e-16) to order one, and
     # their sign matters (the explicit schemes gain energy, the implicit ones lose it),
@@ -176,11 +199,15 @@ def attitude_figure(result: ConformanceResult) -> bytes:
         # 0 at t = 0 (and wherever an engine is exact) has no place on a log axis.
         values[id(one)] = np.where(errors > 0.0, errors, np.nan)
     chart = Chart(
-        f"Attitude error against the exact attitude, {_dt_label(runs)}", "t (s)",
-        "attitude error (rad)", lines=_time_lines(runs, values, styles),
-        points=_failure_points(runs, values, styles), legend=None, log_y=True,
+        f"Attitude error against the exact attitude, {_dt_label(runs)}",
+        "t (s)",
+        "attitude error (rad)",
+        lines=_time_lines(runs, values, styles),
+        points=_failure_points(runs, values, styles),
+        legend=None,
+        log_y=True,
         title_size="medium",
-    )  # fmt: skip
+    )
     figure = draw(Sheet((chart,), size=(10.0, 4.5), margins=_MARGINS))
     _legend_outside(figure)
     return png(figure)
@@ -212,14 +239,25 @@ def convergence_figure(result: ConformanceResult) -> bytes:
     edges = np.array([dts[0], dts[-1]])
     for slope, dash in ((1, ":"), (2, "--"), (4, "-.")):
         lines.append(
-            Line(edges, anchor * (edges / dts[-1]) ** slope, label=f"slope {slope}",
-                 colour="0.45", dash=dash, width=0.9)
-        )  # fmt: skip
+            Line(
+                edges,
+                anchor * (edges / dts[-1]) ** slope,
+                label=f"slope {slope}",
+                colour="0.45",
+                dash=dash,
+                width=0.9,
+            )
+        )
     chart = Chart(
-        "Convergence: largest ω error / |ω₀| against the step", "dt (s)",
-        "ω error / |ω₀|", lines=tuple(lines), points=tuple(points), legend=None,
-        log_y=True, title_size="medium",
-    )  # fmt: skip
+        "Convergence: largest ω error / |ω₀| against the step",
+        "dt (s)",
+        "ω error / |ω₀|",
+        lines=tuple(lines),
+        points=tuple(points),
+        legend=None,
+        log_y=True,
+        title_size="medium",
+    )
     figure = draw(Sheet((chart,), size=(10.0, 5.0), margins=_MARGINS))
     figure.axes[0].set_xscale("log")
     _legend_outside(figure)
@@ -286,8 +324,9 @@ def momentum_sphere_figure(result: ConformanceResult) -> bytes:
     rows = math.ceil(len(runs) / columns)
     height = 3.0 * rows + 0.8
     figure = Figure(figsize=(max(2.9 * columns + 0.4, 7.5), height))
-    figure.subplots_adjust(left=0.08, right=0.98, top=1.0 - 0.75 / height,
-                           bottom=0.45 / height, wspace=0.5, hspace=0.4)  # fmt: skip
+    figure.subplots_adjust(
+        left=0.08, right=0.98, top=1.0 - 0.75 / height, bottom=0.45 / height, wspace=0.5, hspace=0.4
+    )
     circle = np.linspace(0.0, 2.0 * np.pi, 181)
     names = "₁₂₃"
     for n, one in enumerate(runs):
@@ -296,12 +335,21 @@ def momentum_sphere_figure(result: ConformanceResult) -> bytes:
         near = side * momentum[:, k] >= 0.0
         colour = styles[one.engine][0]
         axes.plot(np.cos(circle), np.sin(circle), color="0.75", lw=0.6)
-        axes.plot(np.where(near, momentum[:, i], np.nan), np.where(near, momentum[:, j], np.nan),
-                  color=colour, lw=1.0)  # fmt: skip
+        axes.plot(
+            np.where(near, momentum[:, i], np.nan),
+            np.where(near, momentum[:, j], np.nan),
+            color=colour,
+            lw=1.0,
+        )
         if not np.all(near):
             far = ~near
-            axes.plot(np.where(far, momentum[:, i], np.nan), np.where(far, momentum[:, j], np.nan),
-                      color=colour, lw=1.0, ls=":")  # fmt: skip
+            axes.plot(
+                np.where(far, momentum[:, i], np.nan),
+                np.where(far, momentum[:, j], np.nan),
+                color=colour,
+                lw=1.0,
+                ls=":",
+            )
         # The exact polhode over the engine's path: where they agree, black dashes on colour.
         axes.plot(exact[:, i], exact[:, j], color="k", lw=0.9, ls="--", zorder=3)
         axes.scatter(momentum[:1, i], momentum[:1, j], color="k", s=10, zorder=3)
@@ -326,7 +374,7 @@ def momentum_sphere_figure(result: ConformanceResult) -> bytes:
         f"from its {'+' if side > 0 else '−'} side, {_dt_label(runs)}\n"
         "engine: coloured (dotted on the far hemisphere); exact polhode: black dashes",
         fontsize="medium",
-    )  # fmt: skip
+    )
     return png(figure)
 
 
