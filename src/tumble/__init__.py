@@ -40,6 +40,7 @@ if TYPE_CHECKING:
     from tumble.errors import OutputInUseError as OutputInUseError
     from tumble.errors import RequestTooLargeError as RequestTooLargeError
     from tumble.identification.fit import identify as identify
+    from tumble.identification.many import identify_many as identify_many
     from tumble.kinematics import angular_momentum as angular_momentum
     from tumble.kinematics import kinetic_energy as kinetic_energy
     from tumble.kinematics import required_torque as required_torque
@@ -76,6 +77,7 @@ _PUBLIC = {
     "SpringMassDamper": "tumble.parts",
     # from measurements
     "identify": "tumble.identification.fit",
+    "identify_many": "tumble.identification.many",
     # errors and warnings
     "InputError": "tumble.errors",
     "IntegrationError": "tumble.errors",
