@@ -13,6 +13,7 @@ from typer.testing import CliRunner
 
 import tumble as tb
 from tumble.cli import app
+from tumble.errors import InputError
 from tumble.identification import PARAMETERS
 from tumble.identification.recordings import phyphox_csv
 
@@ -183,3 +184,42 @@ def test_bad_torque_on_the_command_line_is_one_line(tmp_path: Path) -> None:
     lines = result.output.strip().splitlines()
     assert len(lines) == 1
     assert "Expected --torque to be one of auto, free, drag, quadratic-drag, got 'wind'" in lines[0]
+
+
+def test_a_window_holding_a_catch_or_a_throw_is_refused_naming_where() -> None:
+    # The window of a throw stretched 8 samples into the catch, then 8 into the throw: no
+    # model fits, and the refusal names each model with its residual and where the rates
+    # break what a free body keeps.
+    recording = tb.identification.synthetic_throws(2, seed=0)
+    start, end = recording.windows[0]
+    models = r"free: residuals of [0-9.]+ rad/s; drag: .*; quadratic-drag: .*"
+    with pytest.raises(
+        InputError,
+        match=models + r"at the window's end, \d+ samples: a throw or a catch inside the "
+        r"window\? Its samples of [0-9.]+–[0-9.]+ s keep it\)",
+    ):
+        tb.identify(recording.t, recording.omega, window=(start, end + 0.08))
+    with pytest.raises(
+        InputError,
+        match=r"drag: no motion found \(every drag tried ran away\).*at the window's start",
+    ):
+        tb.identify(recording.t, recording.omega, window=(start - 0.08, end))
+
+
+def test_the_registrys_drags_name_the_torque_and_its_other_models_are_refused() -> None:
+    t, measured, _ = throw(3, tb.torques.AxisDrag(LINEAR))
+    window = (0.0, t[-1])
+    by_model = tb.identify(t, measured, window=window, torque=tb.torques.AxisDrag(LINEAR))
+    by_name = tb.identify(t, measured, window=window, torque="drag")
+    assert by_model.torque == "drag"
+    np.testing.assert_array_equal(by_model.moment_ratios, by_name.moment_ratios)
+    assert tb.identification.checks.check_torque(tb.torques.QuadraticDrag) == "quadratic-drag"
+    for other in ("damping", tb.torques.LinearDamping(1.0), "gravity-gradient"):
+        with pytest.raises(
+            InputError,
+            match=r"Expected `torque` to be one of auto, free, drag, quadratic-drag, got .*, a "
+            r"torque model of tumble's registry that a fit of rates does not step",
+        ):
+            tb.identify(t, measured, window=window, torque=other)
+    with pytest.raises(InputError, match=r"got 'wind'\.$"):
+        tb.identify(t, measured, window=window, torque="wind")

@@ -12,7 +12,7 @@ import tumble as tb
 from tumble.errors import InputError
 from tumble.identification import JointFit, ThrowFits, synthetic_throws
 from tumble.identification.checks import canonical
-from tumble.identification.joint import OUTLIER_DEVIATION
+from tumble.identification.joint import OUTLIER_DEVIATION, fit_under
 from tumble.identification.many import COLUMNS
 
 
@@ -40,6 +40,9 @@ def test_thirty_throws_recover_the_body_alone_and_together(thirty) -> None:
     # The single throws: both ratios within 2σ in at least 95 % of those fitted (measured:
     # 28 of 29).
     assert np.mean(np.all(z.to_numpy() < 2.0, axis=1)) >= 0.95
+    # A throw refused alone joins the joint fit under the joint body (measured: all 30 in).
+    assert table.in_joint.sum() >= 28
+    assert set(many.joined) <= set(np.flatnonzero(~table.fitted.to_numpy()))
     joint = many.joint
     assert isinstance(joint, JointFit) and joint.torque == "drag"
     # The joint ratios within 2σ, known at least 4 times better than a typical throw's
@@ -51,7 +54,8 @@ def test_thirty_throws_recover_the_body_alone_and_together(thirty) -> None:
     assert np.all(np.abs(joint.torque_parameters - recording.drag) < 3.0 * joint.torque_uncertainty)
     # The sensor's axes and bias, shared: the axes within a few of their errors' size
     # (the rotation's standard errors are ~1e-4 rad), the bias within 3σ.
-    angle = Rotation.from_matrix(joint.axes.T @ recording.axes).magnitude()
+    truth_axes = canonical(np.array([*truth, 1.0]), recording.axes, np.zeros(3))[1]
+    angle = Rotation.from_matrix(joint.axes.T @ truth_axes).magnitude()
     assert angle < 1e-3
     errors = np.sqrt(np.diag(joint.covariance))
     assert np.all(np.abs(joint.bias - recording.bias) < 3.0 * errors[5:8])
@@ -181,3 +185,24 @@ def test_the_noise_level_of_throws_sampled_at_100_hz_is_the_sensors() -> None:
     assert tb.identification.noise_level(recording.t, recording.omega) == pytest.approx(
         recording.noise, rel=0.1
     )
+
+
+def test_a_throw_under_the_joint_body_has_its_own_start_and_another_bodys_has_none() -> None:
+    # The joint body of three throws; a fourth throw, fitted under it (its ω0 alone), starts
+    # where the truth does, within 4 of its standard errors; the same throw turned by 20°
+    # in the sensor's axes (another mounting) is missed and not fitted.
+    recording = synthetic_throws(4, seed=5)
+    many = tb.identify_many(recording.t, recording.omega, recording.windows[:3], torque="drag")
+    assert many.joint is not None
+    start, end = recording.windows[3]
+    inside = (recording.t >= start) & (recording.t <= end)
+    under = fit_under(many.joint, recording.t[inside], recording.omega[inside], "refused alone")
+    assert under is not None and under.choice.endswith("alone: refused alone")
+    # The truth's ω0 in the joint's choice of axis signs.
+    signs = np.sign(np.diag(recording.axes.T @ many.joint.axes))
+    errors = np.sqrt(np.diag(under.covariance)[5:8])
+    assert np.all(np.abs(under.omega0 - signs * recording.omega0[3]) < 4.0 * errors)
+    assert under.residual_rms == pytest.approx(recording.noise, rel=0.25)  # 240 residuals
+    turn = Rotation.from_rotvec([0.0, np.radians(20.0), 0.0]).as_matrix()
+    turned = recording.omega[inside] @ turn.T
+    assert fit_under(many.joint, recording.t[inside], turned, "refused alone") is None

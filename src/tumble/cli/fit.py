@@ -13,7 +13,7 @@ if TYPE_CHECKING:
     from tumble.identification import BodyFit
     from tumble.identification.recordings import Recording
 
-__all__ = ["fit_recording", "parse_window"]
+__all__ = ["fit_recording", "parse_window", "with_error"]
 
 
 @app.command("fit")
@@ -57,6 +57,34 @@ def fit_recording(
             show_default=False,
         ),
     ] = None,
+    windows: Annotated[
+        Path | None,
+        typer.Option(
+            "--windows",
+            metavar="FILE.csv",
+            help="Fit many throws of one body, each alone and all together: their free "
+            "flights, a CSV file with columns start and end (s), one throw a row.",
+            show_default=False,
+        ),
+    ] = None,
+    every: Annotated[
+        bool,
+        typer.Option(
+            "--all",
+            help="Fit every free flight found in the recording, each alone and all together "
+            "(default recording: the many-throw example shipped with tumble).",
+        ),
+    ] = False,
+    hold_out: Annotated[
+        float | None,
+        typer.Option(
+            "--hold-out",
+            metavar="FRACTION",
+            help="With --windows or --all: the share of each throw's end held out and "
+            "forecast by the joint body of the rest (default 0.4; 0 for none).",
+            show_default=False,
+        ),
+    ] = None,
     no_bias: Annotated[
         bool, typer.Option("--no-bias", help="Fit no sensor bias (for a sensor without one).")
     ] = False,
@@ -96,12 +124,14 @@ def fit_recording(
 ) -> None:
     """Fit a body to a gyroscope's recording (a phone thrown spinning), torque-free or under
     air drag: its moment ratios, principal axes, motion and drag, with a scenario that
-    replays it."""
+    replays it; with --windows or --all, to many throws at once, with a report."""
 
     def work() -> None:
+        from tumble.cli.fit_many import check_modes, fit_throws
         from tumble.files import check_replaceable
         from tumble.report.fit import check_fit_folder
 
+        many = check_modes(window, windows, every, hold_out)
         if output is not None:
             # Before anything else, to say it at once. --force replaces an earlier
             # fit's own folder only: never the recording being fitted, nor a file
@@ -110,9 +140,25 @@ def fit_recording(
                 output,
                 "the fit folder",
                 listed_in="fit.json",
-                inputs=[recording] if recording is not None else [],
+                inputs=[path for path in (recording, windows) if path is not None],
             )
             check_fit_folder(output, force)
+        if many:
+            fit_throws(
+                recording,
+                columns=columns,
+                units=units,
+                windows=windows,
+                bias=not no_bias,
+                loss=loss,
+                torque=torque,
+                hold_out=hold_out,
+                output=output,
+                force=force,
+                figures=not no_figures,
+                quiet=quiet,
+            )
+            return
         span = parse_window(window) if window is not None else None
         with loading():
             from tumble.cli.runs import default_folder
@@ -203,17 +249,17 @@ def print_fit(
     )
     if fit.torque != "free":
         for k in range(3):
-            value, error = _with_error(fit.torque_parameters[k], fit.torque_uncertainty[k])
+            value, error = with_error(fit.torque_parameters[k], fit.torque_uncertainty[k])
             table.add_row(f"c{k + 1}/I3 ({fit.torque})", value, error, fit.torque_units)
     table.add_row("residual rms", f"{fit.residual_rms:.3g}", "", "rad/s")
     table.add_row("sensor noise σ", f"{noise:.3g}", "", "rad/s")
     for k, axis in enumerate("xyz"):
         if fit.bias_fitted:
-            table.add_row(f"bias {axis}", *_with_error(fit.bias[k], errors[8 + k]), "rad/s")
+            table.add_row(f"bias {axis}", *with_error(fit.bias[k], errors[8 + k]), "rad/s")
         else:
             table.add_row(f"bias {axis}", "0", "not fitted", "rad/s")
     for k in range(3):
-        table.add_row(f"ω{k + 1} at start", *_with_error(fit.omega0[k], errors[5 + k]), "rad/s")
+        table.add_row(f"ω{k + 1} at start", *with_error(fit.omega0[k], errors[5 + k]), "rad/s")
     console.print(table)
     console.print(f"Torque: {fit.choice}", highlight=False, soft_wrap=True)
     console.print("Principal axes (columns) in the sensor's axes", style="italic")
@@ -230,7 +276,7 @@ def print_fit(
     )
 
 
-def _with_error(value: float, error: float) -> tuple[str, str]:
+def with_error(value: float, error: float) -> tuple[str, str]:
     """A value to the decimals its standard error's two significant digits have,
     and that error."""
     import math

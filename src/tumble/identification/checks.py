@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError, quoted, unknown_choice
+from tumble.torques import TORQUES, TorqueModel
 from tumble.units import pint, vector_to_si
 
 __all__ = [
@@ -32,6 +33,7 @@ __all__ = [
     "looks_like_noise",
     "samples",
     "symmetric_within_errors",
+    "torque_at_ends",
     "window_bounds",
 ]
 
@@ -119,11 +121,24 @@ def flag(value: Any, name: str) -> bool:
 
 
 def check_torque(torque: Any, name: str = "`torque`") -> str:
-    """A torque model of a fit: "auto", "free", "drag" or "quadratic-drag"."""
+    """A torque model of a fit: "auto", "free", "drag" or "quadratic-drag", or the class
+    or an instance of the registry's drags of those names (:class:`tumble.torques.AxisDrag`,
+    :class:`tumble.torques.QuadraticDrag`: their coefficients are what is fitted)."""
     choices = ["auto", "free", "drag", "quadratic-drag"]
-    if not isinstance(torque, str) or torque not in choices:
-        raise unknown_choice(torque, choices, name)
-    return torque
+    if isinstance(torque, str) and torque in choices:
+        return torque
+    kind = torque if isinstance(torque, type) else type(torque)
+    if issubclass(kind, TorqueModel) and kind.name in choices:
+        return kind.name
+    registered = torque if isinstance(torque, str) else getattr(kind, "name", None)
+    if registered in TORQUES:
+        raise InputError(
+            f"Expected {name} to be one of {', '.join(choices)}, got {torque!r}, a torque "
+            "model of tumble's registry that a fit of rates does not step (only drags per "
+            'principal axis; a drag equal about every axis is a "drag" with equal '
+            "coefficients)."
+        )
+    raise unknown_choice(torque, choices, name)
 
 
 def check_loss(loss: Any, name: str = "`loss`") -> str:
@@ -177,6 +192,30 @@ def breaks_free_body(ratio: float) -> bool:
     """Whether a window's :func:`free_body_ratio` is beyond what any torque-free
     body shows (:data:`FREE_BODY_BOUND`, with the margin :data:`FREE_BODY_MARGIN`)."""
     return ratio > FREE_BODY_MARGIN * FREE_BODY_BOUND
+
+
+def torque_at_ends(times: Array, smooth: Array, derivative: Array) -> str:
+    """Where a window holds a hand's torque at its ends, as a clause of a refusal: the
+    samples whose |dω/dt| / |ω|² (smoothed rates ``smooth`` (n, 3) at ``times`` (n,) s,
+    their derivative ``derivative``) breaks what any free body shows, when most of them
+    lie before or after the longest run of samples that keep it (a throw or a catch
+    inside the window); "" otherwise."""
+    speed = np.maximum(np.sum(smooth**2, axis=1), 1e-300)
+    broken = np.linalg.norm(derivative, axis=1) / speed > FREE_BODY_MARGIN * FREE_BODY_BOUND
+    edges = np.flatnonzero(np.diff(np.concatenate([[1], broken.astype(np.int8), [1]])))
+    if not broken.any() or edges.size < 2:
+        return ""
+    runs = edges.reshape(-1, 2)  # [first, past-the-last) of each run that keeps the bound
+    first, past = runs[int(np.argmax(runs[:, 1] - runs[:, 0]))]
+    before, after = int(broken[:first].sum()), int(broken[past:].sum())
+    if before + after < max(2, 0.8 * broken.sum()) or past - first < MIN_SAMPLES:
+        return ""
+    where = "both ends" if before and after else ("start" if before else "end")
+    return (
+        f" (the rates break |dω/dt| ≤ |ω|²/√3, which a free body keeps, at the window's "
+        f"{where}, {before + after} samples: a throw or a catch inside the window? Its "
+        f"samples of {times[first]:.6g}–{times[past - 1]:.6g} s keep it)"
+    )
 
 
 def check_bias(bias: Array, rates: Array) -> None:

@@ -43,6 +43,7 @@ from tumble.identification.checks import (
     looks_like_noise,
     samples,
     symmetric_within_errors,
+    torque_at_ends,
     window_bounds,
 )
 from tumble.identification.decimation import averaged
@@ -128,21 +129,22 @@ def _solve(
     if torque != "free":
         args += (torque == "quadratic-drag",)
         model = {"fun": drag_model.drag_residuals, "jac": drag_model.drag_jacobian}
-    return least_squares(
-        x0=x0,
-        args=args,
-        **model,
-        method="lm" if loss == "linear" else "trf",
-        # For trf: LSMR, not a dense SVD of the (3n, 11) Jacobian at every step.
-        **({} if loss == "linear" else {"tr_solver": "lsmr"}),
-        loss=loss,
-        f_scale=max(3.0 * noise, 1e-12 * float(np.abs(measured).max())),
-        x_scale="jac",
-        ftol=tolerance,
-        xtol=tolerance,
-        gtol=tolerance,
-        max_nfev=budget * x0.size,
-    )
+    with np.errstate(over="ignore"):  # a step far off overflows its cost: it is rejected
+        return least_squares(
+            x0=x0,
+            args=args,
+            **model,
+            method="lm" if loss == "linear" else "trf",
+            # For trf: LSMR, not a dense SVD of the (3n, 11) Jacobian at every step.
+            **({} if loss == "linear" else {"tr_solver": "lsmr"}),
+            loss=loss,
+            f_scale=max(3.0 * noise, 1e-12 * float(np.abs(measured).max())),
+            x_scale="jac",
+            ftol=tolerance,
+            xtol=tolerance,
+            gtol=tolerance,
+            max_nfev=budget * x0.size,
+        )
 
 
 # ------------------------------------------------------------------ the fit
@@ -172,12 +174,12 @@ def identify(
         ``"cauchy"``, ``"arctan"``) for recordings with outliers; the covariance
         then holds only roughly.
     torque : the torque the body flew under: ``"free"`` (the exact torque-free
-        motion), ``"drag"`` (linear air drag per principal axis, τ_i = −c_i ω_i),
-        ``"quadratic-drag"`` (τ_i = −c_i ω_i |ω_i|), or ``"auto"``: torque-free when
-        its residuals look like the noise, else the model of the three with the
-        least Bayesian information criterion (``BodyFit.choice`` says why). A drag
-        model is stepped (classical Runge–Kutta, substeps turning 0.02 rad, far
-        below any gyroscope's noise) and fits the coefficients c_i / I3 too.
+        motion), ``"drag"`` (linear air drag per principal axis, τ_i = −c_i ω_i:
+        tumble.torques.AxisDrag), ``"quadratic-drag"`` (τ_i = −c_i ω_i |ω_i|:
+        QuadraticDrag; either class, or a model of it), or ``"auto"``: torque-free when
+        its residuals look like the noise, else the model of the three with the least
+        Bayesian information criterion (``BodyFit.choice`` says why). A drag is stepped
+        (classical Runge–Kutta, :mod:`tumble.core.drag_model`) and fits c_i / I3 too.
 
     Returns
     -------
@@ -299,6 +301,8 @@ def _fit_torque(
             refusals[model] = (
                 f"residuals of {missed.group(1)} rad/s" if missed else str(error).rstrip(".")
             )
+            if missed and float(missed.group(1)) >= 0.1 * drag_model.GIVEN_UP:
+                refusals[model] = "no motion found (every drag tried ran away)"
         if model == "free" and model in fits:
             scale = float(np.abs(rates).max())
             if looks_like_noise(fits[model].residuals, noise, scale):
@@ -447,7 +451,7 @@ def _fit(
     typical = 1.4826 * float(np.median(np.abs(final.fun)))
     if typical > MAX_MISS * noise and typical > 1e-9 * float(np.abs(rates).max()):
         ratio = free_body_ratio(smooth, derivative)
-        also = (
+        also = torque_at_ends(times, smooth, derivative) or (
             f" (the rates break |dω/dt| ≤ |ω|²/√3 too, at {ratio:.3g} |ω|²: a hand's torque "
             "does, and so do rates too small for their unit, as deg/s read as rad/s)"
             if breaks_free_body(ratio)

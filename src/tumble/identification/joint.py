@@ -2,9 +2,9 @@
 
 Every throw of one body shares the body's moment ratios, the sensor's axes in the
 body, the sensor's bias and (under air drag) the drag coefficients; only the motion
-at each throw's start is its own. The joint fit fits them all to all the throws'
-samples by one least squares: 5 (the ratios and the axes) + 3 (bias) + 3 (drag) shared parameters and 3 a
-throw. Each throw's residuals are those of the single fit's model
+at each throw's start is its own. The joint fit fits them all to all the
+throws' samples by one least squares: 5 (the ratios and the axes) + 3 (bias) + 3
+(drag) shared parameters and 3 a throw. Each throw's residuals are those of the single fit's model
 (:func:`tumble.core.rate_model.rate_residuals`, or the stepped drag model
 :func:`tumble.core.drag_model.drag_residuals`), so a throw's block of the
 Jacobian holds its own ω0 columns and the shared ones: the joint Jacobian is
@@ -391,4 +391,67 @@ def _fit_together(
         noise=noise,
         choice=choice,
         fits=tuple(fits),
+    )
+
+
+def fit_under(joint: JointFit, times: Array, rates: Array, reason: str) -> BodyFit | None:
+    """A throw refused alone (``reason``), fitted under the joint body: its ω0 alone
+    (three parameters), the ratios, axes, bias and drag held at the joint ones; None
+    when the joint body misses its samples (rms beyond :data:`OUTLIER_MISS` times the
+    joint fit's). A throw too short or too near a principal axis to determine a body
+    still shows its own motion, which a known body determines.
+
+    ``times`` (n,) s and ``rates`` (n, 3) rad/s are the window's samples."""
+    shared, drag = _shared_count(joint.bias_fitted, joint.torque_parameters.size), joint.torque
+    relative = np.ascontiguousarray(times - times[0])
+    measured = np.ascontiguousarray(rates)
+    head = np.concatenate([np.log(joint.moment_ratios), np.zeros(3)])
+    tail = np.concatenate([joint.bias if joint.bias_fitted else [], joint.torque_parameters])
+    args: tuple[Any, ...] = (
+        np.ascontiguousarray(joint.axes),
+        relative,
+        measured,
+        joint.bias_fitted,
+    )
+    model: Any = rate_model.rate_residuals
+    if drag != "free":
+        args += (drag == "quadratic-drag",)
+        model = drag_model.drag_residuals
+
+    def residuals(omega0: Array) -> Array:
+        return np.asarray(model(np.concatenate([head, omega0, tail]), *args))
+
+    # ω0 is seen directly: the first samples less the bias, in the principal axes.
+    start = joint.axes.T @ (measured[:3].mean(axis=0) - joint.bias)
+    result = least_squares(residuals, start, method="lm", x_scale="jac")
+    rms = float(np.sqrt(np.mean(result.fun**2)))
+    if not rms <= OUTLIER_MISS * joint.residual_rms:
+        return None
+    dof = max(result.fun.size - 3, 1)
+    own = 2.0 * result.cost / dof * np.linalg.pinv(result.jac.T @ result.jac, hermitian=True)
+    # The covariance in BodyFit's order (ratios, rotation, ω0, bias, drag): the joint
+    # body's, and the throw's ω0 given that body.
+    covariance = np.zeros((shared + 3, shared + 3))
+    body = list(range(shared))
+    placed = [0, 1, 2, 3, 4, *range(8, shared + 3)]
+    covariance[np.ix_(placed, placed)] = joint.covariance[np.ix_(body, body)]
+    covariance[5:8, 5:8] = own
+    ratios = joint.moment_ratios
+    return BodyFit(
+        moment_ratios=ratios,
+        uncertainty=joint.uncertainty,
+        axes=joint.axes,
+        omega0=result.x,
+        bias=joint.bias,
+        covariance=covariance,
+        residual_rms=rms,
+        flip_period=flip_period([max(ratios[0], 1.0 - ratios[1]), ratios[1], 1.0], result.x),
+        window=(float(times[0]), float(times[-1])),
+        t=np.asarray(times, dtype=float),
+        measured=measured,
+        noise=joint.noise,
+        torque=drag,
+        torque_parameters=joint.torque_parameters,
+        torque_uncertainty=joint.torque_uncertainty,
+        choice=f"fitted under the joint body; alone: {reason}",
     )

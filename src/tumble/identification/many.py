@@ -23,10 +23,10 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
-from tumble.identification.checks import check_torque, flag, samples
+from tumble.identification.checks import MIN_SAMPLES, check_torque, flag, samples
 from tumble.identification.fit import DECISIVE, identify
 from tumble.identification.flight import free_flights
-from tumble.identification.joint import JointFit, disagreement, joint_fit
+from tumble.identification.joint import JointFit, disagreement, fit_under, joint_fit
 from tumble.identification.result import BodyFit
 from tumble.identification.windows import check_windows
 
@@ -54,6 +54,7 @@ COLUMNS = (
     "noise_ratio",
     "forecast_error",
     "single_forecast_error",
+    "in_joint",
     "outlier",
     "disagreement",
 )
@@ -70,6 +71,8 @@ class ThrowFits:
     joint : the fit of the fitted throws together (:class:`JointFit`), or None when
         fewer than two were fitted (``joint_refusal`` says why).
     joint_refusal : why there is no joint fit; "" when there is one.
+    joined : the throws refused alone but fitted under the joint body (their ω0 alone,
+        :func:`~tumble.identification.joint.fit_under`), and so in the joint fit.
     held_out_fits : per throw, the fit of its first ``1 − hold_out`` of the samples, or
         None (no hold-out asked, or that fit refused).
     held_out_joint : the joint fit of the joint throws' first ``1 − hold_out`` of the
@@ -87,11 +90,17 @@ class ThrowFits:
     fits: tuple[BodyFit | str, ...]
     joint: JointFit | None
     joint_refusal: str
+    joined: tuple[int, ...]
     held_out_fits: tuple[BodyFit | None, ...]
     held_out_joint: JointFit | None
     forecast_errors: Array
     single_forecast_errors: Array
     hold_out: float
+
+    def cut(self, throw: int) -> float:
+        """The time, s, after which the samples of a throw (an index of ``windows``) were
+        held out."""
+        return _cut(self.windows[throw], self.hold_out)
 
     @property
     def fitted(self) -> tuple[int, ...]:
@@ -103,15 +112,18 @@ class ThrowFits:
         """One row per throw: its window (s) and samples, whether it was fitted and why
         not, its torque model, ratios and standard errors, drag coefficients c_i / I3
         (in the torque's units), residual rms (rad/s) and its ratio to the noise, the
-        forecast error of the held-out part (a fraction), whether it is an outlier of the
-        joint fit, and how far its body lies from the joint one (standard errors of its
-        ratios and axes: :func:`~tumble.identification.joint.disagreement`)."""
+        forecast errors of the held-out part (fractions; the joint body's and the throw's
+        own), whether it is in the joint fit (``joined`` throws are, refused alone),
+        whether it is an outlier of the joint fit, and how far its body lies from the
+        joint one (standard errors of its ratios and axes:
+        :func:`~tumble.identification.joint.disagreement`)."""
         rows = []
         joint = self.joint
         for i, ((start, end), fit) in enumerate(zip(self.windows, self.fits, strict=True)):
             row: dict[str, Any] = dict.fromkeys(COLUMNS, math.nan)
             row.update(throw=i + 1, start=start, end=end, fitted=isinstance(fit, BodyFit))
             row.update(outlier=joint is not None and i in joint.outliers, torque="")
+            row["in_joint"] = joint is not None and i in joint.throws
             row["reason"] = "" if isinstance(fit, BodyFit) else fit
             row["forecast_error"] = self.forecast_errors[i]
             row["single_forecast_error"] = self.single_forecast_errors[i]
@@ -134,7 +146,7 @@ class ThrowFits:
                     row["disagreement"] = disagreement(fit, joint)
             rows.append(row)
         table = pd.DataFrame(rows, columns=list(COLUMNS))
-        return table.astype({"throw": int, "fitted": bool, "outlier": bool})
+        return table.astype({"throw": int, "fitted": bool, "in_joint": bool, "outlier": bool})
 
     def __repr__(self) -> str:
         joint = (
@@ -215,6 +227,27 @@ def identify_many(
             joint = _joint([fits[i] for i in indices], indices, torque, bias, loss)  # type: ignore[misc]
         except InputError as error:
             refusal = str(error)
+    joined: dict[int, BodyFit] = {}
+    if joint is not None:
+        # The throws refused alone, fitted under the joint body, join it.
+        for i, fit in enumerate(fits):
+            inside = (times >= spans[i][0]) & (times <= spans[i][1])
+            if isinstance(fit, str) and inside.sum() >= MIN_SAMPLES:
+                under = fit_under(joint, times[inside], rates[inside], fit)
+                if under is not None:
+                    joined[i] = under
+        if joined:
+            members = sorted(set(joint.throws) | set(joint.outliers) | set(joined))
+            alone = dict(zip(joint.throws, joint.fits, strict=True))
+            alone |= {i: fits[i] for i in joint.outliers}  # type: ignore[misc]
+            joint = joint_fit(
+                [joined.get(i) or alone[i] for i in members],
+                members,
+                joint.torque,
+                bias,
+                loss,
+                joint.choice,
+            )
     held_joint, errors = None, np.full(len(spans), math.nan)
     if joint is not None and hold_out > 0.0:
         # The joint body's forecast: the same throws' first parts fitted together (from
@@ -240,6 +273,7 @@ def identify_many(
         fits=tuple(fits),
         joint=joint,
         joint_refusal=refusal,
+        joined=tuple(sorted(joined)),
         held_out_fits=tuple(held),
         held_out_joint=held_joint,
         forecast_errors=errors,

@@ -20,6 +20,8 @@ import json
 import math
 import os
 import re
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -37,6 +39,7 @@ __all__ = [
     "FIT_FILES",
     "check_fit_folder",
     "draw_fit_sheet",
+    "fit_folder",
     "fit_name",
     "fit_sheets",
     "fit_summary",
@@ -374,9 +377,7 @@ def write_fit(
         The folder cannot be written (checked first), or the file system fails
         while writing: an earlier fit there is then unchanged.
     """
-    from tumble.errors import OutputError
-    from tumble.files import output_error, write_bytes, write_text
-    from tumble.locks import OutputLock, staged_folder
+    from tumble.files import write_bytes, write_text
 
     target = Path(folder)
     check_fit_folder(target, force)
@@ -388,19 +389,32 @@ def write_fit(
         if figures else {}
     )  # fmt: skip
     summary["files"] = sorted(["fitted-scenario.toml", "fit.json", *(f"{k}.png" for k in images)])
+    with fit_folder(target, force) as staging:
+        write_text(staging / "fitted-scenario.toml", fitted_scenario(fit, name, source))
+        for key, image in images.items():
+            write_bytes(staging / f"{key}.png", image)
+        write_text(staging / "fit.json", json.dumps(summary, indent=2, allow_nan=False) + "\n")
+    return target
+
+
+@contextmanager
+def fit_folder(target: Path, force: bool) -> Iterator[Path]:
+    """A staging folder whose files replace ``target`` whole when the block ends
+    (:func:`tumble.locks.staged_folder`), under the folder's lock, checked again once
+    locked (:func:`check_fit_folder`); the file system's errors as one
+    :class:`tumble.errors.OutputError` naming the fit folder."""
+    from tumble.errors import OutputError
+    from tumble.files import output_error
+    from tumble.locks import OutputLock, staged_folder
+
     try:
         with OutputLock(target, "the fit folder"):
             check_fit_folder(target, force)  # claimed: no other writer changes it now
             with staged_folder(target) as staging:
-                write_text(staging / "fitted-scenario.toml", fitted_scenario(fit, name, source))
-                for key, image in images.items():
-                    write_bytes(staging / f"{key}.png", image)
-                text = json.dumps(summary, indent=2, allow_nan=False) + "\n"
-                write_text(staging / "fit.json", text)
+                yield staging
     except OSError as exc:
         raise output_error(exc, target, "the fit folder") from exc
     except OutputError as exc:
         if not isinstance(exc.cause, OSError):
             raise
         raise output_error(exc.cause, target, "the fit folder") from exc.cause
-    return target
