@@ -1,5 +1,10 @@
-"""Benchmark: a body fitted to 10 s of gyroscope samples, ``tumble.identify``
-against a generic fit (scipy ``solve_ivp`` inside ``least_squares``), in one run.
+"""Benchmark: bodies fitted to gyroscope samples, tumble against a generic fit
+(scipy ``solve_ivp`` inside ``least_squares``) of the same model, in one run: 10 s
+of torque-free flight; single throws under air drag; 30 throws under air drag
+fitted jointly.
+
+The drag parts are described in ``bench/identify_drag.py`` (which runs them alone);
+this file describes the torque-free part, which runs first (``--parts`` chooses).
 
 The data, with a known truth: :func:`tumble.identification.synthetic_phone`
 with ``flight=10``: a box of a phone's proportions (I1/I3 = 0.182, I2/I3 =
@@ -32,7 +37,11 @@ time ratio medians over the seeds both fitted.
 
 Not timed tests: numbers, printed for bench/RESULTS.md. Run from the root::
 
-    .venv/bin/python bench/identify.py [--seeds 5] [--peer-seeds 2]
+    .venv/bin/python bench/identify.py [--seeds 3] [--peer-seeds 1] [--singles 4]
+        [--joint-seeds 1] [--throws 30] [--parts free,drag]
+
+A default run takes about four minutes on two cores, most of it the two joint fits of
+30 throws (``--throws 10`` for a quicker look).
 """
 
 from __future__ import annotations
@@ -49,6 +58,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
+import identify_drag
 import tumble as tb
 from machine import describe
 from tumble.identification import PhoneRecording, synthetic_phone
@@ -136,9 +146,14 @@ def integrated_rates(moments: Array, omega0: Array, times: Array) -> Array:
         return c * np.array([w[1] * w[2], w[2] * w[0], w[0] * w[1]])
 
     solution = solve_ivp(
-        euler, (0.0, float(times[-1])), omega0, method="DOP853", rtol=1e-10, atol=1e-12,
+        euler,
+        (0.0, float(times[-1])),
+        omega0,
+        method="DOP853",
+        rtol=1e-10,
+        atol=1e-12,
         t_eval=times,
-    )  # fmt: skip
+    )
     return np.asarray(solution.y.T)
 
 
@@ -205,13 +220,8 @@ def detail(label: str, f: Outcome | None, noise: float) -> str:
     )
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
-    parser.add_argument("--seeds", type=int, default=5)
-    parser.add_argument("--peer-seeds", type=int, default=2)
-    args = parser.parse_args()
-    print(describe({"scipy": scipy.__version__}))
-
+def torque_free(seeds: int, peer_seeds: int) -> None:
+    """The torque-free part: 10 s of flight, tumble and the peer; prints their table."""
     phone, t, _ = recording(0)
     noise = phone.noise
     print(
@@ -240,8 +250,8 @@ def main() -> None:
     warm = synthetic_phone(0)
     tb.identify(warm.t, warm.omega, window=(warm.release, warm.catch))
 
-    ours = [tumble_fit(seed) for seed in range(args.seeds)]
-    theirs = [peer_fit(seed) for seed in range(args.peer_seeds)]
+    ours = [tumble_fit(seed) for seed in range(seeds)]
+    theirs = [peer_fit(seed) for seed in range(peer_seeds)]
 
     both = min(len(ours), len(theirs))
     ratio = "-"
@@ -274,6 +284,28 @@ def main() -> None:
             f"{max(f.seconds for f in missed):.1f} s"
         )
     print(f"goal ≤ {GOAL:g} s: {'met' if met else 'NOT met'} ({note})")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
+    parser.add_argument("--seeds", type=int, default=3, help="torque-free fits (default 3)")
+    parser.add_argument("--peer-seeds", type=int, default=1, help="of them by the peer (1)")
+    identify_drag.add_arguments(parser)
+    parser.add_argument(
+        "--parts", default="free,drag", help="free (torque-free), drag (singles and joint)"
+    )
+    args = parser.parse_args()
+    parts = set(args.parts.split(","))
+    if not parts <= {"free", "drag"}:
+        parser.error(f"Expected --parts of free and drag, got {args.parts!r}.")
+    print(describe({"scipy": scipy.__version__}))
+    start = time.perf_counter()
+    if "free" in parts:
+        torque_free(args.seeds, args.peer_seeds)
+    if "drag" in parts:
+        print()
+        identify_drag.run(args.singles, args.joint_seeds, args.throws)
+    print(f"\n{time.perf_counter() - start:.0f} s in all")
 
 
 if __name__ == "__main__":

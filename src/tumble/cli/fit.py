@@ -13,7 +13,7 @@ if TYPE_CHECKING:
     from tumble.identification import BodyFit
     from tumble.identification.recordings import Recording
 
-__all__ = ["fit_recording", "parse_window", "with_error"]
+__all__ = ["fit_recording", "parse_window"]
 
 
 @app.command("fit")
@@ -221,6 +221,8 @@ def print_fit(
     from rich.console import Console
     from rich.table import Table
 
+    from tumble.cli.fit_many import with_error
+
     console = Console()
     t = measured.t
     console.print(
@@ -274,12 +276,3 @@ def print_fit(
     console.print(
         f"Replay: tumble run {folder / 'fitted-scenario.toml'}", highlight=False, soft_wrap=True
     )
-
-
-def with_error(value: float, error: float) -> tuple[str, str]:
-    """A value to the decimals its standard error's two significant digits have,
-    and that error."""
-    import math
-
-    decimals = 6 if not error > 0 else min(max(1 - math.floor(math.log10(error)), 0), 12)
-    return f"{value:.{decimals}f}", f"{error:.2g}"

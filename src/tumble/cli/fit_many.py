@@ -9,13 +9,20 @@ from typing import TYPE_CHECKING, Any
 import typer
 
 from tumble.cli.app import loading
-from tumble.cli.fit import with_error
 
 if TYPE_CHECKING:
     from tumble.identification import ThrowFits
     from tumble.identification.recordings import Recording
 
-__all__ = ["HOLD_OUT", "ThrowProgress", "check_modes", "concise", "fit_throws", "print_throws"]
+__all__ = [
+    "HOLD_OUT",
+    "ThrowProgress",
+    "check_modes",
+    "concise",
+    "fit_throws",
+    "print_throws",
+    "with_error",
+]
 
 #: The share of each window held out for the forecast when ``--hold-out`` is not given.
 HOLD_OUT = 0.4
@@ -280,3 +287,12 @@ def _percent(errors: Any) -> str:
 
     finite = np.asarray(errors)[np.isfinite(errors)]
     return f"{100 * float(np.median(finite)):.2g} %" if finite.size else "none"
+
+
+def with_error(value: float, error: float) -> tuple[str, str]:
+    """A value to the decimals its standard error's two significant digits have,
+    and that error."""
+    import math
+
+    decimals = 6 if not error > 0 else min(max(1 - math.floor(math.log10(error)), 0), 12)
+    return f"{value:.{decimals}f}", f"{error:.2g}"

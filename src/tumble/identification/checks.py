@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError, quoted, unknown_choice
+from tumble.identification.torque_values import why_not_fitted
 from tumble.torques import TORQUES, TorqueModel
 from tumble.units import pint, vector_to_si
 
@@ -123,7 +124,9 @@ def flag(value: Any, name: str) -> bool:
 def check_torque(torque: Any, name: str = "`torque`") -> str:
     """A torque model of a fit: "auto", "free", "drag" or "quadratic-drag", or the class
     or an instance of the registry's drags of those names (:class:`tumble.torques.AxisDrag`,
-    :class:`tumble.torques.QuadraticDrag`: their coefficients are what is fitted)."""
+    :class:`tumble.torques.QuadraticDrag`: their coefficients are what is fitted). Any
+    other torque model is refused (the models of ω and time with parameters that
+    :func:`tumble.identify` steps are taken before this check)."""
     choices = ["auto", "free", "drag", "quadratic-drag"]
     if isinstance(torque, str) and torque in choices:
         return torque
@@ -131,12 +134,11 @@ def check_torque(torque: Any, name: str = "`torque`") -> str:
     if issubclass(kind, TorqueModel) and kind.name in choices:
         return kind.name
     registered = torque if isinstance(torque, str) else getattr(kind, "name", None)
-    if registered in TORQUES:
+    if registered in TORQUES or isinstance(torque, TorqueModel):
         raise InputError(
-            f"Expected {name} to be one of {', '.join(choices)}, got {torque!r}, a torque "
-            "model of tumble's registry that a fit of rates does not step (only drags per "
-            'principal axis; a drag equal about every axis is a "drag" with equal '
-            "coefficients)."
+            f"Expected {name} to be one of {', '.join(choices)}, or a model of a torque of "
+            f"ω and time with its parameters' starting values, got {torque!r}: "
+            f"{why_not_fitted(torque)}."
         )
     raise unknown_choice(torque, choices, name)
 

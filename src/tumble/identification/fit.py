@@ -50,6 +50,8 @@ from tumble.identification.decimation import averaged
 from tumble.identification.flight import free_flight, noise_level
 from tumble.identification.result import TORQUE_MODELS, BodyFit
 from tumble.identification.start import linear_start, smoothed
+from tumble.identification.torque_fit import fit_torque_model
+from tumble.identification.torque_values import fits_torque_model
 from tumble.resources import check_memory
 from tumble.theory import flip_period
 
@@ -180,6 +182,9 @@ def identify(
         its residuals look like the noise, else the model of the three with the least
         Bayesian information criterion (``BodyFit.choice`` says why). A drag is stepped
         (classical Runge–Kutta, :mod:`tumble.core.drag_model`) and fits c_i / I3 too.
+        Or any torque model of ω and time (of tumble.torques, or a UserTorque): its
+        values start its parameters, fitted for a body of I3 = 1 kg·m²
+        (``BodyFit.torque_model``), from the ``"auto"`` fit's body and motion.
 
     Returns
     -------
@@ -217,6 +222,9 @@ def identify(
     """
     bias = flag(bias, "bias")
     loss = check_loss(loss)
+    if fits_torque_model(torque):  # from the start of the best of the built-in models
+        best = identify(t, omega, window=window, bias=bias, loss=loss)
+        return fit_torque_model(best, torque, loss)
     times, rates = samples(t, omega)
     automatic = window is None
     given = None if automatic else window_bounds(window, times)
@@ -313,7 +321,7 @@ def _fit_torque(
             f"Expected a window that one of the torque models fits, got none, against noise of "
             f"{noise:.3g} rad/s: {tried}: is the window all free flight?{hint}"
         )
-    criteria = {model: _information(fit) for model, fit in fits.items()}
+    criteria = {model: fit.information_criterion for model, fit in fits.items()}
     chosen = min(criteria, key=lambda model: criteria[model])
     if "free" in fits and criteria["free"] - criteria[chosen] <= DECISIVE:
         chosen = "free"  # a torque is chosen only on decisive evidence
@@ -343,15 +351,6 @@ def _start_of(fit: BodyFit, relative: Array, torque: str, bias: bool) -> Array:
     offset = fit.bias if bias else np.zeros(0)
     ratios = np.log(fit.moment_ratios)
     return np.concatenate([ratios, np.zeros(3), fit.omega0, offset, drag])
-
-
-def _information(fit: BodyFit) -> float:
-    """The Bayesian information criterion of a fit, ``N ln(RSS/N) + k ln N``."""
-    residuals = fit.residuals.ravel()
-    count = residuals.size
-    parameters = fit.covariance.shape[0]
-    squares = max(float(residuals @ residuals), 1e-300)
-    return float(count * math.log(squares / count) + parameters * math.log(count))
 
 
 def _fit(

@@ -28,6 +28,7 @@ from tumble.identification.fit import DECISIVE, identify
 from tumble.identification.flight import free_flights
 from tumble.identification.joint import JointFit, disagreement, fit_under, joint_fit
 from tumble.identification.result import BodyFit
+from tumble.identification.torque_values import fits_torque_model
 from tumble.identification.windows import check_windows
 
 __all__ = ["ThrowFits", "identify_many"]
@@ -199,6 +200,12 @@ def identify_many(
         outside [0, 0.9).
     """
     bias = flag(bias, "bias")
+    if fits_torque_model(torque):
+        raise InputError(
+            "Expected `torque` to be one of auto, free, drag, quadratic-drag, got "
+            f"{torque!r}: the joint fit of many throws shares the drags per principal axis "
+            "only (fit each throw under that model with tumble.identify)."
+        )
     torque = check_torque(torque)
     if not (isinstance(hold_out, (int, float)) and 0.0 <= hold_out < 0.9):
         raise InputError(f"Expected `hold_out` a fraction in [0, 0.9), got {hold_out!r}.")

@@ -3,6 +3,7 @@ torque it flew under, fitted to measured rates."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -10,6 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core import drag_model, rate_model
+from tumble.identification.torque_values import model_rates, parameter_names
 
 __all__ = ["PARAMETERS", "TORQUE_MODELS", "TORQUE_UNITS", "BodyFit", "principal_rates"]
 
@@ -79,6 +81,8 @@ class BodyFit:
     torque_uncertainty : their standard errors.
     choice : why this torque model: the models tried with their residuals and the
         criterion that chose (``torque="auto"``), or "as asked".
+    torque_model : the fitted torque model (its parameters the fitted ones, for a body
+        of I3 = 1 kg·m²) when a model was given as ``torque``; else None.
     """
 
     moment_ratios: Array
@@ -98,12 +102,14 @@ class BodyFit:
     torque_parameters: Array = field(default_factory=lambda: np.zeros(0))
     torque_uncertainty: Array = field(default_factory=lambda: np.zeros(0))
     choice: str = "as asked"
+    torque_model: Any = None
 
     @property
     def torque_units(self) -> str:
         """The units of ``torque_parameters`` ("1/s" for linear drag, "1/rad" for
-        quadratic drag, "" without a torque)."""
-        return TORQUE_UNITS[self.torque]
+        quadratic drag, "" without a torque; a torque model's own SI units for a body of
+        I3 = 1 kg·m²)."""
+        return TORQUE_UNITS.get(self.torque, "SI, for a body of I3 = 1 kg·m²")
 
     @property
     def parameter_names(self) -> tuple[str, ...]:
@@ -111,7 +117,19 @@ class BodyFit:
         (:data:`PARAMETERS`, the bias only when fitted, then ``c1, c2, c3`` for a drag)."""
         drag = self.torque_parameters.size
         core = self.covariance.shape[0] - drag
+        if self.torque_model is not None:
+            return PARAMETERS[:core] + parameter_names(self.torque_model)
         return PARAMETERS[:core] + DRAG_PARAMETERS[:drag]
+
+    @property
+    def information_criterion(self) -> float:
+        """The Bayesian information criterion ``N ln(RSS/N) + k ln N`` of the fit: N
+        residuals, k parameters (Schwarz, Ann. Stat. 6 (1978))."""
+        residuals = self.residuals.ravel()
+        count = residuals.size
+        squares = max(float(residuals @ residuals), 1e-300)
+        parameters = self.covariance.shape[0]
+        return float(count * math.log(squares / count) + parameters * math.log(count))
 
     @property
     def bias_fitted(self) -> bool:
@@ -134,6 +152,10 @@ class BodyFit:
         if self.torque == "free":
             return principal_rates(moments, self.omega0, times)
         order = np.argsort(times, kind="stable")
+        if self.torque_model is not None:
+            out = np.empty((times.size, 3))
+            out[order] = model_rates(self.torque_model, moments, self.omega0, times[order])
+            return out
         rates = drag_model.drag_rates(
             moments,
             np.asarray(self.torque_parameters, dtype=float),

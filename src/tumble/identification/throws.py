@@ -119,7 +119,7 @@ def synthetic_throws(
     # Imported here: the simulator is needed only to make a recording, not to fit one.
     from tumble.massprops import MassProperties
     from tumble.simulation import simulate
-    from tumble.torques import AxisDrag
+    from tumble.torques import TORQUES
 
     generator = np.random.default_rng(seed)
     moments = np.array([*RACQUET_RATIOS, 1.0]) * RACQUET_I3
@@ -127,7 +127,7 @@ def synthetic_throws(
     axes = Rotation.from_rotvec(RACQUET_TURN).as_matrix()
     coefficients = np.array(drag, dtype=float)
     body = MassProperties(1.0, np.zeros(3), np.diag(moments))
-    torque = AxisDrag(coefficients * moments[2]) if np.any(coefficients) else None
+    torque = TORQUES["drag"](coefficients * moments[2]) if np.any(coefficients) else None
     step = 1.0 / rate
     spin_up = max(round(SPIN_UP * rate), 1)
     catch = max(round(CATCH * rate), 1)
