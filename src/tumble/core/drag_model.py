@@ -33,9 +33,12 @@ MOST_TURN = 0.05
 #: The residual of a sample whose motion the model gave up, rad/s.
 GIVEN_UP = 1e6
 
-#: The most substeps between two samples: beyond it (a trial step of the solver to a
-#: drag or a rate no sample shows) the model gives up at once with non-finite rates.
-MOST_SUBSTEPS = 1000
+#: The most substeps a sample, over a whole call: beyond it (a trial step of the solver
+#: to a drag or a rate no sample shows) the model gives up at once with non-finite
+#: rates. 100 substeps a sample turn the body by 5 rad between two samples, ten times
+#: more than any recording that resolves its motion shows; trial steps beyond it cost
+#: the search seconds of stepping for nothing.
+MOST_SUBSTEPS = 100
 
 
 @njit
@@ -56,10 +59,11 @@ def _rates_of_change(moments, drag, quadratic, w, out):  # type: ignore[no-untyp
 
 
 @njit
-def _advance(moments, drag, quadratic, w, span):  # type: ignore[no-untyped-def]
-    """Step ``w`` (3,) in place over ``span`` s (either sign) with RK4 substeps."""
+def _advance(moments, drag, quadratic, w, span, budget):  # type: ignore[no-untyped-def]
+    """Step ``w`` (3,) in place over ``span`` s (either sign) with RK4 substeps, at most
+    ``budget`` of them; the substeps taken."""
     if span == 0.0:
-        return
+        return 0
     size = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
     # The fastest decay the drag gives, 1/s: RK4 is stable and accurate while a substep
     # lasts well under its time (h λ ≤ 0.5 here, inside RK4's 2.78).
@@ -68,12 +72,12 @@ def _advance(moments, drag, quadratic, w, span):  # type: ignore[no-untyped-def]
         rate = drag[i] * (abs(w[i]) if quadratic else 1.0) / moments[i]
         decay = max(decay, abs(rate))
     count = max(1.0, math.ceil(abs(span) * max(size / MOST_TURN, 2.0 * decay)))
-    if not count <= MOST_SUBSTEPS:
+    if not count <= budget:
         # No motion of the body a fit can match (a solver's trial step far off, to a
         # drag or a rate that no sample shows): the rates are made non-finite at once.
         for i in range(3):
             w[i] = math.nan
-        return
+        return 0
     h = span / count
     k1, k2, k3, k4, trial = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     for _ in range(int(count)):
@@ -89,6 +93,7 @@ def _advance(moments, drag, quadratic, w, span):  # type: ignore[no-untyped-def]
         _rates_of_change(moments, drag, quadratic, trial, k4)
         for i in range(3):
             w[i] += h * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]) / 6.0
+    return int(count)
 
 
 @njit
@@ -101,16 +106,19 @@ def drag_rates(moments, drag, quadratic, omega0, times):  # type: ignore[no-unty
     first = 0
     while first < count and times[first] < 0.0:
         first += 1
+    # The substeps of the whole call are counted against MOST_SUBSTEPS a sample, so a
+    # forecast far from its window is stepped, and a solver's trial far off is not.
+    budget = MOST_SUBSTEPS * max(count, 1)
     w = omega0.copy()
     now = 0.0
     for n in range(first - 1, -1, -1):
-        _advance(moments, drag, quadratic, w, times[n] - now)
+        budget -= _advance(moments, drag, quadratic, w, times[n] - now, budget)
         now = times[n]
         out[n] = w
     w = omega0.copy()
     now = 0.0
     for n in range(first, count):
-        _advance(moments, drag, quadratic, w, times[n] - now)
+        budget -= _advance(moments, drag, quadratic, w, times[n] - now, budget)
         now = times[n]
         out[n] = w
     return out

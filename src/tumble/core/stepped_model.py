@@ -27,26 +27,29 @@ def stepped_rates(torque, coefficients, params, context, omega0, times, most_tur
     sign) from ``omega0`` (3,) at time 0, under ``torque`` with its ``params`` column 0
     and ``context``, for the body's Euler ``coefficients``
     (:func:`tumble.core.dynamics.euler_coefficients`); non-finite rates from the first
-    interval that needs more than ``most_substeps`` substeps (a motion run away)."""
+    interval the call's substeps, ``most_substeps`` a sample in all, do not reach (a
+    motion run away)."""
     count = times.shape[0]
     out = np.empty((count, 3))
     first = 0
     while first < count and times[first] < 0.0:
         first += 1
+    budget = most_substeps * max(count, 1)  # over the whole call (see the docstring)
+    given_up = False
     for forwards in (False, True):
         state = (omega0[0], omega0[1], omega0[2], 1.0, 0.0, 0.0, 0.0)
         now = 0.0
-        given_up = False
         for k in range(count - first if forwards else first):
             n = first + k if forwards else first - 1 - k
             span = times[n] - now
             speed = math.sqrt(state[0] ** 2 + state[1] ** 2 + state[2] ** 2)
             turn = abs(span) * speed / most_turn
-            if given_up or not turn <= most_substeps:
+            if given_up or not turn <= budget:
                 given_up = True
                 out[n] = np.nan
                 continue
             substeps = max(1, math.ceil(turn))
+            budget -= substeps
             h = span / substeps
             for step in range(substeps):
                 state = rk4_step(torque, now + step * h, h, state, coefficients, params, 0, context)

@@ -200,8 +200,9 @@ def torque_at_ends(times: Array, smooth: Array, derivative: Array) -> str:
     """Where a window holds a hand's torque at its ends, as a clause of a refusal: the
     samples whose |dω/dt| / |ω|² (smoothed rates ``smooth`` (n, 3) at ``times`` (n,) s,
     their derivative ``derivative``) breaks what any free body shows, when most of them
-    lie before or after the longest run of samples that keep it (a throw or a catch
-    inside the window); "" otherwise."""
+    lie before or after the longest run of samples that keep it, and that run holds
+    most of the window (a throw or a catch inside it); "" otherwise."""
+    n = len(times)
     speed = np.maximum(np.sum(smooth**2, axis=1), 1e-300)
     broken = np.linalg.norm(derivative, axis=1) / speed > FREE_BODY_MARGIN * FREE_BODY_BOUND
     edges = np.flatnonzero(np.diff(np.concatenate([[1], broken.astype(np.int8), [1]])))
@@ -210,8 +211,8 @@ def torque_at_ends(times: Array, smooth: Array, derivative: Array) -> str:
     runs = edges.reshape(-1, 2)  # [first, past-the-last) of each run that keeps the bound
     first, past = runs[int(np.argmax(runs[:, 1] - runs[:, 0]))]
     before, after = int(broken[:first].sum()), int(broken[past:].sum())
-    if before + after < max(2, 0.8 * broken.sum()) or past - first < MIN_SAMPLES:
-        return ""
+    if before + after < max(2, 0.8 * broken.sum()) or past - first < max(MIN_SAMPLES, 0.5 * n):
+        return ""  # not a free flight with a hand at its ends: the rates' unit, or no flight
     where = "both ends" if before and after else ("start" if before else "end")
     return (
         f" (the rates break |dω/dt| ≤ |ω|²/√3, which a free body keeps, at the window's "

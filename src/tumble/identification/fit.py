@@ -119,7 +119,7 @@ def _solve(
     tolerance = (1e-13 if loss == "linear" else 1e-10) if tight else 1e-9
     # Evaluations a parameter: a start is only a start, and the robust losses'
     # steps crawl near the end, long after the answer has stopped changing.
-    budget = 200 if tight and loss == "linear" else 40
+    budget = 200 if tight and loss == "linear" else (40 if torque == "free" else 25)
     # Contiguous once here, not at each of the many evaluations.
     args: tuple[Any, ...] = (
         np.ascontiguousarray(frame),

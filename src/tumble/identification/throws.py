@@ -127,7 +127,8 @@ def synthetic_throws(
     axes = Rotation.from_rotvec(RACQUET_TURN).as_matrix()
     coefficients = np.array(drag, dtype=float)
     body = MassProperties(1.0, np.zeros(3), np.diag(moments))
-    torque = TORQUES["drag"](coefficients * moments[2]) if np.any(coefficients) else None
+    drag_torque = TORQUES["drag"](coefficients * moments[2])  # type: ignore[call-arg]
+    torque = drag_torque if np.any(coefficients) else None
     step = 1.0 / rate
     spin_up = max(round(SPIN_UP * rate), 1)
     catch = max(round(CATCH * rate), 1)
