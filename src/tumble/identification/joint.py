@@ -32,7 +32,13 @@ from scipy.spatial.transform import Rotation
 from tumble.core import drag_model, rate_model
 from tumble.errors import InputError
 from tumble.identification.checks import canonical
-from tumble.identification.result import DRAG_PARAMETERS, PARAMETERS, TORQUE_UNITS, BodyFit
+from tumble.identification.result import (
+    DRAG_PARAMETERS,
+    PARAMETERS,
+    TORQUE_UNITS,
+    BodyFit,
+    body_summary,
+)
 from tumble.theory import flip_period
 
 __all__ = ["OUTLIER_DEVIATION", "JointFit", "disagreement", "joint_fit"]
@@ -158,15 +164,9 @@ class JointFit:
         return BodyFit(**{**fit.__dict__, "residual_rms": residual})
 
     def __repr__(self) -> str:
-        r, e = self.moment_ratios, self.uncertainty
-        torque = ""
-        if self.torque != "free":
-            values = ", ".join(f"{v:.3g}" for v in self.torque_parameters)
-            torque = f"{self.torque} ({values}) {self.torque_units}, "
         return (
-            f"JointFit(I1/I3={r[0]:.5f} ± {e[0]:.1e}, I2/I3={r[1]:.5f} ± {e[1]:.1e}, {torque}"
-            f"{len(self.throws)} throws, {len(self.outliers)} outliers, "
-            f"residual_rms={self.residual_rms:.3g} rad/s)"
+            f"JointFit({body_summary(self)}{len(self.throws)} throws, "
+            f"{len(self.outliers)} outliers, residual_rms={self.residual_rms:.3g} rad/s)"
         )
 
 

@@ -27,7 +27,7 @@ from tumble.identification.checks import MIN_SAMPLES, check_torque, flag, sample
 from tumble.identification.fit import DECISIVE, identify
 from tumble.identification.flight import free_flights
 from tumble.identification.joint import JointFit, disagreement, fit_under, joint_fit
-from tumble.identification.result import BodyFit
+from tumble.identification.result import BodyFit, information_criterion
 from tumble.identification.torque_values import fits_torque_model
 from tumble.identification.windows import check_windows
 
@@ -346,7 +346,6 @@ def _joint(fits: list[BodyFit], indices: list[int], torque: str, bias: bool, los
 
 
 def _information(joint: JointFit) -> float:
-    """The Bayesian information criterion ``N ln(RSS/N) + k ln N`` of a joint fit."""
+    """The Bayesian information criterion of a joint fit (:func:`information_criterion`)."""
     count = sum(3 * len(fit.t) for fit in joint.fits)
-    squares = max(joint.residual_rms**2 * count, 1e-300)
-    return float(count * math.log(squares / count) + joint.covariance.shape[0] * math.log(count))
+    return information_criterion(joint.residual_rms**2 * count, count, joint.covariance.shape[0])

@@ -13,7 +13,15 @@ from numpy.typing import NDArray
 from tumble.core import drag_model, rate_model
 from tumble.identification.torque_values import model_rates, parameter_names
 
-__all__ = ["PARAMETERS", "TORQUE_MODELS", "TORQUE_UNITS", "BodyFit", "principal_rates"]
+__all__ = [
+    "PARAMETERS",
+    "TORQUE_MODELS",
+    "TORQUE_UNITS",
+    "BodyFit",
+    "body_summary",
+    "information_criterion",
+    "principal_rates",
+]
 
 Array = NDArray[np.float64]
 
@@ -43,6 +51,24 @@ def principal_rates(moments: Array, omega0: Array, times: Array) -> Array:
             np.ascontiguousarray(times, dtype=float),
         )
     )
+
+
+def information_criterion(squares: float, count: int, parameters: int) -> float:
+    """The Bayesian information criterion ``N ln(RSS/N) + k ln N`` of a fit of ``count``
+    residuals whose squares sum to ``squares`` with ``parameters`` parameters (Schwarz,
+    Ann. Stat. 6 (1978))."""
+    return float(count * math.log(max(squares, 1e-300) / count) + parameters * math.log(count))
+
+
+def body_summary(fit: Any) -> str:
+    """The ratios with their standard errors and the torque of a fit (a :class:`BodyFit`
+    or a joint fit), as its repr begins: ``"I1/I3=… ± …, I2/I3=… ± …, drag (…) 1/s, "``."""
+    r, e = fit.moment_ratios, fit.uncertainty
+    torque = ""
+    if fit.torque != "free":
+        values = ", ".join(f"{v:.3g}" for v in fit.torque_parameters)
+        torque = f"{fit.torque} ({values}) {fit.torque_units}, "
+    return f"I1/I3={r[0]:.5f} ± {e[0]:.1e}, I2/I3={r[1]:.5f} ± {e[1]:.1e}, {torque}"
 
 
 @dataclass(frozen=True, eq=False)
@@ -123,13 +149,10 @@ class BodyFit:
 
     @property
     def information_criterion(self) -> float:
-        """The Bayesian information criterion ``N ln(RSS/N) + k ln N`` of the fit: N
-        residuals, k parameters (Schwarz, Ann. Stat. 6 (1978))."""
+        """The Bayesian information criterion of the fit (:func:`information_criterion`)."""
         residuals = self.residuals.ravel()
-        count = residuals.size
-        squares = max(float(residuals @ residuals), 1e-300)
-        parameters = self.covariance.shape[0]
-        return float(count * math.log(squares / count) + parameters * math.log(count))
+        squares = float(residuals @ residuals)
+        return information_criterion(squares, residuals.size, self.covariance.shape[0])
 
     @property
     def bias_fitted(self) -> bool:
@@ -183,13 +206,8 @@ class BodyFit:
         return np.asarray(self.measured - self.predicted(self.t))
 
     def __repr__(self) -> str:
-        r, e = self.moment_ratios, self.uncertainty
-        torque = ""
-        if self.torque != "free":
-            values = ", ".join(f"{v:.3g}" for v in self.torque_parameters)
-            torque = f"{self.torque} ({values}) {self.torque_units}, "
         return (
-            f"BodyFit(I1/I3={r[0]:.5f} ± {e[0]:.1e}, I2/I3={r[1]:.5f} ± {e[1]:.1e}, {torque}"
+            f"BodyFit({body_summary(self)}"
             f"flip_period={self.flip_period:.4g} s, residual_rms={self.residual_rms:.3g} rad/s, "
             f"{len(self.t)} samples in {self.window[0]:.4g}–{self.window[1]:.4g} s)"
         )
