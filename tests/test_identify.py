@@ -228,11 +228,13 @@ def test_a_window_that_is_not_free_flight_is_refused() -> None:
     phone = synthetic_phone(0)
     # The hand's part breaks |dω/dt| ≤ |ω|²/√3, and the refusal says where: the window's
     # start, before the release (1.26 s), the free flight after it.
-    with pytest.raises(InputError, match=r"to follow a torque-free motion, got residuals of .* "
-                       r"rad/s against noise of .* is the window all free flight\? \(the rates "
-                       r"break \|dω/dt\| ≤ \|ω\|²/√3, which a free body keeps, at the window's "
-                       r"start, \d+ samples: a throw or a catch inside the window\? Its samples "
-                       r"of 1\.2[67]\d*–2\.8\d* s keep it\)"):  # fmt: skip
+    where = (
+        r"to follow a torque-free motion, got residuals of .* rad/s against noise of .* is the "
+        r"window all free flight\? \(the rates break \|dω/dt\| ≤ \|ω\|²/√3, which a free body "
+        r"keeps, at the window's start, \d+ samples: a throw or a catch inside the window\? "
+        r"Its samples of 1\.2[67]\d*–2\.8\d* s keep it\)"
+    )
+    with pytest.raises(InputError, match=where):
         tb.identify(phone.t, phone.omega, window=(0.5, phone.catch), torque="free")
     # With a torque offered too, no model fits either: each is named with its residual.
     refusal = (
