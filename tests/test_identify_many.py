@@ -206,3 +206,17 @@ def test_a_throw_under_the_joint_body_has_its_own_start_and_another_bodys_has_no
     turn = Rotation.from_rotvec([0.0, np.radians(20.0), 0.0]).as_matrix()
     turned = recording.omega[inside] @ turn.T
     assert fit_under(many.joint, recording.t[inside], turned, "refused alone") is None
+
+
+def test_throws_that_do_not_agree_on_one_body_have_no_joint_fit() -> None:
+    # Two throws, the second strapped on 20° differently: neither agrees with the other.
+    recording = synthetic_throws(2, seed=2)
+    omega = recording.omega.copy()
+    start, end = recording.windows[1]
+    inside = (recording.t >= start - 0.05) & (recording.t <= end + 0.05)
+    omega[inside] = omega[inside] @ Rotation.from_rotvec([0.0, np.radians(20.0), 0.0]).as_matrix().T
+    many = tb.identify_many(recording.t, omega, recording.windows, torque="drag")
+    assert many.joint is None
+    assert many.joint_refusal.startswith(
+        "Expected at least 2 throws that agree on one body, got 1 of 2 fitted"
+    )

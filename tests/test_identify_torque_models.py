@@ -4,6 +4,8 @@ fitted beside the body, on throws simulated by tumble.simulate under the same mo
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numba
 import numpy as np
 import pytest
@@ -71,11 +73,10 @@ def test_the_stepped_rates_are_the_exact_motion_without_torque_and_decay_with_da
 
 def test_a_motion_run_away_gives_non_finite_rates() -> None:
     # More than the substeps allowed between two samples: the rest are not computed.
-    from tumble.body import body_model
-    from tumble.identification.torque_values import AXES_BODY
+    from tumble.identification.torque_values import axes_body
     from tumble.torques.binding import bind
 
-    bound = bind(tb.torques.LinearDamping(0.0), body_model(AXES_BODY), np.ones(3))
+    bound = bind(tb.torques.LinearDamping(0.0), axes_body(), np.ones(3))
     coefficients = euler_coefficients(1.0, 2.0, 2.5)
     start, times = np.array([100.0, 0.0, 0.0]), np.array([0.01, 10.0, 11.0])
     rates = stepped_rates(
@@ -108,3 +109,56 @@ def test_many_throws_share_only_the_drags() -> None:
     with pytest.raises(InputError, match=r"the joint fit of many throws shares the drags"):
         user = tb.torques.UserTorque(cubic_drag, np.zeros(3))
         tb.identify_many(recording.t, recording.omega, recording.windows, torque=user)
+
+
+@pytest.mark.parametrize(
+    ("torque", "why"),
+    [
+        (
+            tb.torques.ConstantBodyTorque([0.0, 0.0, 1e-3], actuator="rotors"),
+            "it acts through the body.s rotors",
+        ),
+        (tb.torques.HoldRotation(), "it has no parameters to fit"),
+    ],
+)
+def test_models_of_rotors_or_without_parameters_are_refused(torque, why) -> None:
+    t, measured, _ = throw(3, None)
+    with pytest.raises(InputError, match=r"starting values, got .*: " + why):
+        tb.identify(t, measured, window=(0.0, t[-1]), torque=torque)
+
+
+@numba.njit
+def no_torque(t, omega, quaternion, params, out):  # type: ignore[no-untyped-def]
+    """A parameter that changes nothing."""
+    out[0] = 0.0 * params[0]
+
+
+def test_a_model_that_misses_the_samples_is_refused() -> None:
+    # Throws under drag fitted with a torque that does nothing: the torque-free body's
+    # residuals, twenty times the noise, remain.
+    t, measured, _ = throw(3, tb.torques.AxisDrag(LINEAR))
+    with pytest.raises(
+        InputError,
+        match=r"Expected the samples of 0–0\.79 s to follow a motion under "
+        r"UserTorque\(no_torque, params=\[0\.0\]\), got residuals of [0-9.]+ rad/s against noise",
+    ):
+        tb.identify(
+            t, measured, window=(0.0, t[-1]), torque=tb.torques.UserTorque(no_torque, [0.0])
+        )
+
+
+def test_a_fit_whose_moments_change_order_is_refused() -> None:
+    # Started from the same body with its first two axes swapped (moments (r2, r1, 1)),
+    # the fit stays there: the moments are not ascending, and the fit says so.
+    from tumble.identification.torque_fit import fit_torque_model
+
+    t, measured, _ = throw(3, tb.torques.AxisDrag(LINEAR))
+    fit = tb.identify(t, measured, window=(0.0, t[-1]), torque="drag")
+    swapped = replace(
+        fit,
+        moment_ratios=fit.moment_ratios[::-1].copy(),
+        axes=fit.axes[:, [1, 0, 2]] * [1.0, 1.0, -1.0],
+        omega0=fit.omega0[[1, 0, 2]] * [1.0, 1.0, -1.0],
+    )
+    with pytest.raises(InputError, match=r"to keep the moments' order, got moments 0\.8"):
+        fit_torque_model(swapped, tb.torques.UserTorque(no_torque, [0.0]), "linear")

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core import drag_model, rate_model
-from tumble.identification.torque_values import model_rates, parameter_names
+from tumble.identification.torque_values import model_rates
 
 __all__ = [
     "PARAMETERS",
@@ -144,7 +144,7 @@ class BodyFit:
         drag = self.torque_parameters.size
         core = self.covariance.shape[0] - drag
         if self.torque_model is not None:
-            return PARAMETERS[:core] + parameter_names(self.torque_model)
+            return PARAMETERS[:core] + self.torque_model.flat_names()
         return PARAMETERS[:core] + DRAG_PARAMETERS[:drag]
 
     @property

@@ -21,7 +21,7 @@ from tumble.core import rate_model
 from tumble.errors import InputError
 from tumble.identification.checks import MAX_MISS
 from tumble.identification.result import BodyFit
-from tumble.identification.torque_values import model_rates, values_of, with_values
+from tumble.identification.torque_values import model_rates
 from tumble.theory import flip_period
 from tumble.torques import TorqueModel
 
@@ -43,7 +43,7 @@ def _residuals(
     offset = x[8:11] if bias else np.zeros(3)
     count = 11 if bias else 8
     try:
-        rates = model_rates(with_values(torque, x[count:]), moments, x[5:8], times)
+        rates = model_rates(torque.with_flat_values(x[count:]), moments, x[5:8], times)
     except (InputError, ValueError):
         return np.full(measured.size, GIVEN_UP)  # values the model refuses: a step too far
     out = (rates @ axes.T + offset - measured).ravel()
@@ -65,7 +65,7 @@ def fit_torque_model(start: BodyFit, torque: TorqueModel, loss: str) -> BodyFit:
     measured = np.ascontiguousarray(start.measured)
     offset = start.bias if bias else np.zeros(0)
     head = [np.log(start.moment_ratios), np.zeros(3), start.omega0, offset]
-    x0 = np.concatenate([*head, values_of(torque)])
+    x0 = np.concatenate([*head, torque.flat_values()])
     result = least_squares(
         _residuals,
         x0,
@@ -120,5 +120,5 @@ def fit_torque_model(start: BodyFit, torque: TorqueModel, loss: str) -> BodyFit:
         torque_parameters=values,
         torque_uncertainty=errors[count:],
         choice="as asked",
-        torque_model=with_values(torque, values),
+        torque_model=torque.with_flat_values(values),
     )

@@ -1,11 +1,11 @@
-"""The parameters of a torque model as the numbers a fit changes, and the rates of a
-body under it: what :mod:`tumble.identification.torque_fit` fits and what a
-:class:`~tumble.identification.BodyFit` under a torque model forecasts."""
+"""Which torque models a fit of rates fits (:mod:`tumble.identification.torque_fit`),
+and the rates of a body under one, which a :class:`~tumble.identification.BodyFit`
+under a torque model forecasts."""
 
 from __future__ import annotations
 
-from dataclasses import replace
-from typing import Any, TypeGuard, cast
+from functools import cache
+from typing import Any, TypeGuard
 
 import numpy as np
 from numpy.typing import NDArray
@@ -15,17 +15,10 @@ from tumble.core.drag_model import MOST_SUBSTEPS, MOST_TURN
 from tumble.core.dynamics import euler_coefficients
 from tumble.core.stepped_model import stepped_rates
 from tumble.massprops import MassProperties
-from tumble.torques import TorqueModel, UserTorque
+from tumble.torques import TorqueModel
 from tumble.torques.binding import bind
 
-__all__ = [
-    "fits_torque_model",
-    "model_rates",
-    "parameter_names",
-    "values_of",
-    "why_not_fitted",
-    "with_values",
-]
+__all__ = ["axes_body", "fits_torque_model", "model_rates", "why_not_fitted"]
 
 Array = NDArray[np.float64]
 
@@ -33,8 +26,12 @@ Array = NDArray[np.float64]
 #: are values of ``torque=``).
 BUILT_IN = ("drag", "quadratic-drag")
 
-#: A body whose principal axes are its body axes (distinct moments, kg·m²).
-AXES_BODY = MassProperties(1.0, np.zeros(3), np.diag([1.0, 2.0, 2.5]))
+
+@cache
+def axes_body() -> Any:
+    """A body whose principal axes are its body axes (distinct moments, kg·m²), built
+    once, when a torque model is first bound."""
+    return body_model(MassProperties(1.0, np.zeros(3), np.diag([1.0, 2.0, 2.5])))
 
 
 def fits_torque_model(torque: Any) -> TypeGuard[TorqueModel]:
@@ -48,7 +45,7 @@ def fits_torque_model(torque: Any) -> TypeGuard[TorqueModel]:
     return (
         "attitude" not in torque.depends_on
         and torque.actuator == "external"
-        and values_of(torque).size > 0
+        and torque.flat_values().size > 0
     )
 
 
@@ -66,48 +63,15 @@ def why_not_fitted(torque: Any) -> str:
     return "it has no parameters to fit"
 
 
-def parameter_names(torque: TorqueModel) -> tuple[str, ...]:
-    """The names of a model's fitted parameters, flattened: ``coefficients[0]``, ..."""
-    if isinstance(torque, UserTorque):
-        return tuple(f"params[{k}]" for k in range(len(torque.params)))
-    names: list[str] = []
-    for parameter in torque.parameters:
-        size = int(np.prod(parameter.shape))
-        shown = [f"{parameter.name}[{k}]" for k in range(size)]
-        names += shown if parameter.shape else [parameter.name]
-    return tuple(names)
-
-
-def values_of(torque: TorqueModel) -> Array:
-    """A model's parameter values, flattened (SI)."""
-    if isinstance(torque, UserTorque):
-        return np.asarray(torque.params, dtype=float).reshape(-1)
-    values = [np.asarray(value, dtype=float).reshape(-1) for value in torque.values().values()]
-    return np.concatenate(values) if values else np.zeros(0)
-
-
-def with_values(torque: TorqueModel, values: Array) -> TorqueModel:
-    """The same model with its parameters ``values`` (flattened, SI)."""
-    if isinstance(torque, UserTorque):
-        return replace(torque, params=np.array(values, dtype=float))
-    changed, at = {}, 0
-    for parameter in torque.parameters:
-        size = int(np.prod(parameter.shape))
-        chunk = np.array(values[at : at + size], dtype=float)
-        changed[parameter.name] = chunk.reshape(parameter.shape) if parameter.shape else chunk[0]
-        at += size
-    return replace(cast(Any, torque), **changed)  # every registered model is a dataclass
-
-
 def model_rates(torque: TorqueModel, moments: Array, omega0: Array, times: Array) -> Array:
     """(n, 3) principal rates (rad/s) at ``times`` (n,) s, ascending, of the body of
     ``moments`` (3,) kg·m² under ``torque``, ω(0) = ``omega0`` (3,) rad/s.
 
-    The torque's fields are packed for :data:`AXES_BODY`, whose principal axes are its
+    The torque's fields are packed for :func:`axes_body`, whose principal axes are its
     body axes as the fitted body's are: a torque of ω and time reads nothing else of
     the body, and the moments a fit tries on its way need not make a physical body."""
     moments = np.asarray(moments, dtype=float)
-    bound = bind(torque, body_model(AXES_BODY), np.asarray(omega0, dtype=float))
+    bound = bind(torque, axes_body(), np.asarray(omega0, dtype=float))
     return np.asarray(
         stepped_rates(
             bound.function,

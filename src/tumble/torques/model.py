@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
-from typing import Any, ClassVar
+from typing import Any, ClassVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -118,6 +118,34 @@ class TorqueModel:
     def values(self) -> dict[str, Any]:
         """The parameter values by name, SI."""
         return {p.name: getattr(self, p.name) for p in self.parameters}
+
+    def flat_names(self) -> tuple[str, ...]:
+        """The names of the numbers of :meth:`flat_values`: ``coefficient``,
+        ``coefficients[0]``, ... (what a fit of the model's parameters calls them)."""
+        names: list[str] = []
+        for parameter in self.parameters:
+            size = int(np.prod(parameter.shape))
+            shown = [f"{parameter.name}[{k}]" for k in range(size)]
+            names += shown if parameter.shape else [parameter.name]
+        return tuple(names)
+
+    def flat_values(self) -> Array:
+        """The parameter values as one flat array, SI, in the order of ``parameters``."""
+        values = [np.asarray(value, dtype=float).reshape(-1) for value in self.values().values()]
+        return np.concatenate(values) if values else np.zeros(0)
+
+    def with_flat_values(self, values: Array) -> TorqueModel:
+        """The same model with the parameter values ``values`` (as :meth:`flat_values`
+        gives them); every registered model is a dataclass."""
+        changed, at = {}, 0
+        for parameter in self.parameters:
+            size = int(np.prod(parameter.shape))
+            chunk = np.array(values[at : at + size], dtype=float)
+            changed[parameter.name] = (
+                chunk.reshape(parameter.shape) if parameter.shape else chunk[0]
+            )
+            at += size
+        return replace(cast(Any, self), **changed)
 
     def describe(self) -> dict[str, Any]:
         """The model as JSON-ready SI values with its ``type`` (and its ``actuator``

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dis
 import inspect
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -157,6 +157,18 @@ class UserTorque(TorqueModel):
 
     def conserves(self, body: Any) -> frozenset[str]:
         return frozenset({"energy"}) if self.conservative else frozenset()
+
+    def flat_names(self) -> tuple[str, ...]:
+        """``params[0]``, ``params[1]``, ...: the names of :meth:`flat_values`."""
+        return tuple(f"params[{k}]" for k in range(len(self.params)))
+
+    def flat_values(self) -> Array:
+        """``params`` as a flat array."""
+        return np.asarray(self.params, dtype=float).reshape(-1)
+
+    def with_flat_values(self, values: Array) -> TorqueModel:
+        """The same functions with ``params`` = ``values``."""
+        return replace(self, params=np.array(values, dtype=float))
 
     def describe(self) -> dict[str, Any]:
         """The functions' names and the params (a file cannot hold the functions)."""
