@@ -12,8 +12,8 @@ each interval between samples cut into substeps that turn the body by at most
 |ω|, some 3e-9; over a throw of a few hundred substeps ~1e-6 of |ω|) stays far below
 any gyroscope's noise (~1e-3 of |ω| for a phone's). A sample is
 ``ω_measured(t) = R ω(t) + b`` as in :mod:`tumble.core.rate_model`. The Jacobian is
-taken by forward differences in one compiled call (the least squares would call the
-model once a parameter otherwise).
+taken by forward differences in one compiled call
+(:func:`tumble.core.rate_model.forward_differences`).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from tumble.core._jit import njit
-from tumble.core.rate_model import moments_and_axes
+from tumble.core.rate_model import forward_differences, moments_and_axes
 
 __all__ = ["MOST_TURN", "drag_jacobian", "drag_rates", "drag_residuals"]
 
@@ -137,6 +137,17 @@ def drag_residuals(x, frame, times, measured, with_bias, quadratic):  # type: ig
     if with_bias:
         bias = x[8:11]
         offset = 11
+        # No gyroscope reads mostly its own offset (a fit with a bias beyond the rates'
+        # median is refused as a unit error): a trial step to a bias beyond every
+        # sample is turned back at once. Without it, a body near a sphere, whose ω0
+        # trades off against the bias, lets the solver drift to biases of hundreds of
+        # rad/s, whose rates take seconds of substeps an evaluation.
+        largest = 0.0
+        for n in range(measured.shape[0]):
+            size = measured[n, 0] ** 2 + measured[n, 1] ** 2 + measured[n, 2] ** 2
+            largest = max(largest, size)
+        if not bias[0] ** 2 + bias[1] ** 2 + bias[2] ** 2 <= largest:
+            return np.full(3 * measured.shape[0], GIVEN_UP)
     rates = drag_rates(moments, x[offset : offset + 3], quadratic, x[5:8].copy(), times)
     out = np.empty(3 * rates.shape[0])
     for n in range(rates.shape[0]):
@@ -150,23 +161,10 @@ def drag_residuals(x, frame, times, measured, with_bias, quadratic):  # type: ig
     return out
 
 
-@njit
-def drag_jacobian(x, frame, times, measured, with_bias, quadratic):  # type: ignore[no-untyped-def]
-    """(3 n, len(x)) derivatives of :func:`drag_residuals` by forward differences, each
-    step 1e-7 of the parameter's scale (the logarithms, the rotation and the
-    coefficients: 1; the rates and the bias: |ω0|): truncation ~1e-7 and round-off
-    ~1e-9 relative, far below what the noise leaves of any parameter."""
-    rate_scale = max(math.sqrt(x[5] * x[5] + x[6] * x[6] + x[7] * x[7]), 1e-12)
-    columns = x.shape[0]
-    out = np.empty((3 * times.shape[0], columns))
-    here = drag_residuals(x, frame, times, measured, with_bias, quadratic)
-    shifted = x.copy()
-    for j in range(columns):
-        scale = rate_scale if 5 <= j < 8 or (with_bias and 8 <= j < 11) else 1.0
-        step = 1e-7 * max(abs(x[j]), scale)
-        shifted[j] = x[j] + step
-        forward = drag_residuals(shifted, frame, times, measured, with_bias, quadratic)
-        shifted[j] = x[j]
-        for i in range(out.shape[0]):
-            out[i, j] = (forward[i] - here[i]) / step
-    return out
+#: The Jacobian of :func:`drag_residuals` (see
+#: :func:`tumble.core.rate_model.forward_differences`), each step 1e-7 of its
+#: parameter's scale: the stepped model is smooth only to its integration's error
+#: (~1e-9 relative, which jumps where a parameter changes the count of substeps), so a
+#: longer step than √ε: truncation ~1e-7 and those jumps ~1e-2 of a derivative at worst,
+#: far below what the noise leaves of any parameter.
+drag_jacobian = forward_differences(drag_residuals, 1e-7)

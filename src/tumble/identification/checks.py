@@ -22,11 +22,13 @@ __all__ = [
     "MAX_RATIO_ERROR",
     "MIN_RATIO",
     "MIN_SAMPLES",
+    "biases_within_rates",
     "breaks_free_body",
     "canonical",
     "check_bias",
     "check_determined",
     "check_loss",
+    "check_miss",
     "check_motion",
     "check_torque",
     "flag",
@@ -221,6 +223,37 @@ def torque_at_ends(times: Array, smooth: Array, derivative: Array) -> str:
     )
 
 
+def check_miss(
+    residuals: Array,
+    noise: float,
+    times: Array,
+    rates: Array,
+    smooth: Array,
+    derivative: Array,
+    torque: str,
+) -> None:
+    """Refuse a fit whose typical residual (rad/s, median-based: a few outliers do not
+    count) exceeds :data:`MAX_MISS` times the ``noise``, saying what may have broken the
+    motion: a torque at the window's ends (a throw or a catch inside it), or rates that
+    break |dω/dt| ≤ |ω|²/√3 (a hand's torque, or a unit too small)."""
+    typical = 1.4826 * float(np.median(np.abs(residuals)))
+    if typical <= MAX_MISS * noise or typical <= 1e-9 * float(np.abs(rates).max()):
+        return
+    ratio = free_body_ratio(smooth, derivative)
+    also = torque_at_ends(times, smooth, derivative) or (
+        f" (the rates break |dω/dt| ≤ |ω|²/√3 too, at {ratio:.3g} |ω|²: a hand's torque "
+        "does, and so do rates too small for their unit, as deg/s read as rad/s)"
+        if breaks_free_body(ratio)
+        else ""
+    )
+    motion = "torque-free motion" if torque == "free" else f"motion under {torque}"
+    raise InputError(
+        f"Expected the samples of {times[0]:.6g}–{times[-1]:.6g} s to follow a {motion}, "
+        f"got residuals of {typical:.3g} rad/s against noise of {noise:.3g} rad/s "
+        f"for the best body found: is the window all free flight?{also}"
+    )
+
+
 def check_bias(bias: Array, rates: Array) -> None:
     """Refuse a fit whose sensor bias (rad/s, sensor axes) is larger than the rates
     measured (``rates`` (n, 3), their median length). No gyroscope reads mostly its
@@ -241,6 +274,30 @@ def check_bias(bias: Array, rates: Array) -> None:
             "as rad/s (57.3 times), or in turn/s (6.28 times)? (Give them in rad/s, or as "
             "quantities with their unit.)"
         )
+
+
+def biases_within_rates(biases: Array, rates: Array, smooth: Array, derivative: Array) -> Array:
+    """Which of the fitted biases ``biases`` (k, 3) rad/s lie within the largest rate
+    measured (``rates`` (n, 3)): the starts a drag may be searched from. A torque-free
+    search can end on a body near a sphere, whose ω0 trades off against the bias, far
+    beyond every sample; a drag searched from there drifts further along that trade.
+    Refused when none does: as a unit error (:func:`check_bias`) where the smoothed
+    rates and their derivative break |dω/dt| ≤ |ω|²/√3, as a motion showing too
+    little of the body otherwise."""
+    largest = float(np.linalg.norm(rates, axis=1).max())
+    within = np.linalg.norm(biases, axis=1) <= largest
+    if not within.any():
+        best = biases[0]
+        if breaks_free_body(free_body_ratio(smooth, derivative)):
+            check_bias(best, rates)
+        raise InputError(
+            "Expected a recording that determines the moment ratios, got only bodies whose "
+            f"bias exceeds every rate measured (the best: {np.linalg.norm(best):.3g} rad/s "
+            f"against rates up to {largest:.3g} rad/s): near a sphere, ω0 trades off against "
+            "a bias, and the motion shows too little of the body (a longer free flight, or a "
+            "throw further from a principal axis, would)."
+        )
+    return within
 
 
 #: The most a ratio's standard error may be for the ratios to count as
@@ -296,8 +353,14 @@ def check_determined(jacobian: Array, bias: bool) -> None:
     norms = np.linalg.norm(jacobian, axis=0)
     norms[norms == 0] = 1.0
     _, values, directions = np.linalg.svd(jacobian / norms, full_matrices=False)
-    unseen = directions[values < 1e-8 * values[0]]
-    if any(np.linalg.norm(v[:2]) > 0.1 for v in unseen):
+    # The Jacobian comes from forward differences, good to ~1e-8 relative (1e-7 for a
+    # stepped model): a direction it does not see shows a singular value of that
+    # order, 1e-6 of the largest is beyond any that a recording determines. Such
+    # directions can span several dimensions (a symmetric body's ratio against the
+    # bias, and its turn about the axis), each mixed with the others as round-off
+    # chooses: the share of the ratios is taken over all of them together.
+    unseen = directions[values < 1e-6 * values[0]]
+    if np.linalg.norm(unseen[:, :2]) > 0.1:
         advice = (
             "with a bias, a symmetric body's ratios trade off against it: fit with "
             "bias=False if the sensor has none, or record a less symmetric body"

@@ -27,23 +27,21 @@ from scipy.optimize import least_squares
 from tumble.core import drag_model, rate_model
 from tumble.errors import InputError
 from tumble.identification.checks import (
-    MAX_MISS,
     MAX_RATIO_ERROR,
     MIN_RATIO,
     MIN_SAMPLES,
-    breaks_free_body,
+    biases_within_rates,
     canonical,
     check_bias,
     check_determined,
     check_loss,
+    check_miss,
     check_motion,
     check_torque,
     flag,
-    free_body_ratio,
     looks_like_noise,
     samples,
     symmetric_within_errors,
-    torque_at_ends,
     window_bounds,
 )
 from tumble.identification.decimation import averaged
@@ -127,7 +125,7 @@ def _solve(
         np.ascontiguousarray(measured),
         with_bias,
     )
-    model: dict[str, Any] = {"fun": rate_model.rate_residuals}
+    model: dict[str, Any] = {"fun": rate_model.rate_residuals, "jac": rate_model.rate_jacobian}
     if torque != "free":
         args += (torque == "quadratic-drag",)
         model = {"fun": drag_model.drag_residuals, "jac": drag_model.drag_jacobian}
@@ -421,6 +419,10 @@ def _fit(
             break  # residuals like the noise: the other starts are for a miss
     found.sort(key=lambda pair: pair[0].cost)
     if torque != searched:
+        if bias:
+            biases = np.array([result.x[8:11] for result, _ in found])
+            within = biases_within_rates(biases, rates, smooth, derivative)
+            found = [pair for pair, keep in zip(found, within, strict=True) if keep]
         drags = []
         for result, axes in found[:DRAG_STARTS]:
             x = np.concatenate([result.x, np.zeros(3)])
@@ -446,22 +448,10 @@ def _fit(
     moments, axes, omega0 = canonical(body, axes, omega0)
 
     residual = float(np.sqrt(np.mean(final.fun**2)))
-    # The typical residual (median-based: a few outliers do not count).
-    typical = 1.4826 * float(np.median(np.abs(final.fun)))
-    if typical > MAX_MISS * noise and typical > 1e-9 * float(np.abs(rates).max()):
-        ratio = free_body_ratio(smooth, derivative)
-        also = torque_at_ends(times, smooth, derivative) or (
-            f" (the rates break |dω/dt| ≤ |ω|²/√3 too, at {ratio:.3g} |ω|²: a hand's torque "
-            "does, and so do rates too small for their unit, as deg/s read as rad/s)"
-            if breaks_free_body(ratio)
-            else ""
-        )
-        motion = "torque-free motion" if torque == "free" else f"motion under {torque}"
-        raise InputError(
-            f"Expected the samples of {start:.6g}–{times[-1]:.6g} s to follow a {motion}, "
-            f"got residuals of {typical:.3g} rad/s against noise of {noise:.3g} rad/s "
-            f"for the best body found: is the window all free flight?{also}"
-        )
+    check_miss(final.fun, noise, times, rates, smooth, derivative, torque)
+    # A body matched the samples, but no sensor reads mostly its own offset: a bias
+    # beyond the rates is a unit error (whatever else the fit leaves undetermined).
+    check_bias(offset, rates)
     check_determined(final.jac, bias)
     if moments[0] < MIN_RATIO:
         raise InputError(
@@ -485,9 +475,6 @@ def _fit(
             "too little of the body (a longer free flight, or a throw further from a "
             "principal axis, would)."
         )
-    # A torque-free body matched the samples and determines the ratios, but no
-    # sensor reads mostly its own offset: a bias beyond the rates is a unit error.
-    check_bias(offset, rates)
     if bias and symmetric_within_errors(moments[:2], covariance):
         raise InputError(
             "Expected a recording that determines the moment ratios, got a body symmetric "

@@ -213,30 +213,12 @@ class _Throws:
     def jacobian(self, x: Array) -> Array:
         """The joint Jacobian, assembled from each throw's block."""
         out = np.zeros((self.rows[-1].stop, self.size))
+        free = self.torque == "free"
+        jacobian = rate_model.rate_jacobian if free else drag_model.drag_jacobian
         for k, columns in enumerate(self.columns):
-            if self.torque == "free":
-                block = _forward_differences(x[columns], self._arguments(k))
-            else:
-                block = drag_model.drag_jacobian(x[columns], *self._arguments(k))
+            block = jacobian(x[columns], *self._arguments(k))
             out[self.rows[k], columns] += block
         return out
-
-
-def _forward_differences(x: Array, args: tuple[Any, ...]) -> Array:
-    """The Jacobian of one throw's torque-free residuals by forward differences, with
-    the steps of :func:`tumble.core.drag_model.drag_jacobian` (1e-7 of each parameter's
-    scale): the exact model has no compiled derivative, and its evaluations cost
-    microseconds."""
-    here = rate_model.rate_residuals(x, *args)
-    rate_scale = max(float(np.linalg.norm(x[5:8])), 1e-12)
-    out = np.empty((here.size, x.size))
-    shifted = x.copy()
-    for j in range(x.size):
-        step = 1e-7 * max(abs(x[j]), rate_scale if j >= 5 else 1.0)
-        shifted[j] = x[j] + step
-        out[:, j] = (rate_model.rate_residuals(shifted, *args) - here) / step
-        shifted[j] = x[j]
-    return out
 
 
 def disagreement(fit: BodyFit, other: BodyFit | JointFit) -> float:
