@@ -1,8 +1,12 @@
-# `make demo` runs the built-in scenario; `make check` is the quick loop while
-# editing; `make test` (what CI runs) is every check. All set everything up first.
+# `make demo` installs tumble with its runtime dependencies only and runs the
+# built-in scenario; `make check` is the quick loop while editing; `make test`
+# (what CI runs) is every check; `make docs` builds the site. Those three set up
+# everything the checks need first: the dev, docs, robots, robot-files and
+# engines extras, and Debian's chromium for the browser test.
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
+RUNTIME := $(VENV)/.runtime
 STAMP  := $(VENV)/.installed
 
 # The tests run in one pytest-xdist worker per core (JOBS=1 for one process, to
@@ -29,17 +33,24 @@ browser:
 	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; \
 	} || echo "warning: could not install chromium: the browser test will be skipped (it fails under CI)"
 
-# Reinstall only when the package definition changes: `make setup` is quick otherwise.
-$(STAMP): pyproject.toml
+# Reinstall only when the package definition changes: set-up is quick otherwise.
+# tumble and what it needs to run, nothing else, and the default run's kernels
+# compiled (tumble warm-up).
+$(RUNTIME): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[dev,docs,robots,robot-files,engines]'
+	$(BIN)/python -m pip install --quiet -e .
 	@echo "Compiling the default run's kernels (tumble warm-up)"
 	$(BIN)/tumble warm-up --quiet
+	@touch $(RUNTIME)
+
+# Everything the checks, the site and the tests of real files need besides.
+$(STAMP): $(RUNTIME)
+	$(BIN)/python -m pip install --quiet -e '.[dev,docs,robots,robot-files,engines]'
 	@touch $(STAMP)
 
 # The main job: the built-in gyroscope scenario; it prints where its report is.
-demo: setup
+demo: $(RUNTIME)
 	$(BIN)/tumble run
 
 # The documentation site, from the sources in docs/: every tutorial, guide and
