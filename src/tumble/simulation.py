@@ -183,14 +183,20 @@ def simulate(
     """
     record_every = check_record_every(record_every)
     setup = prepare(
-        mp, omega0, attitude0=attitude0, pivot=pivot, gravity=gravity, torque=torque,
-        method=method, internal=internal,
-    )  # fmt: skip
+        mp,
+        omega0,
+        attitude0=attitude0,
+        pivot=pivot,
+        gravity=gravity,
+        torque=torque,
+        method=method,
+        internal=internal,
+    )
     total_time = _duration(duration)
     _check_run_options(rtol, atol, progress)
     schedule = setup.schedule(
         total_time, dt, record_every, rtol=rtol, atol=atol, max_steps=max_steps
-    )  # fmt: skip
+    )
     integrator = setup.integrator
     problem = Problem(setup.body, setup.torque, setup.omega0, setup.attitude0)
     samples = integrator.run(integrator, problem, schedule, progress)
@@ -297,9 +303,15 @@ class Setup:
         return time_step(dt, self.fastest_rate(), duration)
 
     def schedule(
-        self, duration: float, dt: Any, record_every: int, *, rtol: float, atol: float,
+        self,
+        duration: float,
+        dt: Any,
+        record_every: int,
+        *,
+        rtol: float,
+        atol: float,
         max_steps: int | None,
-    ) -> Schedule:  # fmt: skip
+    ) -> Schedule:
         """The steps and recorded times of a run of ``duration`` s (arguments as
         :func:`simulate`'s), checked before any work: the samples within the
         memory budget, the steps within ``max_steps``, a fixed step within the

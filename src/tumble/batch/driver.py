@@ -116,12 +116,30 @@ def step_batch(
     while done < n_steps:
         count = min(chunk, n_steps - done)
         if start is None:
-            kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, done * dt,
-                   dt, count, status)  # fmt: skip
+            kernel(
+                batch.w,
+                batch.q,
+                batch.inertia,
+                torque.params,
+                torque.context,
+                done * dt,
+                dt,
+                count,
+                status,
+            )
         else:
             batch.w[:], batch.q[:] = start
-            kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, 0.0, dt,
-                   done + count, status)  # fmt: skip
+            kernel(
+                batch.w,
+                batch.q,
+                batch.inertia,
+                torque.params,
+                torque.context,
+                0.0,
+                dt,
+                done + count,
+                status,
+            )
         done += count
         if np.any(status != FINITE):
             break
@@ -178,14 +196,27 @@ def measure_batch(
         # principal frames of the diagonal tensors order them (a proper
         # relabelling of the axes).
         ordered = bool(np.all(np.diff(batch.inertia, axis=0) >= 0.0))
-        bodies = BodyBatch(batch.inertia.T.copy()) if ordered else BodyBatch.from_inertia(
-            np.einsum("in,ij->nij", batch.inertia, np.eye(3))
-        )  # fmt: skip
+        bodies = (
+            BodyBatch(batch.inertia.T.copy())
+            if ordered
+            else BodyBatch.from_inertia(np.einsum("in,ij->nij", batch.inertia, np.eye(3)))
+        )
         w = np.ascontiguousarray(bodies.to_principal(batch.w.T).T)
         turned = np.ascontiguousarray(bodies.to_principal(axis.T).T)
         moments = np.ascontiguousarray(bodies.moments.T)
-        kernel(w, batch.q, moments, torque.params, torque.context, turned, 0.0, dt, n_steps,
-               metrics, status)  # fmt: skip
+        kernel(
+            w,
+            batch.q,
+            moments,
+            torque.params,
+            torque.context,
+            turned,
+            0.0,
+            dt,
+            n_steps,
+            metrics,
+            status,
+        )
         if final_state:  # the measures leave the states; the closed form advances them
             q = np.ascontiguousarray(bodies.attitude_to_principal(batch.q.T).T)
             advance = integrator.kernel("batch", torque)
@@ -194,11 +225,24 @@ def measure_batch(
             batch.q[:] = bodies.attitude_from_principal(q.T).T
     else:
         kernel = integrator.kernel(
-            "metrics", torque, principal_axis=_principal_axis_of(axis),
+            "metrics",
+            torque,
+            principal_axis=_principal_axis_of(axis),
             attitude=final_state or "attitude" in torque.depends_on,
-        )  # fmt: skip
-        kernel(batch.w, batch.q, batch.inertia, torque.params, torque.context, axis, 0.0, dt,
-               n_steps, metrics, status)  # fmt: skip
+        )
+        kernel(
+            batch.w,
+            batch.q,
+            batch.inertia,
+            torque.params,
+            torque.context,
+            axis,
+            0.0,
+            dt,
+            n_steps,
+            metrics,
+            status,
+        )
     batch.check_finite(status, dt, first_body, where)
     return metrics
 

@@ -43,9 +43,14 @@ class PartsBatch:
 
     @classmethod
     def build(
-        cls, inertia: Array, omega: Array, q0: Array, parts: tuple[Any, ...], speeds: Any,
+        cls,
+        inertia: Array,
+        omega: Array,
+        q0: Array,
+        parts: tuple[Any, ...],
+        speeds: Any,
         method: str,
-    ) -> PartsBatch:  # fmt: skip
+    ) -> PartsBatch:
         """From the locked ``inertia`` ((N, 3) or (N, 3, 3), kg·m²), ω0 (N, 3) rad/s,
         the attitudes (N, 4), the parts and the speeds of the parts that have one
         (None or (N, k): those of the parts that spin, :attr:`tumble.parts.InternalPart.spin`)."""
@@ -85,8 +90,9 @@ class PartsBatch:
             [bodies.to_principal(momentum).T, bodies.attitude_to_principal(q0).T, *blocks]
         )
         layout, packed = pack_parts(bodies, parts)
-        return cls(bodies, parts, np.ascontiguousarray(y), np.ascontiguousarray(packed), layout,
-                   method)  # fmt: skip
+        return cls(
+            bodies, parts, np.ascontiguousarray(y), np.ascontiguousarray(packed), layout, method
+        )
 
     def values(self, y: Array) -> tuple[Array, Array, Array]:
         """ω (N, 3) and the attitude (N, 4), body axes, and the parts' values
@@ -122,9 +128,17 @@ class PartsBatch:
                 )
 
     def measure(
-        self, integrator: Integrator, torque: TorqueModel | None, dt: float, n_steps: int,
-        axis: Array, *, energy: bool = True, first_body: int = 0, where: str = "",
-    ) -> tuple[Array, Array]:  # fmt: skip
+        self,
+        integrator: Integrator,
+        torque: TorqueModel | None,
+        dt: float,
+        n_steps: int,
+        axis: Array,
+        *,
+        energy: bool = True,
+        first_body: int = 0,
+        where: str = "",
+    ) -> tuple[Array, Array]:
         """Advance the bodies in place by ``n_steps`` steps of ``dt`` s, measuring each
         after every step about its nominal axis ``axis`` (3, N; unit vectors, body
         axes): the measures (``N_METRICS``, N) of :mod:`tumble.core.metrics` with
@@ -161,8 +175,20 @@ class PartsBatch:
         metrics = np.empty((N_METRICS, n))
         twice = np.empty(n)
         status = np.full(n, FINITE, dtype=np.int64)
-        kernel(self.y, moments, self.packed, bound.params, bound.context, turned, 0.0, dt,
-               n_steps, metrics, twice, status)  # fmt: skip
+        kernel(
+            self.y,
+            moments,
+            self.packed,
+            bound.params,
+            bound.context,
+            turned,
+            0.0,
+            dt,
+            n_steps,
+            metrics,
+            twice,
+            status,
+        )
         bad = np.flatnonzero(status != FINITE)
         if bad.size:
             k = int(bad[0])
@@ -175,9 +201,14 @@ class PartsBatch:
         return metrics, twice
 
     def run(
-        self, integrator: Integrator, torque: TorqueModel | None, dt: float, n_steps: int,
-        record_every: int | None, progress: Progress,
-    ) -> BatchResult:  # fmt: skip
+        self,
+        integrator: Integrator,
+        torque: TorqueModel | None,
+        dt: float,
+        n_steps: int,
+        record_every: int | None,
+        progress: Progress,
+    ) -> BatchResult:
         """Advance the bodies ``n_steps`` steps of ``dt`` s; the result as
         :func:`simulate_batch` returns it."""
         self.check_method(integrator, torque, "parts_batch")
@@ -192,8 +223,17 @@ class PartsBatch:
         done = 0
         while done < n_steps:
             count = min(chunk, n_steps - done)
-            kernel(self.y, moments, self.packed, bound.params, bound.context, done * dt, dt,
-                   count, status)  # fmt: skip
+            kernel(
+                self.y,
+                moments,
+                self.packed,
+                bound.params,
+                bound.context,
+                done * dt,
+                dt,
+                count,
+                status,
+            )
             done += count
             if np.any(status != FINITE):
                 break
@@ -212,10 +252,27 @@ class PartsBatch:
         omega, quaternion, values = self.values(self.y)
         rotors = spin_columns(self.parts)
         if record_every is None:
-            return BatchResult(omega, quaternion, np.array([n_steps * dt]), None, None, dt,
-                               self.method, values, None, rotors)  # fmt: skip
+            return BatchResult(
+                omega,
+                quaternion,
+                np.array([n_steps * dt]),
+                None,
+                None,
+                dt,
+                self.method,
+                values,
+                None,
+                rotors,
+            )
         return BatchResult(
-            omega, quaternion, np.asarray(times),
-            np.stack([h[0] for h in history]), np.stack([h[1] for h in history]),
-            dt, self.method, values, np.stack([h[2] for h in history]), rotors,
-        )  # fmt: skip
+            omega,
+            quaternion,
+            np.asarray(times),
+            np.stack([h[0] for h in history]),
+            np.stack([h[1] for h in history]),
+            dt,
+            self.method,
+            values,
+            np.stack([h[2] for h in history]),
+            rotors,
+        )

@@ -131,9 +131,19 @@ def simulate_batch(
     step = total_time / n_steps
     if parts:
         return _run_with_parts(
-            integrator, values, omega, q0, parts, rotor_speed, torque, step, n_steps,
-            total_time, record_every, progress,
-        )  # fmt: skip
+            integrator,
+            values,
+            omega,
+            q0,
+            parts,
+            rotor_speed,
+            torque,
+            step,
+            n_steps,
+            total_time,
+            record_every,
+            progress,
+        )
     if rotor_speed is not None:
         raise InputError("Expected `rotor_speed` with Rotor parts in `internal`, got no parts.")
     bound = bind(torque, bodies, bodies=n)
@@ -196,10 +206,19 @@ def _check_torque(torque: Any) -> None:
 
 
 def _run_with_parts(
-    integrator: Integrator, values: Array, omega: Array, q0: Array, parts: tuple[Any, ...],
-    rotor_speed: Any, torque: TorqueModel | None, step: float, n_steps: int,
-    total_time: float, record_every: int | None, progress: Progress,
-) -> BatchResult:  # fmt: skip
+    integrator: Integrator,
+    values: Array,
+    omega: Array,
+    q0: Array,
+    parts: tuple[Any, ...],
+    rotor_speed: Any,
+    torque: TorqueModel | None,
+    step: float,
+    n_steps: int,
+    total_time: float,
+    record_every: int | None,
+    progress: Progress,
+) -> BatchResult:
     """Bodies carrying parts: one compiled body per thread (:mod:`tumble.batch.parts`),
     after the check that the step keeps the parts' own motion stable."""
     with_parts = PartsBatch.build(values, omega, q0, parts, rotor_speed, integrator.name)
@@ -211,10 +230,17 @@ def _run_with_parts(
 
 
 def _run_rigid(
-    integrator: Integrator, bodies: BodyBatch, omega: Array, q0: Array, bound: BoundTorque,
-    step: float, n_steps: int, total_time: float, record_every: int | None,
+    integrator: Integrator,
+    bodies: BodyBatch,
+    omega: Array,
+    q0: Array,
+    bound: BoundTorque,
+    step: float,
+    n_steps: int,
+    total_time: float,
+    record_every: int | None,
     progress: Progress,
-) -> BatchResult:  # fmt: skip
+) -> BatchResult:
     """Rigid bodies by the batch driver, their states turned back into body axes."""
     n = len(bodies)
     # Copies: the kernels step these in place, and a body already in principal
@@ -229,8 +255,16 @@ def _run_rigid(
 
     final_w, final_q = to_body(w, q)
     if record_every is None:
-        return BatchResult(final_w, final_q, np.array([total_time]), None, None, step,
-                           integrator.name, np.zeros((n, 0)))  # fmt: skip
+        return BatchResult(
+            final_w,
+            final_q,
+            np.array([total_time]),
+            None,
+            None,
+            step,
+            integrator.name,
+            np.zeros((n, 0)),
+        )
     pairs = [to_body(a, b) for a, b in zip(run.omega_history, run.quaternion_history, strict=True)]
     return BatchResult(
         final_w,

@@ -95,8 +95,9 @@ class PartsState:
 
         states = np.asarray(states, dtype=float)
         moments = np.ascontiguousarray(self.moments[:, None])
-        principal = velocities(self.layout)(np.ascontiguousarray(states.T), moments,
-                                            np.ascontiguousarray(self.packed_parts))  # fmt: skip
+        principal = velocities(self.layout)(
+            np.ascontiguousarray(states.T), moments, np.ascontiguousarray(self.packed_parts)
+        )
         omega = self.from_principal(principal)
         values, k = [], 7
         for part in self.parts:

@@ -111,9 +111,13 @@ class DualSpinCheck(TheoryCheck):
         # sampled like the run.
         duration = float(trajectory.t[-1])
         locked = simulate(
-            mp, case.omega0, attitude0=case.attitude0, duration=duration,
-            dt=duration / max(len(trajectory.t) - 1, 1), method="auto",
-        )  # fmt: skip
+            mp,
+            case.omega0,
+            attitude0=case.attitude0,
+            duration=duration,
+            dt=duration / max(len(trajectory.t) - 1, 1),
+            method="auto",
+        )
         rows = [
             dict(row, quantity=f"{row['quantity']} with the rotors")
             for row in self.rows(trajectory, held, axis=axis)

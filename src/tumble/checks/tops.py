@@ -114,9 +114,12 @@ class GyroscopeCheck(TheoryCheck):
         level = Rotation.align_vectors([axis], [up])[0]
         start = level * trajectory.rotation[0]
         result = theory.gyroscope(
-            case.mass_properties, case.pivot, gravity=math.hypot(*g),
-            omega0=case.omega0, attitude0=start,
-        )  # fmt: skip
+            case.mass_properties,
+            case.pivot,
+            gravity=math.hypot(*g),
+            omega0=case.omega0,
+            attitude0=start,
+        )
         rows = self.rows(trajectory, result, axis=axis, vertical=up)
         t = trajectory.t
         tilt, azimuth = axis_angles(trajectory, axis, up)

@@ -183,9 +183,16 @@ def fit_recording(
         )
         folder = output if output is not None else default_folder(fit_name(source))
         write_fit(
-            fit, measured, folder, source=source, noise=fit.noise, found=span is None,
-            loss=loss, figures=not no_figures, force=force,
-        )  # fmt: skip
+            fit,
+            measured,
+            folder,
+            source=source,
+            noise=fit.noise,
+            found=span is None,
+            loss=loss,
+            figures=not no_figures,
+            force=force,
+        )
         if quiet:
             return
         if recording is None:

@@ -135,9 +135,13 @@ def inertia(
             )
         else:
             label, mp = _build_body(
-                body, mass=mass, density=density, units=units, dimensions=given,
+                body,
+                mass=mass,
+                density=density,
+                units=units,
+                dimensions=given,
                 mesh_options={k: v for k, v in mesh_options.items() if v is not None},
-            )  # fmt: skip
+            )
         point = vector_to_si(about, "length", "--about") if about is not None else None
         if as_json:
             typer.echo(json.dumps(_inertia_json(label, mp, point), indent=2))
@@ -156,8 +160,10 @@ def _robot_body(
 
     extra = [name for name, value in options.items() if value is not None]
     if extra:
-        raise InputError(f"Expected no {_option(extra[0])} for a robot file, got one: its links "
-                         "declare their masses.")  # fmt: skip
+        raise InputError(
+            f"Expected no {_option(extra[0])} for a robot file, got one: its links "
+            "declare their masses."
+        )
     values: dict[str, str] = {}
     for item in joints:
         name, sign, value = item.partition("=")

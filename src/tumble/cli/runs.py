@@ -96,8 +96,9 @@ def run_scenario(
                 check_folder(folder, force)  # before simulating
             with LazyProgress(enabled=not quiet) as progress:
                 result = run(loaded, progress=progress.steps)
-                write_run(result, folder, force=force, progress=progress.stage,
-                          figure_workers=workers)  # fmt: skip
+                write_run(
+                    result, folder, force=force, progress=progress.stage, figure_workers=workers
+                )
         report = folder / "report.html"
         if as_json:
             summary = result.summary()

@@ -29,11 +29,19 @@ A31, A32 = 3.0 / 40.0, 9.0 / 40.0
 A41, A42, A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
 A51, A52, A53, A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
 A61, A62, A63, A64, A65 = (
-    9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0,
-)  # fmt: skip
+    9017.0 / 3168.0,
+    -355.0 / 33.0,
+    46732.0 / 5247.0,
+    49.0 / 176.0,
+    -5103.0 / 18656.0,
+)
 A71, A73, A74, A75, A76 = (
-    35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0,
-)  # fmt: skip
+    35.0 / 384.0,
+    500.0 / 1113.0,
+    125.0 / 192.0,
+    -2187.0 / 6784.0,
+    11.0 / 84.0,
+)
 #: The tableau as arrays for the stage loop: row s holds a[s, :s]; stage 6 is
 #: the new solution (first same as last), and ``WEIGHTS_ERROR`` the error row.
 NODES = np.array([0.0, C2, C3, C4, C5, 1.0, 1.0])
@@ -47,17 +55,27 @@ TABLEAU[6, :6] = (A71, 0.0, A73, A74, A75, A76)
 
 # Error estimate: the fifth-order solution minus the embedded fourth-order one.
 E1, E3, E4, E5, E6, E7 = (
-    71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0,
+    71.0 / 57600.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
     -1.0 / 40.0,
-)  # fmt: skip
+)
 WEIGHTS_ERROR = np.array([E1, 0.0, E3, E4, E5, E6, E7])
 
 # Dense output (continuous extension of order 4).
-WEIGHTS_DENSE = np.array([
-    -12715105075.0 / 11282082432.0, 0.0, 87487479700.0 / 32700410799.0,
-    -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
-    -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0,
-])  # fmt: skip
+WEIGHTS_DENSE = np.array(
+    [
+        -12715105075.0 / 11282082432.0,
+        0.0,
+        87487479700.0 / 32700410799.0,
+        -10690763975.0 / 1880347072.0,
+        701980252875.0 / 199316789632.0,
+        -1453857185.0 / 822651844.0,
+        69997945.0 / 29380423.0,
+    ]
+)
 
 #: Bounds on the step-size change per step and the safety factor (HNW §II.4).
 SAFETY = 0.9
@@ -114,9 +132,15 @@ def single_kernel(torque, identity):  # type: ignore[no-untyped-def]
         y[3:7] = q
         out = np.empty((sample_times.shape[0], 7))
         status = adaptive_loop(
-            rigid_rates, (coefficients, params, context), y, t_start, t_stop, control,
-            sample_times, out,
-        )  # fmt: skip
+            rigid_rates,
+            (coefficients, params, context),
+            y,
+            t_start,
+            t_stop,
+            control,
+            sample_times,
+            out,
+        )
         out_w[:, :] = out[:, 0:3]
         out_q[:, :] = out[:, 3:7]
         w[:] = y[0:3]

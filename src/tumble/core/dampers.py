@@ -39,8 +39,17 @@ DAMPER_FIELDS = ("inertia", "damping")
 #: The rows of a spring–mass damper: the rest position d0 (m, from the centre of
 #: mass of the rest of the body), the unit direction n, the reduced mass μ (kg),
 #: the stiffness k (N/m) and the damping c (N·s/m).
-SPRING_FIELDS = ("rest_1", "rest_2", "rest_3", "direction_1", "direction_2", "direction_3",
-                 "reduced_mass", "stiffness", "damping")  # fmt: skip
+SPRING_FIELDS = (
+    "rest_1",
+    "rest_2",
+    "rest_3",
+    "direction_1",
+    "direction_2",
+    "direction_3",
+    "reduced_mass",
+    "stiffness",
+    "damping",
+)
 
 
 @njit(inline="always")
@@ -75,9 +84,20 @@ def _spring_geometry(y, k, parts, row, pc):  # type: ignore[no-untyped-def]
     n3 = parts[row + 5, pc]
     mu = parts[row + 6, pc]
     return (
-        e1 + x * n1, e2 + x * n2, e3 + x * n3, n1, n2, n3, mu, e1, e2, e3,
-        mu * (e2 * n3 - e3 * n2), mu * (e3 * n1 - e1 * n3), mu * (e1 * n2 - e2 * n1),
-    )  # fmt: skip
+        e1 + x * n1,
+        e2 + x * n2,
+        e3 + x * n3,
+        n1,
+        n2,
+        n3,
+        mu,
+        e1,
+        e2,
+        e3,
+        mu * (e2 * n3 - e3 * n2),
+        mu * (e3 * n1 - e1 * n3),
+        mu * (e1 * n2 - e2 * n1),
+    )
 
 
 @njit(inline="always")

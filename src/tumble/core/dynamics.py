@@ -38,8 +38,16 @@ def euler_coefficients(i1, i2, i3):  # type: ignore[no-untyped-def]
     ``r = 1/I`` and the moments, from the principal moments (kg·m², scalars or
     arrays of the same shape)."""
     return (
-        (i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3, 1.0 / i1, 1.0 / i2, 1.0 / i3, i1, i2, i3
-    )  # fmt: skip
+        (i2 - i3) / i1,
+        (i3 - i1) / i2,
+        (i1 - i2) / i3,
+        1.0 / i1,
+        1.0 / i2,
+        1.0 / i3,
+        i1,
+        i2,
+        i3,
+    )
 
 
 @njit(inline="always")

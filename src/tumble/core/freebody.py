@@ -402,8 +402,16 @@ def _attitude(frame, phi, l1, l2, l3):  # type: ignore[no-untyped-def]
     c0, c3 = math.cos(0.5 * psi), math.sin(0.5 * psi)
     # qz(φ) ⊗ qx(θ) = (a0 b0, a0 b1, a3 b1, a3 b0), then ⊗ qz(ψ)
     p0, p1, p2, p3 = a0 * b0, a0 * b1, a3 * b1, a3 * b0
-    return multiply(frame[0], frame[1], frame[2], frame[3], p0 * c0 - p3 * c3,
-                    c0 * p1 + p2 * c3, c0 * p2 - p1 * c3, p0 * c3 + c0 * p3)  # fmt: skip
+    return multiply(
+        frame[0],
+        frame[1],
+        frame[2],
+        frame[3],
+        p0 * c0 - p3 * c3,
+        c0 * p1 + p2 * c3,
+        c0 * p2 - p1 * c3,
+        p0 * c3 + c0 * p3,
+    )
 
 
 #: The body's axes taken cyclically, (x', y', z') = (2, 3, 1): a proper rotation
@@ -467,8 +475,9 @@ def free_attitude(moments, omega0, frame, times):  # type: ignore[no-untyped-def
     phi = free_precession_angle(moments, omega0, times)
     out = np.empty((times.shape[0], 4))
     for n in range(times.shape[0]):
-        r = _attitude_about(frame, phi[n], moments[0] * w[n, 0], moments[1] * w[n, 1],
-                            moments[2] * w[n, 2], first)  # fmt: skip
+        r = _attitude_about(
+            frame, phi[n], moments[0] * w[n, 0], moments[1] * w[n, 1], moments[2] * w[n, 2], first
+        )
         for i in range(4):
             out[n, i] = r[i]
     return w, out
@@ -492,8 +501,7 @@ def _turn_steadily(w, q, t):  # type: ignore[no-untyped-def]
         return
     half = 0.5 * rate * t
     scale = math.sin(half) / rate
-    r = multiply(q[0], q[1], q[2], q[3], math.cos(half), w[0] * scale, w[1] * scale,
-                 w[2] * scale)  # fmt: skip
+    r = multiply(q[0], q[1], q[2], q[3], math.cos(half), w[0] * scale, w[1] * scale, w[2] * scale)
     norm = math.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3])
     for i in range(4):
         q[i] = r[i] / norm
@@ -573,8 +581,9 @@ def free_step(moments, w, q, h):  # type: ignore[no-untyped-def]
     phi *= 0.5 * width
     frame = momentum_frame(moments, w, q)
     last = omega[-1]
-    r = _attitude_about(frame, phi, moments[0] * last[0], moments[1] * last[1],
-                        moments[2] * last[2], first)  # fmt: skip
+    r = _attitude_about(
+        frame, phi, moments[0] * last[0], moments[1] * last[1], moments[2] * last[2], first
+    )
     for i in range(3):
         w[i] = last[i]
     for i in range(4):
@@ -654,9 +663,7 @@ def _extreme(kind, lo, hi, mc, quarter, lowest):  # type: ignore[no-untyped-def]
     elif kind == 1:
         top, bottom, at_top, at_bottom, period = 1.0, -1.0, quarter, 3.0 * quarter, 4.0 * quarter
     else:
-        top, bottom, at_top, at_bottom, period = (
-            1.0, math.sqrt(mc), 0.0, quarter, 2.0 * quarter
-        )  # fmt: skip
+        top, bottom, at_top, at_bottom, period = (1.0, math.sqrt(mc), 0.0, quarter, 2.0 * quarter)
     if not math.isfinite(quarter):  # sech has its maximum at 0 only; tanh none
         period = math.inf
         at_top = 0.0 if kind != 1 else math.inf
@@ -684,9 +691,10 @@ def free_metrics(moments, omega0, axis, duration):  # type: ignore[no-untyped-de
             j = i
     sign = 1.0 if axis[j] > 0.0 else -1.0
     size = math.sqrt(
-        (moments[0] * omega0[0]) ** 2 + (moments[1] * omega0[1]) ** 2
+        (moments[0] * omega0[0]) ** 2
+        + (moments[1] * omega0[1]) ** 2
         + (moments[2] * omega0[2]) ** 2
-    )  # fmt: skip
+    )
     zeros = 0
     for i in range(3):
         if omega0[i] == 0.0:
@@ -734,8 +742,9 @@ def exact_metrics_kernel(torque, identity):  # type: ignore[no-untyped-def]
     def batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status):  # type: ignore[no-untyped-def]
         t = dt * n_steps
         for body in prange(w.shape[1]):
-            values = free_metrics(inertia[:, body].copy(), w[:, body].copy(),
-                                  axis[:, body].copy(), t)  # fmt: skip
+            values = free_metrics(
+                inertia[:, body].copy(), w[:, body].copy(), axis[:, body].copy(), t
+            )
             for row in range(5):
                 out[row, body] = values[row]
 

@@ -38,9 +38,19 @@ FLIPS, FIRST_FLIP, MIN_COS, ENERGY_DEVIATION, MOMENTUM_DEVIATION = range(N_METRI
 
 @njit(inline="always")
 def observe(  # type: ignore[no-untyped-def]
-    twice_energy, c, signed, squared, reference, flips, numerator, denominator, energy0,
-    energy_dev, smallest, largest,
-):  # fmt: skip
+    twice_energy,
+    c,
+    signed,
+    squared,
+    reference,
+    flips,
+    numerator,
+    denominator,
+    energy0,
+    energy_dev,
+    smallest,
+    largest,
+):
     """Update one body's running measures after a step from twice its energy (J;
     ``ω · L`` for a rigid body) and three numbers of its L (kg·m²/s, principal
     frame), and say whether the step was its first flip.
@@ -90,9 +100,18 @@ def nutation_start(signed, squared):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def finish(  # type: ignore[no-untyped-def]
-    dt, flips, crossed_at, before, after, numerator, denominator, energy_dev, squared0, smallest,
+    dt,
+    flips,
+    crossed_at,
+    before,
+    after,
+    numerator,
+    denominator,
+    energy_dev,
+    squared0,
+    smallest,
     largest,
-):  # fmt: skip
+):
     """The measures of ``out`` from the running ones."""
     first = math.inf
     if flips > 0.0:

@@ -253,9 +253,16 @@ def _solved_velocity(momentum, inertia):  # type: ignore[no-untyped-def]
         m1, m2, m3 = momentum(y, parts, pc)
         a11, a12, a13, a22, a23, a33 = inertia(y, parts, pc)
         return solve3(
-            1.0 / inverse[0] + a11, a12, a13, 1.0 / inverse[1] + a22, a23,
-            1.0 / inverse[2] + a33, y[0] - m1, y[1] - m2, y[2] - m3,
-        )  # fmt: skip
+            1.0 / inverse[0] + a11,
+            a12,
+            a13,
+            1.0 / inverse[1] + a22,
+            a23,
+            1.0 / inverse[2] + a33,
+            y[0] - m1,
+            y[1] - m2,
+            y[2] - m3,
+        )
 
     return velocity
 
@@ -484,9 +491,21 @@ def yoshida_step(torque, drive, velocity, momentum, rates, kick, t, dt, y, work,
 # ------------------------------------------------------------------ loops
 @njit(inline="always")
 def _steps(  # type: ignore[no-untyped-def]
-    step, torque, drive, velocity, momentum, rates, kick, y, system, dt, n_steps, first_step,
-    record_every, out,
-):  # fmt: skip
+    step,
+    torque,
+    drive,
+    velocity,
+    momentum,
+    rates,
+    kick,
+    y,
+    system,
+    dt,
+    n_steps,
+    first_step,
+    record_every,
+    out,
+):
     """``n_steps`` steps of one body in place; its status (see :func:`single_kernel`)."""
     n = y.shape[0]
     work = np.empty((5, n))
@@ -529,9 +548,21 @@ def single_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unt
         inverse = 1.0 / moments
         system = (moments, inverse, parts, 0, params, 0, context)
         return _steps(
-            step, torque, drive, velocity, momentum, rates, kick, y, system, dt, n_steps,
-            first_step, record_every, out,
-        )  # fmt: skip
+            step,
+            torque,
+            drive,
+            velocity,
+            momentum,
+            rates,
+            kick,
+            y,
+            system,
+            dt,
+            n_steps,
+            first_step,
+            record_every,
+            out,
+        )
 
     return run
 
@@ -554,9 +585,21 @@ def batch_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unty
         never = np.iinfo(np.int64).max
         first = int(t0 / dt + 0.5) if dt > 0.0 else 0
         return _steps(
-            step, torque, drive, velocity, momentum, rates, kick, y, system, dt, n_steps,
-            first, never, np.zeros((1, 1)),
-        )  # fmt: skip
+            step,
+            torque,
+            drive,
+            velocity,
+            momentum,
+            rates,
+            kick,
+            y,
+            system,
+            dt,
+            n_steps,
+            first,
+            never,
+            np.zeros((1, 1)),
+        )
 
     @specialise(njit_parallel, f"parts.batch|{file_stamp(step)}|{key}|{identity}")
     def batch(y, moments, parts, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
@@ -565,9 +608,17 @@ def batch_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unty
         for body in prange(y.shape[1]):
             state = y[:, body].copy()
             status[body] = one_body(
-                state, moments[:, body].copy(), parts, body * part_stride, params,
-                body * param_stride, context, t0, dt, n_steps,
-            )  # fmt: skip
+                state,
+                moments[:, body].copy(),
+                parts,
+                body * part_stride,
+                params,
+                body * param_stride,
+                context,
+                t0,
+                dt,
+                n_steps,
+            )
             y[:, body] = state
 
     return batch
@@ -589,7 +640,7 @@ def measuring_kernel(step, torque, drive, layout, identity):  # type: ignore[no-
     @specialise(njit, f"parts.measured|{file_stamp(step)}|{key}|{identity}")
     def one_body(  # type: ignore[no-untyped-def]
         y, moments, parts, pc, params, column, context, axis, t0, dt, n_steps, out, energy0, body
-    ):  # fmt: skip
+    ):
         inverse = 1.0 / moments
         system = (moments, inverse, parts, pc, params, column, context)
         n = y.shape[0]
@@ -597,8 +648,9 @@ def measuring_kernel(step, torque, drive, layout, identity):  # type: ignore[no-
         saved = np.empty(n)
         w1, w2, w3 = velocity(y, inverse, parts, pc)
         twice0 = y[0] * w1 + y[1] * w2 + y[2] * w3 + shares(y, parts, pc, (w1, w2, w3))
-        b1, b2, b3, _ = initial(y[0], y[1], y[2], w1, w2, w3, axis[0, body], axis[1, body],
-                                axis[2, body])  # fmt: skip
+        b1, b2, b3, _ = initial(
+            y[0], y[1], y[2], w1, w2, w3, axis[0, body], axis[1, body], axis[2, body]
+        )
         reference = b1 * y[0] + b2 * y[1] + b3 * y[2]
         squared0 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2]
         numerator, denominator = nutation_start(reference * abs(reference), squared0)
@@ -623,21 +675,41 @@ def measuring_kernel(step, torque, drive, layout, identity):  # type: ignore[no-
             twice = y[0] * w1 + y[1] * w2 + y[2] * w3 + shares(y, parts, pc, (w1, w2, w3))
             c = b1 * y[0] + b2 * y[1] + b3 * y[2]
             last = reference
-            first, reference, flips, numerator, denominator, deviation, smallest, largest = (
-                observe(
-                    twice, c, c * abs(c), y[0] * y[0] + y[1] * y[1] + y[2] * y[2], reference,
-                    flips, numerator, denominator, twice0, deviation, smallest, largest,
-                )
-            )  # fmt: skip
+            first, reference, flips, numerator, denominator, deviation, smallest, largest = observe(
+                twice,
+                c,
+                c * abs(c),
+                y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
+                reference,
+                flips,
+                numerator,
+                denominator,
+                twice0,
+                deviation,
+                smallest,
+                largest,
+            )
             if first:
                 crossed_at, before, after = (number + 1) * dt, last, c
         (
-            out[FLIPS, body], out[FIRST_FLIP, body], out[MIN_COS, body],
-            out[ENERGY_DEVIATION, body], out[MOMENTUM_DEVIATION, body],
+            out[FLIPS, body],
+            out[FIRST_FLIP, body],
+            out[MIN_COS, body],
+            out[ENERGY_DEVIATION, body],
+            out[MOMENTUM_DEVIATION, body],
         ) = finish(
-            dt, flips, crossed_at, before, after, numerator, denominator, deviation, squared0,
-            smallest, largest,
-        )  # fmt: skip
+            dt,
+            flips,
+            crossed_at,
+            before,
+            after,
+            numerator,
+            denominator,
+            deviation,
+            squared0,
+            smallest,
+            largest,
+        )
         energy0[body] = twice0
         return status
 
@@ -648,9 +720,21 @@ def measuring_kernel(step, torque, drive, layout, identity):  # type: ignore[no-
         for body in prange(y.shape[1]):
             state = y[:, body].copy()
             status[body] = one_body(
-                state, moments[:, body].copy(), parts, body * part_stride, params,
-                body * param_stride, context, axis, t0, dt, n_steps, out, energy0, body,
-            )  # fmt: skip
+                state,
+                moments[:, body].copy(),
+                parts,
+                body * part_stride,
+                params,
+                body * param_stride,
+                context,
+                axis,
+                t0,
+                dt,
+                n_steps,
+                out,
+                energy0,
+                body,
+            )
             y[:, body] = state
 
     return measure

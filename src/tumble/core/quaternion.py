@@ -31,9 +31,15 @@ def multiply_right(quaternions, r):  # type: ignore[no-untyped-def]
     out = np.empty((n, 4))
     for k in range(n):
         p = multiply(
-            quaternions[k, 0], quaternions[k, 1], quaternions[k, 2], quaternions[k, 3],
-            r[0], r[1], r[2], r[3],
-        )  # fmt: skip
+            quaternions[k, 0],
+            quaternions[k, 1],
+            quaternions[k, 2],
+            quaternions[k, 3],
+            r[0],
+            r[1],
+            r[2],
+            r[3],
+        )
         scale = 1.0 / np.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3])
         for i in range(4):
             out[k, i] = p[i] * scale

@@ -33,8 +33,17 @@ __all__ = ["ROTOR_EQUATIONS", "ROTOR_FIELDS"]
 #: The rows of one rotor, before its schedule: axis (principal-platform axes),
 #: axial moment J (kg·m²), largest motor torque (N·m), largest relative speed
 #: (rad/s), and its row of the allocation matrix P (1/… : u = −P v).
-ROTOR_FIELDS = ("axis_1", "axis_2", "axis_3", "inertia", "max_torque", "max_speed",
-                "allocation_1", "allocation_2", "allocation_3")  # fmt: skip
+ROTOR_FIELDS = (
+    "axis_1",
+    "axis_2",
+    "axis_3",
+    "inertia",
+    "max_torque",
+    "max_speed",
+    "allocation_1",
+    "allocation_2",
+    "allocation_3",
+)
 
 _FIELDS = len(ROTOR_FIELDS)
 

@@ -272,8 +272,11 @@ def _torque_kick(torque, t, h, m, body, params, column, context):  # type: ignor
         m[0] + (t1 - c * w1) * decay_integral(c, body[6], h),
         m[1] + (t2 - c * w2) * decay_integral(c, body[7], h),
         m[2] + (t3 - c * w3) * decay_integral(c, body[8], h),
-        m[3], m[4], m[5], m[6],
-    )  # fmt: skip
+        m[3],
+        m[4],
+        m[5],
+        m[6],
+    )
 
 
 def _no_kick(torque, t, h, m, body, params, column, context):  # type: ignore[no-untyped-def]
@@ -469,8 +472,11 @@ def _block_about_momentum(h, state, coefficients, sines):  # type: ignore[no-unt
         )
         scale = 1.0 / (turned[0] ** 2 + turned[1] ** 2 + turned[2] ** 2 + turned[3] ** 2) ** 0.5
         q0[j], q1[j], q2[j], q3[j] = (
-            turned[0] * scale, turned[1] * scale, turned[2] * scale, turned[3] * scale
-        )  # fmt: skip
+            turned[0] * scale,
+            turned[1] * scale,
+            turned[2] * scale,
+            turned[3] * scale,
+        )
 
 
 @njit(inline="always")
@@ -541,7 +547,7 @@ def _free_block(turns, dt, n_steps, state, coefficients, observer, arguments):  
 @njit(inline="always")
 def _free_strang_block(  # type: ignore[no-untyped-def]
     step, torque, t0, dt, n_steps, state, coefficients, params, context, observer, arguments
-):  # fmt: skip
+):
     """:func:`strang_step` of a free body, for a whole block (see above)."""
     _free_block(_strang_turns, dt, n_steps, state, coefficients, observer, arguments)
 
@@ -549,7 +555,7 @@ def _free_strang_block(  # type: ignore[no-untyped-def]
 @njit(inline="always")
 def _free_yoshida_block(  # type: ignore[no-untyped-def]
     step, torque, t0, dt, n_steps, state, coefficients, params, context, observer, arguments
-):  # fmt: skip
+):
     """:func:`yoshida_step` of a free body (:func:`_free_triple_jump`), for a whole
     block."""
     _free_block(_yoshida_turns, dt, n_steps, state, coefficients, observer, arguments)
@@ -580,7 +586,7 @@ def _unobserved_block(turns: Any) -> Any:
     @njit(inline="always")
     def advance(  # type: ignore[no-untyped-def]
         step, torque, t0, dt, n_steps, state, coefficients, params, context, observer, arguments
-    ):  # fmt: skip
+    ):
         a1 = coefficients[3] - coefficients[4]
         a3 = coefficients[5] - coefficients[4]
         if _small_angles(dt, state, coefficients):

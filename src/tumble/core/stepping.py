@@ -204,18 +204,25 @@ def load_block(enter, w, q, inertia, params, start, stop):  # type: ignore[no-un
         for j in range(m):
             block_params[r, j] = params[r, 0] if shared else params[r, start + j]
     coefficients = euler_coefficients(
-        inertia[0, start:stop].copy(), inertia[1, start:stop].copy(),
+        inertia[0, start:stop].copy(),
+        inertia[1, start:stop].copy(),
         inertia[2, start:stop].copy(),
-    )  # fmt: skip
+    )
     state = (
-        np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m)
-    )  # fmt: skip
+        np.empty(m),
+        np.empty(m),
+        np.empty(m),
+        np.empty(m),
+        np.empty(m),
+        np.empty(m),
+        np.empty(m),
+    )
     for j in range(m):
         k = start + j
         entered = enter(
             (w[0, k], w[1, k], w[2, k], q[0, k], q[1, k], q[2, k], q[3, k]),
             _coefficients(coefficients, j),
-        )  # fmt: skip
+        )
         for i in range(7):
             state[i][j] = entered[i]
     return state, coefficients, block_params
@@ -241,7 +248,7 @@ def no_observer(k, arguments):  # type: ignore[no-untyped-def]
 @njit(inline="always")
 def block_steps(  # type: ignore[no-untyped-def]
     step, torque, t0, dt, n_steps, state, coefficients, params, context, observer, arguments
-):  # fmt: skip
+):
     """``n_steps`` steps of every body of a block, in place: the state arrays, the
     arrays of the Euler coefficients and the block's ``params`` of
     :func:`load_block`; one body after the other within a step, which the
@@ -254,9 +261,15 @@ def block_steps(  # type: ignore[no-untyped-def]
         t = t0 + k * dt
         for j in range(w1.shape[0]):
             new = step(
-                torque, t, dt, (w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j]),
-                _coefficients(coefficients, j), params, j, context,
-            )  # fmt: skip
+                torque,
+                t,
+                dt,
+                (w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j]),
+                _coefficients(coefficients, j),
+                params,
+                j,
+                context,
+            )
             w1[j], w2[j], w3[j], q0[j], q1[j], q2[j], q3[j] = new
         observer(k, arguments)
 
@@ -291,9 +304,18 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
         """The steps of bodies ``start:stop``."""
         state, coefficients, block_params = load_block(enter, w, q, inertia, params, start, stop)
         advance(
-            step, torque, t0, dt, n_steps, state, coefficients, block_params, context,
-            no_observer, (),
-        )  # fmt: skip
+            step,
+            torque,
+            t0,
+            dt,
+            n_steps,
+            state,
+            coefficients,
+            block_params,
+            context,
+            no_observer,
+            (),
+        )
         store_block(leave, w, q, start, state, coefficients)
 
     @specialise(njit_vector, f"stepping.batch|{stamp}|{identity}")
@@ -309,7 +331,7 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
 
 def metrics_kernel(  # type: ignore[no-untyped-def]
     step, torque, identity, variables=VELOCITY, advance=None, principal_axis=None, attitude=True
-):  # fmt: skip
+):
     """``batch(w, q, inertia, params, context, axis, t0, dt, n_steps, out, status)``:
     as :func:`batch_kernel`, measuring each body after every step into ``out``
     (``N_METRICS``, N) (see :mod:`tumble.core.metrics`; ``axis`` (3, N) the
@@ -377,9 +399,19 @@ def metrics_kernel(  # type: ignore[no-untyped-def]
             enter, vectors, start_nominal, about, w, q, inertia, params, axis, start, stop
         )
         steps(
-            step, measured_vectors, put, chosen, measure, torque, t0, dt, n_steps, rows,
-            block_params, context,
-        )  # fmt: skip
+            step,
+            measured_vectors,
+            put,
+            chosen,
+            measure,
+            torque,
+            t0,
+            dt,
+            n_steps,
+            rows,
+            block_params,
+            context,
+        )
         _finish_rows(leave, rows, w, q, dt, out, start, stop, attitude)
 
     @specialise(
@@ -399,7 +431,7 @@ def metrics_kernel(  # type: ignore[no-untyped-def]
 @njit(inline="always")
 def _measured_steps(  # type: ignore[no-untyped-def]
     step, measured_vectors, put, advance, measure, torque, t0, dt, n_steps, rows, params, context
-):  # fmt: skip
+):
     """``n_steps`` steps of ``dt`` s from time ``t0`` of a measuring block, each
     body measured (:func:`tumble.core.metrics.observe`) in the loop that steps it
     and its new state written by ``put`` (:func:`_put_state`, or
@@ -409,27 +441,54 @@ def _measured_steps(  # type: ignore[no-untyped-def]
         # As in ``measure``: the rows of the reference ``c`` as constants.
         if k % 2 == 0:
             _stepped_and_measured(
-                step, measured_vectors, put, torque, t0 + k * dt, dt, rows, params, context,
-                _REFERENCE_EVEN, _REFERENCE_ODD,
-            )  # fmt: skip
+                step,
+                measured_vectors,
+                put,
+                torque,
+                t0 + k * dt,
+                dt,
+                rows,
+                params,
+                context,
+                _REFERENCE_EVEN,
+                _REFERENCE_ODD,
+            )
         else:
             _stepped_and_measured(
-                step, measured_vectors, put, torque, t0 + k * dt, dt, rows, params, context,
-                _REFERENCE_ODD, _REFERENCE_EVEN,
-            )  # fmt: skip
+                step,
+                measured_vectors,
+                put,
+                torque,
+                t0 + k * dt,
+                dt,
+                rows,
+                params,
+                context,
+                _REFERENCE_ODD,
+                _REFERENCE_EVEN,
+            )
 
 
 @njit(inline="always")
 def _advanced_steps(  # type: ignore[no-untyped-def]
     step, measured_vectors, put, advance, measure, torque, t0, dt, n_steps, rows, params, context
-):  # fmt: skip
+):
     """As :func:`_measured_steps`, by a stepper's own ``advance`` of the whole
     block, with ``measure`` its observer (which reads the state from the block's
     array: ``put`` is not used)."""
     advance(
-        step, torque, t0, dt, n_steps, _state_views(rows), _coefficient_views(rows), params,
-        context, measure, (rows, t0, dt),
-    )  # fmt: skip
+        step,
+        torque,
+        t0,
+        dt,
+        n_steps,
+        _state_views(rows),
+        _coefficient_views(rows),
+        params,
+        context,
+        measure,
+        (rows, t0, dt),
+    )
 
 
 @njit(inline="always")
@@ -442,16 +501,32 @@ def _at(rows, row, j):  # type: ignore[no-untyped-def]
 def _state_at(rows, j):  # type: ignore[no-untyped-def]
     """Body j's 7 state variables in a measuring block's array."""
     r, s = rows, _STATE * _ROW + j
-    return (r[s], r[s + _ROW], r[s + 2 * _ROW], r[s + 3 * _ROW], r[s + 4 * _ROW],
-            r[s + 5 * _ROW], r[s + 6 * _ROW])  # fmt: skip
+    return (
+        r[s],
+        r[s + _ROW],
+        r[s + 2 * _ROW],
+        r[s + 3 * _ROW],
+        r[s + 4 * _ROW],
+        r[s + 5 * _ROW],
+        r[s + 6 * _ROW],
+    )
 
 
 @njit(inline="always")
 def _coefficients_at(rows, j):  # type: ignore[no-untyped-def]
     """Body j's 9 Euler coefficients in a measuring block's array."""
     r, s = rows, _COEFFICIENTS * _ROW + j
-    return (r[s], r[s + _ROW], r[s + 2 * _ROW], r[s + 3 * _ROW], r[s + 4 * _ROW],
-            r[s + 5 * _ROW], r[s + 6 * _ROW], r[s + 7 * _ROW], r[s + 8 * _ROW])  # fmt: skip
+    return (
+        r[s],
+        r[s + _ROW],
+        r[s + 2 * _ROW],
+        r[s + 3 * _ROW],
+        r[s + 4 * _ROW],
+        r[s + 5 * _ROW],
+        r[s + 6 * _ROW],
+        r[s + 7 * _ROW],
+        r[s + 8 * _ROW],
+    )
 
 
 # The rows of a measuring block's array that a stepper's own ``advance`` takes, as
@@ -509,7 +584,7 @@ def _put_rates(rows, j, state):  # type: ignore[no-untyped-def]
 @njit(inline="always")
 def _measuring_rows(  # type: ignore[no-untyped-def]
     enter, vectors, start_nominal, about, w, q, inertia, params, axis, start, stop
-):  # fmt: skip
+):
     """The measuring array of bodies ``start:stop`` (``_ROWS`` rows of ``_ROW``) and
     their columns of ``params`` as (rows, ``METRICS_BLOCK``). A last block of fewer
     than ``METRICS_BLOCK`` bodies is filled up with copies of its last body: the
@@ -620,14 +695,28 @@ def _observed(measured_vectors, rows, j, state, coefficients, last, current):  #
     ``current``: the rows of the reference ``c`` this step reads and writes."""
     l1, l2, l3, w1, w2, w3, c, signed, squared = measured_vectors(rows, j, state, coefficients)
     (
-        first, rows[current * _ROW + j], rows[_FLIPS * _ROW + j], rows[_NUMERATOR * _ROW + j],
-        rows[_DENOMINATOR * _ROW + j], rows[_ENERGY_DEVIATION * _ROW + j],
-        rows[_SMALLEST * _ROW + j], rows[_LARGEST * _ROW + j],
+        first,
+        rows[current * _ROW + j],
+        rows[_FLIPS * _ROW + j],
+        rows[_NUMERATOR * _ROW + j],
+        rows[_DENOMINATOR * _ROW + j],
+        rows[_ENERGY_DEVIATION * _ROW + j],
+        rows[_SMALLEST * _ROW + j],
+        rows[_LARGEST * _ROW + j],
     ) = observe(
-        l1 * w1 + l2 * w2 + l3 * w3, c, signed, squared, _at(rows, last, j), _at(rows, _FLIPS, j),
-        _at(rows, _NUMERATOR, j), _at(rows, _DENOMINATOR, j), _at(rows, _ENERGY0, j),
-        _at(rows, _ENERGY_DEVIATION, j), _at(rows, _SMALLEST, j), _at(rows, _LARGEST, j),
-    )  # fmt: skip
+        l1 * w1 + l2 * w2 + l3 * w3,
+        c,
+        signed,
+        squared,
+        _at(rows, last, j),
+        _at(rows, _FLIPS, j),
+        _at(rows, _NUMERATOR, j),
+        _at(rows, _DENOMINATOR, j),
+        _at(rows, _ENERGY0, j),
+        _at(rows, _ENERGY_DEVIATION, j),
+        _at(rows, _SMALLEST, j),
+        _at(rows, _LARGEST, j),
+    )
     return first
 
 
@@ -648,7 +737,7 @@ def _first_flips(rows, t, dt, last, current):  # type: ignore[no-untyped-def]
 @njit(inline="always")
 def _stepped_and_measured(  # type: ignore[no-untyped-def]
     step, measured_vectors, put, torque, t, dt, rows, params, context, last, current
-):  # fmt: skip
+):
     """One step of ``dt`` s from time ``t`` of a measuring block, each body
     measured in the loop that steps it (:func:`_observed`) and its new state
     written by ``put``."""
@@ -669,9 +758,14 @@ def _measured(measured_vectors, t, dt, rows, last, current):  # type: ignore[no-
     firsts = False
     for j in range(METRICS_BLOCK):
         firsts |= _observed(
-            measured_vectors, rows, j, _state_at(rows, j), _coefficients_at(rows, j), last,
+            measured_vectors,
+            rows,
+            j,
+            _state_at(rows, j),
+            _coefficients_at(rows, j),
+            last,
             current,
-        )  # fmt: skip
+        )
     if firsts:
         _first_flips(rows, t, dt, last, current)
 
@@ -689,11 +783,21 @@ def _finish_rows(leave, rows, w, q, dt, out, start, stop, attitude):  # type: ig
             for i in range(4):
                 q[i, k] = final[3 + i]
         (
-            out[FLIPS, k], out[FIRST_FLIP, k], out[MIN_COS, k], out[ENERGY_DEVIATION, k],
+            out[FLIPS, k],
+            out[FIRST_FLIP, k],
+            out[MIN_COS, k],
+            out[ENERGY_DEVIATION, k],
             out[MOMENTUM_DEVIATION, k],
         ) = finish(
-            dt, _at(rows, _FLIPS, j), _at(rows, _CROSSED_AT, j), _at(rows, _BEFORE, j),
-            _at(rows, _AFTER, j), _at(rows, _NUMERATOR, j), _at(rows, _DENOMINATOR, j),
-            _at(rows, _ENERGY_DEVIATION, j), _at(rows, _SQUARED0, j), _at(rows, _SMALLEST, j),
+            dt,
+            _at(rows, _FLIPS, j),
+            _at(rows, _CROSSED_AT, j),
+            _at(rows, _BEFORE, j),
+            _at(rows, _AFTER, j),
+            _at(rows, _NUMERATOR, j),
+            _at(rows, _DENOMINATOR, j),
+            _at(rows, _ENERGY_DEVIATION, j),
+            _at(rows, _SQUARED0, j),
+            _at(rows, _SMALLEST, j),
             _at(rows, _LARGEST, j),
-        )  # fmt: skip
+        )

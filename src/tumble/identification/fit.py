@@ -384,8 +384,11 @@ def _fit(
     # turns, and a fit from there can settle far away; a short span fixes ω0 first.
     every = max(1, len(times) // START_SAMPLES)
     some_times, some_rates = relative[::every], rates[::every]
-    spans = [n for n in (len(some_times) // 8, len(some_times) // 4, len(some_times) // 2)
-             if n >= 3 * MIN_SAMPLES] + [len(some_times)]  # fmt: skip
+    spans = [
+        n
+        for n in (len(some_times) // 8, len(some_times) // 4, len(some_times) // 2)
+        if n >= 3 * MIN_SAMPLES
+    ] + [len(some_times)]
     # The starts are searched with soft_l1 where a robust loss is asked for: it
     # resists outliers as well, and its trust region converges where a
     # redescending loss (cauchy, arctan) crawls from a poor start, for minutes,

@@ -205,9 +205,11 @@ class Integrator:
                     kernel = factory(torque.function, torque.drive, layout, torque.identity)
                 elif role == "metrics" and self.kind == "stepping":
                     kernel = factory(
-                        torque.function, torque.identity, principal_axis=principal_axis,
+                        torque.function,
+                        torque.identity,
+                        principal_axis=principal_axis,
                         attitude=attitude,
-                    )  # fmt: skip
+                    )
                 else:
                     kernel = factory(torque.function, torque.identity)
                 self._kernels[key] = kernel
@@ -264,9 +266,10 @@ def methods_for(parts: Any, role: str) -> list[str]:
     registry's order: what a refusal lists."""
     parts = tuple(parts)
     return [
-        name for name, entry in INTEGRATORS.items()
+        name
+        for name, entry in INTEGRATORS.items()
         if getattr(entry, role) is not None and entry.handles(parts)
-    ]  # fmt: skip
+    ]
 
 
 def get_integrator(name: str, *, batch: bool = False) -> Integrator:
@@ -443,15 +446,37 @@ def _splitting(
 def _register_splittings() -> None:
     """The four splittings: rotations or the exact free flow, orders 2 and 4."""
     for name, order, summary, auto, exact_flow in (
-        ("splitting", 4, "fourth-order symplectic splitting (Yoshida's composition of strang)",
-         _splitting_when, False),
-        ("strang", 2, "second-order symplectic splitting: exact rotations and torque kicks", None,
-         False),
-        ("splitting-exact", 4, "fourth-order splitting around the exact free motion (Yoshida's "
-         "composition of strang-exact): steps set by the torque, not by the rotation", None, True),
-        ("strang-exact", 2, "second-order splitting: the exact free motion (Jacobi elliptic "
-         "functions) and torque kicks", None, True),
-    ):  # fmt: skip
+        (
+            "splitting",
+            4,
+            "fourth-order symplectic splitting (Yoshida's composition of strang)",
+            _splitting_when,
+            False,
+        ),
+        (
+            "strang",
+            2,
+            "second-order symplectic splitting: exact rotations and torque kicks",
+            None,
+            False,
+        ),
+        (
+            "splitting-exact",
+            4,
+            "fourth-order splitting around the exact free motion (Yoshida's "
+            "composition of strang-exact): steps set by the torque, not by the rotation",
+            None,
+            True,
+        ),
+        (
+            "strang-exact",
+            2,
+            "second-order splitting: the exact free motion (Jacobi elliptic "
+            "functions) and torque kicks",
+            None,
+            True,
+        ),
+    ):
         register_integrator(_splitting(name, order, summary, auto, exact_flow=exact_flow))
 
 

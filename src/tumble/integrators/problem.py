@@ -124,8 +124,11 @@ class Schedule:
                 raise InputError(f"Expected `samples` to be an integer >= 1, got {samples!r}.")
             record_every = max(1, whole_steps(total_time, step) // int(samples))
         check_recording(
-            total_time, step, record_every, columns,
+            total_time,
+            step,
+            record_every,
+            columns,
             "Record less often (record_every or samples), or ask for a shorter duration or a "
             "larger dt.",
-        )  # fmt: skip
+        )
         return cls.build(total_time, step, record_every)

@@ -217,9 +217,13 @@ def from_mesh(
         if rho <= 0:
             raise InputError(f"Expected `density` > 0 kg/m^3, got {rho!r}.")
         return mesh_mass_properties(
-            vertices, faces, density=rho, label=label, merge_tolerance=tolerance,
+            vertices,
+            faces,
+            density=rho,
+            label=label,
+            merge_tolerance=tolerance,
             epsilon=epsilon,
-        )  # fmt: skip
+        )
     total = to_si(mass, "mass", "mass")
     if total <= 0:
         raise InputError(f"Expected `mass` > 0 kg, got {total!r}.")

@@ -180,8 +180,15 @@ def tessellate_step(
     name = quoted(step, QUOTED_PATH_LENGTH)
     with tempfile.TemporaryFile() as errors:
         child = subprocess.Popen(
-            [sys.executable, "-c", _START + _CONVERSION, str(step), str(glb), str(os.getpid()),
-             str(int(memory)) if math.isfinite(memory) else "0"],
+            [
+                sys.executable,
+                "-c",
+                _START + _CONVERSION,
+                str(step),
+                str(glb),
+                str(os.getpid()),
+                str(int(memory)) if math.isfinite(memory) else "0",
+            ],
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
             stderr=errors,
@@ -189,7 +196,7 @@ def tessellate_step(
             # glibc's malloc reserves 64 MB of address space per thread (OpenCASCADE
             # meshes on every core): two arenas keep the memory limit about memory.
             env={"MALLOC_ARENA_MAX": "2", **os.environ},
-        )  # fmt: skip
+        )
         try:
             ended = _wait(child, seconds)
         finally:

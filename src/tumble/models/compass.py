@@ -118,9 +118,12 @@ class GyrocompassRun:
             np.asarray(angle, dtype=float), np.asarray(angle_rate, dtype=float)
         )
         params = _params(
-            self.axial_moment, self.gimbal_moment, self.spin_rate, self.effective_platform_rate,
+            self.axial_moment,
+            self.gimbal_moment,
+            self.spin_rate,
+            self.effective_platform_rate,
             self.damping,
-        )  # fmt: skip
+        )
         result = np.empty(theta.shape)
         y, dy = np.zeros(3), np.zeros(3)
         for index in np.ndindex(theta.shape):

@@ -145,9 +145,10 @@ def _required_fields(cls: type) -> set[str]:
     if not is_dataclass(cls):
         return set()
     return {
-        f.name for f in fields(cls)
+        f.name
+        for f in fields(cls)
         if f.init and f.default is MISSING and f.default_factory is MISSING
-    }  # fmt: skip
+    }
 
 
 class Siblings(tuple[Any, ...]):
@@ -352,9 +353,13 @@ class InternalPart:
         return None
 
     def drawing(
-        self, reach: float, centre: Array, position: Any = None, radius: float | None = None,
+        self,
+        reach: float,
+        centre: Array,
+        position: Any = None,
+        radius: float | None = None,
         thickness: float | None = None,
-    ) -> PartDrawing | None:  # fmt: skip
+    ) -> PartDrawing | None:
         """How to draw it in a body of size ``reach`` (m) whose centre of mass is
         at ``centre`` (body coordinates, m), at ``position`` and of ``radius`` and
         ``thickness`` when the file gave them; None for a part not drawn."""

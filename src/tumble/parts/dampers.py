@@ -139,9 +139,13 @@ class KaneDamper(InternalPart):
         return FilePart(cls(moment, damping), ball, position, values.get("radius"))
 
     def drawing(
-        self, reach: float, centre: Array, position: Any = None, radius: float | None = None,
+        self,
+        reach: float,
+        centre: Array,
+        position: Any = None,
+        radius: float | None = None,
         thickness: float | None = None,
-    ) -> PartDrawing | None:  # fmt: skip
+    ) -> PartDrawing | None:
         """Its sphere, when its size is known."""
         if radius is None:
             return None
@@ -188,20 +192,26 @@ class SpringMassDamper(InternalPart):
     value_labels = ("displacement", "velocity")
     value_unit = "m, m/s"
     parameters = (
-        Parameter("mass", "mass", (), "the sliding point mass, in [body] at its rest point", 0.0,
-                  strict=True),
+        Parameter(
+            "mass",
+            "mass",
+            (),
+            "the sliding point mass, in [body] at its rest point",
+            0.0,
+            strict=True,
+        ),
         Parameter("position", "length", (3,), "its rest point, body coordinates"),
-        Parameter("direction", "dimensionless", (3,), "the direction it slides along, body "
-                  "axes"),
+        Parameter("direction", "dimensionless", (3,), "the direction it slides along, body axes"),
         Parameter("stiffness", "stiffness", (), "the spring's stiffness k", 0.0, strict=True),
         Parameter("damping", "linear_damping", (), "the dashpot's damping c", 0.0),
         Parameter("displacement", "length", (), "where it starts along its direction"),
-    )  # fmt: skip
+    )
     file_keys = (
-        parameters[0], parameters[1],
+        parameters[0],
+        parameters[1],
         Parameter("axis", "dimensionless", (3,), "the direction it slides along, body axes"),
         *parameters[3:],
-    )  # fmt: skip
+    )
     equations = SPRING_EQUATIONS
     one_per_body = "two moving masses couple through the centre of mass; this model holds one"
     free_body_only = "its mass moves the centre of mass the body turns about"
@@ -335,15 +345,23 @@ class SpringMassDamper(InternalPart):
         position = np.zeros(3) if position is None else np.asarray(position, dtype=float)
         damping = values.get("damping")
         part = cls(
-            mass, position, axis, stiffness, 0.0 if damping is None else damping,
+            mass,
+            position,
+            axis,
+            stiffness,
+            0.0 if damping is None else damping,
             values.get("displacement") or 0.0,
-        )  # fmt: skip
+        )
         return FilePart(part, point_masses([mass], [position.tolist()]), position)
 
     def drawing(
-        self, reach: float, centre: Array, position: Any = None, radius: float | None = None,
+        self,
+        reach: float,
+        centre: Array,
+        position: Any = None,
+        radius: float | None = None,
         thickness: float | None = None,
-    ) -> PartDrawing:  # fmt: skip
+    ) -> PartDrawing:
         """Its mass at rest, as a small ball."""
         return PartDrawing("ball", np.asarray(self.position, dtype=float), 0.04 * reach)
 

@@ -31,16 +31,33 @@ Array = NDArray[np.float64]
 
 _PARAMETERS = (
     Parameter("axis", "dimensionless", (3,), "its spin axis, body axes (normalised)"),
-    Parameter("inertia", "inertia", (), "its moment of inertia J about its axis", 0.0,
-              strict=True),
+    Parameter("inertia", "inertia", (), "its moment of inertia J about its axis", 0.0, strict=True),
     Parameter("speed", "angular_velocity", (), "its spin rate relative to the body at t = 0"),
-    Parameter("torque", "", (), "the motor torque on it (N·m): a constant, or a schedule of "
-              "(time, torque) pairs"),
-    Parameter("max_torque", "torque", (), "the largest motor torque (default none)", 0.0,
-              strict=True, optional=True),
-    Parameter("max_speed", "angular_velocity", (), "the largest relative speed (default none)",
-              0.0, strict=True, optional=True),
-)  # fmt: skip
+    Parameter(
+        "torque",
+        "",
+        (),
+        "the motor torque on it (N·m): a constant, or a schedule of (time, torque) pairs",
+    ),
+    Parameter(
+        "max_torque",
+        "torque",
+        (),
+        "the largest motor torque (default none)",
+        0.0,
+        strict=True,
+        optional=True,
+    ),
+    Parameter(
+        "max_speed",
+        "angular_velocity",
+        (),
+        "the largest relative speed (default none)",
+        0.0,
+        strict=True,
+        optional=True,
+    ),
+)
 
 
 @register_part
@@ -99,9 +116,15 @@ class Rotor(InternalPart):
     file_keys = (
         *(p for p in _PARAMETERS if p.name != "inertia"),
         *SIZE_KEYS,
-        Parameter("thickness", "length", (), "the thickness of the uniform disc tumble adds "
-                  "(default a fifth of its radius)", 0.0, strict=True),
-    )  # fmt: skip
+        Parameter(
+            "thickness",
+            "length",
+            (),
+            "the thickness of the uniform disc tumble adds (default a fifth of its radius)",
+            0.0,
+            strict=True,
+        ),
+    )
     equations = ROTOR_EQUATIONS
     gyrostatic = True
     actuated = True
@@ -161,8 +184,9 @@ class Rotor(InternalPart):
         rotors = [part for part in parts if isinstance(part, Rotor)]
 
         def axes_and_allocation() -> tuple[Array, Array]:
-            turned = np.stack([np.asarray(frame.to_principal(r.axis), dtype=float)
-                               for r in rotors], -2)  # fmt: skip
+            turned = np.stack(
+                [np.asarray(frame.to_principal(r.axis), dtype=float) for r in rotors], -2
+            )
             return turned, np.linalg.pinv(np.swapaxes(turned, -1, -2))  # (..., k, 3)
 
         if isinstance(parts, Siblings):
@@ -172,9 +196,14 @@ class Rotor(InternalPart):
         k = next(j for j, part in enumerate(rotors) if part is self)
         times, torques = self.schedule
         return [
-            *(turned[..., k, i] for i in range(3)), self.inertia, self.max_torque,
-            self.max_speed, *(allocation[..., k, i] for i in range(3)), *times, *torques,
-        ]  # fmt: skip
+            *(turned[..., k, i] for i in range(3)),
+            self.inertia,
+            self.max_torque,
+            self.max_speed,
+            *(allocation[..., k, i] for i in range(3)),
+            *times,
+            *torques,
+        ]
 
     @classmethod
     def from_table(cls, values: dict[str, Any]) -> FilePart:
@@ -187,9 +216,13 @@ class Rotor(InternalPart):
         if isinstance(torque, list) and torque and all(isinstance(p, list) for p in torque):
             torque = [tuple(pair) for pair in torque]
         rotor = cls(
-            axis, moment, speed=values.get("speed", 0.0), torque=torque,
-            max_torque=values.get("max_torque"), max_speed=values.get("max_speed"),
-        )  # fmt: skip
+            axis,
+            moment,
+            speed=values.get("speed", 0.0),
+            torque=torque,
+            max_torque=values.get("max_torque"),
+            max_speed=values.get("max_speed"),
+        )
         position = values.get("position")
         position = np.zeros(3) if position is None else np.asarray(position, dtype=float)
         radius = values.get("radius")
@@ -207,9 +240,13 @@ class Rotor(InternalPart):
         return FilePart(rotor, disc, position, radius, thickness)
 
     def drawing(
-        self, reach: float, centre: Array, position: Any = None, radius: float | None = None,
+        self,
+        reach: float,
+        centre: Array,
+        position: Any = None,
+        radius: float | None = None,
         thickness: float | None = None,
-    ) -> PartDrawing:  # fmt: skip
+    ) -> PartDrawing:
         """A disc on its axis, turning at its speed: its own size, or a quarter of
         the body's."""
         if radius is None:

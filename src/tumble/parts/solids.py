@@ -17,14 +17,22 @@ __all__ = ["SIZE_KEYS", "moment_from_table", "required"]
 #: The keys of a part given by its size: its moment, or its mass and radius,
 #: and its position.
 SIZE_KEYS = (
-    Parameter("inertia", "inertia", (), "its moment of inertia J, already in [body]", 0.0,
-              strict=True),
-    Parameter("mass", "mass", (), "the mass of the uniform solid tumble adds to the body", 0.0,
-              strict=True),
-    Parameter("radius", "length", (), "the radius of the uniform solid tumble adds", 0.0,
-              strict=True),
+    Parameter(
+        "inertia", "inertia", (), "its moment of inertia J, already in [body]", 0.0, strict=True
+    ),
+    Parameter(
+        "mass",
+        "mass",
+        (),
+        "the mass of the uniform solid tumble adds to the body",
+        0.0,
+        strict=True,
+    ),
+    Parameter(
+        "radius", "length", (), "the radius of the uniform solid tumble adds", 0.0, strict=True
+    ),
     Parameter("position", "length", (3,), "its centre, body coordinates (default the origin)"),
-)  # fmt: skip
+)
 
 
 def required(values: dict[str, Any], key: str, what: str) -> Any:

@@ -219,9 +219,12 @@ def _fill(
         centre = result.trajectory.mass_properties.center_of_mass
         drawn, rotors = part_drawings(file_parts(spec), centre, geometry)
         page = viewer_html(
-            result.trajectory, drawn, frames=spec.output.viewer_frames, title=title,
+            result.trajectory,
+            drawn,
+            frames=spec.output.viewer_frames,
+            title=title,
             rotors=rotors,
-        )  # fmt: skip
+        )
         write_text(staging / "viewer.html", page)
         viewer = "viewer.html"
     pngs: dict[str, bytes] = {}
@@ -230,9 +233,10 @@ def _fill(
         from tumble.report.charts import draw, png
 
         pngs = (
-            drawings.result() if drawings is not None
+            drawings.result()
+            if drawings is not None
             else {key: png(draw(sheet)) for key, sheet in sheets.items()}
-        )  # fmt: skip
+        )
     for figure_name, image in pngs.items():
         write_bytes(staging / f"{figure_name}.png", image)
     step("report.html")

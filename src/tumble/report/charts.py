@@ -151,12 +151,24 @@ def _fill(axes: Any, chart: Chart, three_d: bool) -> None:
         axes.plot_wireframe(mesh.x, mesh.y, mesh.z, color=mesh.colour, lw=mesh.width)
     for line in chart.lines:
         coordinates = (line.x, line.y, line.z) if three_d else (line.x, line.y)
-        axes.plot(*coordinates, color=line.colour, lw=line.width, ls=line.dash, alpha=line.alpha,
-                  label=line.label)  # fmt: skip
+        axes.plot(
+            *coordinates,
+            color=line.colour,
+            lw=line.width,
+            ls=line.dash,
+            alpha=line.alpha,
+            label=line.label,
+        )
     for points in chart.points:
         coordinates = (points.x, points.y, points.z) if three_d else (points.x, points.y)
-        axes.scatter(*coordinates, color=points.colour, s=points.size, marker=points.marker,
-                     label=points.label, zorder=3 if points.on_top else None)  # fmt: skip
+        axes.scatter(
+            *coordinates,
+            color=points.colour,
+            s=points.size,
+            marker=points.marker,
+            label=points.label,
+            zorder=3 if points.on_top else None,
+        )
     if chart.note is not None:
         axes.text(0.5, 0.5, chart.note, ha="center", transform=axes.transAxes)
     axes.set(xlabel=chart.xlabel, ylabel=chart.ylabel)

@@ -250,19 +250,33 @@ def _omega_sheet(fit: BodyFit, recording: Recording) -> Sheet:
     lines = []
     for k, axis in enumerate("xyz"):
         lines.append(
-            Line(recording.t, recording.omega[:, k], label=f"ω_{axis} measured",
-                 colour=COLOURS[k], width=0.8)
-        )  # fmt: skip
+            Line(
+                recording.t,
+                recording.omega[:, k],
+                label=f"ω_{axis} measured",
+                colour=COLOURS[k],
+                width=0.8,
+            )
+        )
     for k in range(3):
         lines.append(
-            Line(fit.t, predicted[:, k], label="fitted (+ bias)" if k == 0 else None,
-                 colour="k", width=1.2, dash="--")
-        )  # fmt: skip
+            Line(
+                fit.t,
+                predicted[:, k],
+                label="fitted (+ bias)" if k == 0 else None,
+                colour="k",
+                width=1.2,
+                dash="--",
+            )
+        )
     chart = Chart(
         f"Angular velocity, sensor axes: measured, and fitted in the window "
         f"{fit.window[0]:.4g}–{fit.window[1]:.4g} s (shaded)",
-        "t (s)", "ω (rad/s)", lines=tuple(lines), title_size="medium",
-    )  # fmt: skip
+        "t (s)",
+        "ω (rad/s)",
+        lines=tuple(lines),
+        title_size="medium",
+    )
     return Sheet((chart,), size=(9.0, 4.5))
 
 
@@ -275,14 +289,23 @@ def _residuals_sheet(fit: BodyFit, noise: float) -> Sheet:
     edges = np.array([fit.t[0], fit.t[-1]])
     for sign in (1.0, -1.0):
         lines.append(
-            Line(edges, np.full(2, sign * noise), label="± sensor noise σ" if sign > 0 else None,
-                 colour="0.3", width=1.2, dash="--")
-        )  # fmt: skip
+            Line(
+                edges,
+                np.full(2, sign * noise),
+                label="± sensor noise σ" if sign > 0 else None,
+                colour="0.3",
+                width=1.2,
+                dash="--",
+            )
+        )
     chart = Chart(
         f"Residuals, measured − fitted, sensor axes: rms {fit.residual_rms:.3g} rad/s, "
         f"noise σ {noise:.3g} rad/s",
-        "t (s)", "residual (rad/s)", lines=tuple(lines), title_size="medium",
-    )  # fmt: skip
+        "t (s)",
+        "residual (rad/s)",
+        lines=tuple(lines),
+        title_size="medium",
+    )
     return Sheet((chart,), size=(9.0, 4.0))
 
 
@@ -307,18 +330,34 @@ def _polhode_sheet(fit: BodyFit) -> Sheet:
     aspect = semi / semi.max() if semi.max() > 0 else np.ones(3)
     chart = Chart(
         "Polhode of the fitted body: L in principal axes (I3 = 1 kg·m²)",
-        "L₁ (kg·m²/s)", "L₂ (kg·m²/s)", zlabel="L₃ (kg·m²/s)",
+        "L₁ (kg·m²/s)",
+        "L₂ (kg·m²/s)",
+        zlabel="L₃ (kg·m²/s)",
         wireframes=(surface,),
         lines=(
-            Line(fitted[:, 0], fitted[:, 1], fitted[:, 2], label="fitted",
-                 colour=COLOURS[1], width=1.5),
+            Line(
+                fitted[:, 0],
+                fitted[:, 1],
+                fitted[:, 2],
+                label="fitted",
+                colour=COLOURS[1],
+                width=1.5,
+            ),
         ),
         points=(
-            Points(measured[:, 0], measured[:, 1], measured[:, 2],
-                   label="measured − bias", size=3.0, on_top=True),
+            Points(
+                measured[:, 0],
+                measured[:, 1],
+                measured[:, 2],
+                label="measured − bias",
+                size=3.0,
+                on_top=True,
+            ),
         ),
-        legend="upper left", box_aspect=(aspect[0], aspect[1], aspect[2]), title_size="medium",
-    )  # fmt: skip
+        legend="upper left",
+        box_aspect=(aspect[0], aspect[1], aspect[2]),
+        title_size="medium",
+    )
     margins = {"left": 0.02, "right": 0.93, "top": 0.93, "bottom": 0.08}
     return Sheet((chart,), size=(7.0, 6.5), margins=margins)
 
@@ -384,10 +423,13 @@ def write_fit(
     name = fit_name(source)
     summary = fit_summary(fit, recording, source, noise=noise, found=found, loss=loss)
     images = (
-        {key: draw_fit_sheet(key, sheet, fit.window)
-         for key, sheet in fit_sheets(fit, recording, noise).items()}
-        if figures else {}
-    )  # fmt: skip
+        {
+            key: draw_fit_sheet(key, sheet, fit.window)
+            for key, sheet in fit_sheets(fit, recording, noise).items()
+        }
+        if figures
+        else {}
+    )
     summary["files"] = sorted(["fitted-scenario.toml", "fit.json", *(f"{k}.png" for k in images)])
     with fit_folder(target, force) as staging:
         write_text(staging / "fitted-scenario.toml", fitted_scenario(fit, name, source))

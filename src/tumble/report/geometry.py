@@ -104,10 +104,22 @@ def torus(major: float, minor: float, sections: int = 48, tube: int = 16) -> Mes
 def box(size: Any) -> Mesh:
     corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
     faces = np.array(
-        [[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
-         [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]],
+        [
+            [0, 1, 3],
+            [0, 3, 2],
+            [4, 6, 7],
+            [4, 7, 5],
+            [0, 4, 5],
+            [0, 5, 1],
+            [2, 3, 7],
+            [2, 7, 6],
+            [0, 2, 6],
+            [0, 6, 4],
+            [1, 5, 7],
+            [1, 7, 3],
+        ],
         dtype=np.int64,
-    )  # fmt: skip
+    )
     return corners * (0.5 * np.asarray(size, dtype=float)), faces
 
 
@@ -142,9 +154,11 @@ def disc_drawing(drawing: Any) -> RotorDrawing | None:
         return None
     axis = np.asarray(drawing.axis, dtype=float)
     return RotorDrawing(
-        np.asarray(drawing.position, dtype=float), axis / np.linalg.norm(axis),
-        float(drawing.radius), float(drawing.thickness),
-    )  # fmt: skip
+        np.asarray(drawing.position, dtype=float),
+        axis / np.linalg.norm(axis),
+        float(drawing.radius),
+        float(drawing.thickness),
+    )
 
 
 def rotor_mesh(drawing: RotorDrawing) -> tuple[Array, NDArray[np.int64], NDArray[np.bool_]]:

@@ -111,8 +111,9 @@ def drift_html(drift: Mapping[str, Any]) -> str:
                 _e(meaning),
             ]
         )
-    return _table(("conserved quantity", "largest relative drift", "what it is"), rows,
-                  (False, True, False))  # fmt: skip
+    return _table(
+        ("conserved quantity", "largest relative drift", "what it is"), rows, (False, True, False)
+    )
 
 
 def png_data_uri(png: bytes) -> str:

@@ -54,9 +54,11 @@ def _components(t: np.ndarray, values: np.ndarray, symbol: str, frame: str) -> t
 def omega_sheet(traj: Trajectory) -> Sheet:
     """ω(t) in body axes, and |ω|."""
     chart = Chart(
-        "Angular velocity in body axes", "t (s)", "ω (rad/s)",
+        "Angular velocity in body axes",
+        "t (s)",
+        "ω (rad/s)",
         lines=_components(traj.t, traj.omega, "ω", "body"),
-    )  # fmt: skip
+    )
     return Sheet((chart,))
 
 
@@ -64,9 +66,11 @@ def angular_momentum_sheet(traj: Trajectory) -> Sheet:
     """L(t) in space axes (about the centre of mass, or about the pivot), and |L|."""
     about = "the centre of mass" if traj.pivot is None else "the pivot"
     chart = Chart(
-        f"Angular momentum about {about}, space axes", "t (s)", "L (kg·m²/s)",
+        f"Angular momentum about {about}, space axes",
+        "t (s)",
+        "L (kg·m²/s)",
         lines=_components(traj.t, traj.angular_momentum, "L", "space"),
-    )  # fmt: skip
+    )
     return Sheet((chart,))
 
 
@@ -81,10 +85,14 @@ def drift_sheet(traj: Trajectory) -> Sheet:
         for k, name in enumerate(names)
     )
     chart = Chart(
-        f"Drift of the conserved quantities (method {traj.method})", "t (s)", "relative change",
-        lines=lines, legend="upper right" if names else None, scientific_y=True,
+        f"Drift of the conserved quantities (method {traj.method})",
+        "t (s)",
+        "relative change",
+        lines=lines,
+        legend="upper right" if names else None,
+        scientific_y=True,
         note=None if names else "nothing is conserved in this motion",
-    )  # fmt: skip
+    )
     return Sheet((chart,))
 
 
@@ -117,26 +125,39 @@ def polhode_sheet(traj: Trajectory) -> Sheet:
         u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 36), np.linspace(0, np.pi, 18))
         wireframes = (
             Wireframe(
-                semi[0] * np.cos(u) * np.sin(v), semi[1] * np.sin(u) * np.sin(v),
+                semi[0] * np.cos(u) * np.sin(v),
+                semi[1] * np.sin(u) * np.sin(v),
                 semi[2] * np.cos(v),
             ),
-        )  # fmt: skip
+        )
     aspect = semi / semi.max() if semi.max() > 0 else np.ones(3)
     polhode = Chart(
-        "Polhode: L in principal axes on the energy ellipsoid", "L₁", "L₂", zlabel="L₃",
+        "Polhode: L in principal axes on the energy ellipsoid",
+        "L₁",
+        "L₂",
+        zlabel="L₃",
         wireframes=wireframes,
         lines=(
-            Line(momentum[:, 0], momentum[:, 1], momentum[:, 2], label="L (polhode)",
-                 colour=COLOURS[1], width=1.5),
+            Line(
+                momentum[:, 0],
+                momentum[:, 1],
+                momentum[:, 2],
+                label="L (polhode)",
+                colour=COLOURS[1],
+                width=1.5,
+            ),
         ),
         points=(Points(momentum[:1, 0], momentum[:1, 1], momentum[:1, 2], label="t = 0"),),
-        legend="upper left", box_aspect=(aspect[0], aspect[1], aspect[2]), title_size="medium",
-    )  # fmt: skip
+        legend="upper left",
+        box_aspect=(aspect[0], aspect[1], aspect[2]),
+        title_size="medium",
+    )
     if plane is None:
         return Sheet(
-            (polhode,), size=(6.0, 5.5),
+            (polhode,),
+            size=(6.0, 5.5),
             margins={"left": 0.0, "right": 0.95, "top": 0.93, "bottom": 0.03},
-        )  # fmt: skip
+        )
     margins = {"left": 0.0, "right": 0.97, "top": 0.93, "bottom": 0.1, "wspace": 0.2}
     return Sheet((polhode, _herpolhode_chart(plane)), size=(11.0, 5.5), margins=margins)
 
@@ -146,15 +167,23 @@ def _herpolhode_chart(plane: Herpolhode) -> Chart:
     points = plane.in_plane
     return Chart(
         f"Herpolhode: ω on the invariable plane, {plane.height:.4g} rad/s along L",
-        "ω along the plane's first axis (rad/s)", "ω along its second axis (rad/s)",
+        "ω along the plane's first axis (rad/s)",
+        "ω along its second axis (rad/s)",
         lines=(Line(points[:, 0], points[:, 1], label="ω (herpolhode)"),),
         points=(
             Points(points[:1, 0], points[:1, 1], label="t = 0", on_top=True),
-            Points(np.zeros(1), np.zeros(1), label="L through the fixed point", colour="0.4",
-                   size=40.0, marker="+"),
+            Points(
+                np.zeros(1),
+                np.zeros(1),
+                label="L through the fixed point",
+                colour="0.4",
+                size=40.0,
+                marker="+",
+            ),
         ),
-        equal_aspect=True, title_size="medium",
-    )  # fmt: skip
+        equal_aspect=True,
+        title_size="medium",
+    )
 
 
 def panel_sheet(panel: Panel) -> Sheet:
@@ -169,20 +198,34 @@ def panel_sheet(panel: Panel) -> Sheet:
             count += 1
             lines.append(Line(curve.t, curve.values, label=curve.label, colour=colour))
         elif curve.style == "fit":
-            lines.append(Line(curve.t, curve.values, label=curve.label, colour="0.4", width=1.4,
-                              dash=":"))  # fmt: skip
+            lines.append(
+                Line(curve.t, curve.values, label=curve.label, colour="0.4", width=1.4, dash=":")
+            )
         else:  # theory: dashed, black, or in the colour of the simulation it goes with
             paired = "k" if simulated <= 1 else colour
-            lines.append(Line(curve.t, curve.values, label=curve.label, colour=paired,
-                              width=1.4, dash="--", alpha=0.8))  # fmt: skip
+            lines.append(
+                Line(
+                    curve.t,
+                    curve.values,
+                    label=curve.label,
+                    colour=paired,
+                    width=1.4,
+                    dash="--",
+                    alpha=0.8,
+                )
+            )
     title = panel.title
     if panel.until is not None:
         title += f" (first {panel.until:.3g} s)"
     chart = Chart(
-        title, panel.xlabel, panel.ylabel, lines=tuple(lines), log_y=panel.log,
+        title,
+        panel.xlabel,
+        panel.ylabel,
+        lines=tuple(lines),
+        log_y=panel.log,
         x_range=None if panel.until is None else (0.0, panel.until),
         equal_aspect=panel.equal_aspect,
-    )  # fmt: skip
+    )
     return Sheet((chart,))
 
 

@@ -72,9 +72,15 @@ def poinsot_figure(data: dict[str, Any]) -> dict[str, Any]:
 
     def line(name: str, colour: str, width: int, **extra: Any) -> dict[str, Any]:
         return {
-            "type": "scatter3d", "mode": "lines", "name": name, "x": [0], "y": [0], "z": [0],
-            "line": {"color": colour, "width": width}, **extra,
-        }  # fmt: skip
+            "type": "scatter3d",
+            "mode": "lines",
+            "name": name,
+            "x": [0],
+            "y": [0],
+            "z": [0],
+            "line": {"color": colour, "width": width},
+            **extra,
+        }
 
     traces: list[dict[str, Any]] = [
         {
@@ -110,15 +116,24 @@ def poinsot_figure(data: dict[str, Any]) -> dict[str, Any]:
         line("herpolhode (ω on the plane)", "#2ca02c", 4),
         line("ω", "#ff7f0e", 8),
         {
-            "type": "scatter3d", "mode": "markers", "name": "contact point (ω)",
-            "x": [0], "y": [0], "z": [0], "marker": {"size": 4, "color": "#000000"},
+            "type": "scatter3d",
+            "mode": "markers",
+            "name": "contact point (ω)",
+            "x": [0],
+            "y": [0],
+            "z": [0],
+            "marker": {"size": 4, "color": "#000000"},
         },
         {
-            "type": "scatter3d", "mode": "lines", "name": "L̂ (fixed)",
-            "x": [0, float(foot[0])], "y": [0, float(foot[1])], "z": [0, float(foot[2])],
+            "type": "scatter3d",
+            "mode": "lines",
+            "name": "L̂ (fixed)",
+            "x": [0, float(foot[0])],
+            "y": [0, float(foot[1])],
+            "z": [0, float(foot[2])],
             "line": {"color": "#9467bd", "width": 6, "dash": "dash"},
         },
-    ]  # fmt: skip
+    ]
     axis = {"range": [-half, half]}
     layout = {
         "margin": {"l": 0, "r": 0, "t": 30, "b": 0},

@@ -47,8 +47,14 @@ def _declared(link: Link) -> MassProperties | None:
         return None
 
 
-def _mesh_trace(solid: MassProperties, pose: tuple[Array, Array], name: str, colour: str,
-                opacity: float, text: str) -> dict[str, Any]:  # fmt: skip
+def _mesh_trace(
+    solid: MassProperties,
+    pose: tuple[Array, Array],
+    name: str,
+    colour: str,
+    opacity: float,
+    text: str,
+) -> dict[str, Any]:
     """The ellipsoid of equal inertia of ``solid`` (link coordinates), placed by
     ``pose`` in the root link's frame."""
     ellipsoid = equal_inertia_ellipsoid(solid)
@@ -56,11 +62,21 @@ def _mesh_trace(solid: MassProperties, pose: tuple[Array, Array], name: str, col
     vertices = ellipsoid.vertices @ rotation.T + translation
     i, j, k = ellipsoid.faces.T
     return {
-        "type": "mesh3d", "name": name, "x": vertices[:, 0].tolist(), "y": vertices[:, 1].tolist(),
-        "z": vertices[:, 2].tolist(), "i": i.tolist(), "j": j.tolist(), "k": k.tolist(),
-        "color": colour, "opacity": opacity, "hovertext": text, "hoverinfo": "text",
-        "flatshading": True, "showlegend": False,
-    }  # fmt: skip
+        "type": "mesh3d",
+        "name": name,
+        "x": vertices[:, 0].tolist(),
+        "y": vertices[:, 1].tolist(),
+        "z": vertices[:, 2].tolist(),
+        "i": i.tolist(),
+        "j": j.tolist(),
+        "k": k.tolist(),
+        "color": colour,
+        "opacity": opacity,
+        "hovertext": text,
+        "hoverinfo": "text",
+        "flatshading": True,
+        "showlegend": False,
+    }
 
 
 def _figure(audit: Audit, joints: Mapping[str, Any] | None) -> dict[str, Any]:
@@ -82,28 +98,43 @@ def _figure(audit: Audit, joints: Mapping[str, Any] | None) -> dict[str, Any]:
             traces.append(_mesh_trace(declared, poses[name], name, _COLOURS[worst], 0.8, text))
         elif link.mass > 0:
             rotation, translation = poses[name]
-            invalid.append((f"{name}: no body has its tensor ({codes})",
-                            rotation @ link.center_of_mass + translation))  # fmt: skip
+            invalid.append(
+                (
+                    f"{name}: no body has its tensor ({codes})",
+                    rotation @ link.center_of_mass + translation,
+                )
+            )
         shapes = geometry.get(name)
         if shapes is not None:
             text = f"{name}: its {audit.geometry} shapes at {link.mass:.4g} kg"
             traces.append(_mesh_trace(shapes, poses[name], name, "#7f7f7f", 0.25, text))
     if invalid:
         points = np.array([p for _, p in invalid])
-        traces.append({
-            "type": "scatter3d", "mode": "markers", "name": "no body has its tensor",
-            "x": points[:, 0].tolist(), "y": points[:, 1].tolist(), "z": points[:, 2].tolist(),
-            "marker": {"symbol": "diamond", "size": 6, "color": _COLOURS["error"]},
-            "hovertext": [t for t, _ in invalid], "hoverinfo": "text",
-        })  # fmt: skip
+        traces.append(
+            {
+                "type": "scatter3d",
+                "mode": "markers",
+                "name": "no body has its tensor",
+                "x": points[:, 0].tolist(),
+                "y": points[:, 1].tolist(),
+                "z": points[:, 2].tolist(),
+                "marker": {"symbol": "diamond", "size": 6, "color": _COLOURS["error"]},
+                "hovertext": [t for t, _ in invalid],
+                "hoverinfo": "text",
+            }
+        )
     return {
         "data": traces,
         "layout": {
             "margin": {"l": 0, "r": 0, "t": 10, "b": 0},
-            "scene": {"aspectmode": "data", "xaxis": {"title": {"text": "x (m)"}},
-                      "yaxis": {"title": {"text": "y (m)"}}, "zaxis": {"title": {"text": "z (m)"}}},
+            "scene": {
+                "aspectmode": "data",
+                "xaxis": {"title": {"text": "x (m)"}},
+                "yaxis": {"title": {"text": "y (m)"}},
+                "zaxis": {"title": {"text": "z (m)"}},
+            },
         },
-    }  # fmt: skip
+    }
 
 
 def _table(audit: Audit) -> str:
@@ -120,8 +151,10 @@ def _table(audit: Audit) -> str:
             else " ".join(f"{v:.4g}" for v in summary.geometry.principal()[0])
         )
         found = ", ".join(codes.get(summary.link, [])) or "ok"
-        rows.append(f"<tr><td>{e(summary.link)}</td><td>{summary.mass:.4g}</td>"
-                    f"<td>{moments}</td><td>{shapes}</td><td>{e(found)}</td></tr>")  # fmt: skip
+        rows.append(
+            f"<tr><td>{e(summary.link)}</td><td>{summary.mass:.4g}</td>"
+            f"<td>{moments}</td><td>{shapes}</td><td>{e(found)}</td></tr>"
+        )
     return (
         "<table><thead><tr><th>link</th><th>mass (kg)</th><th>declared moments (kg·m²)</th>"
         f"<th>{e(audit.geometry)} shapes' moments</th><th>findings</th></tr></thead>"
@@ -134,8 +167,9 @@ def _findings(audit: Audit) -> str:
     items = []
     for f in audit.findings:
         correction = "" if not f.correction else f" <code>{e(json.dumps(f.correction))}</code>"
-        items.append(f"<li><b>{e(f.severity)}</b> {e(f.link)} ({e(f.code)}): {e(f.message)}"
-                     f"{correction}</li>")  # fmt: skip
+        items.append(
+            f"<li><b>{e(f.severity)}</b> {e(f.link)} ({e(f.code)}): {e(f.message)}{correction}</li>"
+        )
     return f"<ul>{''.join(items)}</ul>" if items else "<p>No findings.</p>"
 
 

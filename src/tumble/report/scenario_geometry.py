@@ -153,9 +153,12 @@ def part_drawings(
     for entry in parts:
         part = getattr(entry, "part", entry)
         drawing = part.drawing(
-            reach, centre, getattr(entry, "position", None), getattr(entry, "radius", None),
+            reach,
+            centre,
+            getattr(entry, "position", None),
+            getattr(entry, "radius", None),
             getattr(entry, "thickness", None),
-        )  # fmt: skip
+        )
         if part.spin is not None:
             rotors.append(disc_drawing(drawing))
         elif drawing is not None and drawing.shape == "ball":

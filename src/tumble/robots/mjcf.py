@@ -177,9 +177,13 @@ def _inertial(
     """An MJCF body's inertial values: its frame given by a quaternion."""
     numbers = tuple(float(v) for v in values)
     return Inertial(
-        mass=float(mass), xyz=tuple(float(v) for v in centre), rpy=(0.0, 0.0, 0.0),
-        values=numbers, texts=texts or tuple(repr(v) for v in numbers), axes=_matrix(quaternion),
-    )  # fmt: skip
+        mass=float(mass),
+        xyz=tuple(float(v) for v in centre),
+        rpy=(0.0, 0.0, 0.0),
+        values=numbers,
+        texts=texts or tuple(repr(v) for v in numbers),
+        axes=_matrix(quaternion),
+    )
 
 
 def _compiled(model: Any, i: int) -> Inertial:
@@ -370,8 +374,13 @@ def _shape(mujoco: Any, model: Any, g: int, geom: Any) -> Shape | None:
         start, count = model.mesh_vertadr[mesh], model.mesh_vertnum[mesh]
         first, faces = model.mesh_faceadr[mesh], model.mesh_facenum[mesh]
         return Shape(
-            "mesh", (), rotation, translation, mass=mass, density=density,
+            "mesh",
+            (),
+            rotation,
+            translation,
+            mass=mass,
+            density=density,
             vertices=np.array(model.mesh_vert[start : start + count], dtype=float),
             faces=np.array(model.mesh_face[first : first + faces], dtype=np.int64),
-        )  # fmt: skip
+        )
     return None

@@ -101,9 +101,15 @@ def tensor_of(values: Iterable[float]) -> Array:
 def _quadratic(v: Array) -> Array:
     """The row g with vᵀ Σ v = g · (ixx, ixy, ixz, iyy, iyz, izz) for Σ = tr(I)/2 E − I."""
     return np.array(
-        [0.5 - v[0] ** 2, -2 * v[0] * v[1], -2 * v[0] * v[2], 0.5 - v[1] ** 2,
-         -2 * v[1] * v[2], 0.5 - v[2] ** 2]
-    )  # fmt: skip
+        [
+            0.5 - v[0] ** 2,
+            -2 * v[0] * v[1],
+            -2 * v[0] * v[2],
+            0.5 - v[1] ** 2,
+            -2 * v[1] * v[2],
+            0.5 - v[2] ** 2,
+        ]
+    )
 
 
 def _spread(values: Array) -> tuple[float, Array]:
@@ -254,9 +260,12 @@ def physical_within_rounding(values: Iterable[float], texts: Iterable[str]) -> b
         # Maximise s subject to s <= g(v) · x for every cut v, x in the box.
         rows = np.array([[*(-_quadratic(v)), 1.0] for v in cuts])
         result = linprog(
-            np.r_[np.zeros(6), -1.0], A_ub=rows, b_ub=np.zeros(len(cuts)),
-            bounds=[*box, (None, None)], method="highs",
-        )  # fmt: skip
+            np.r_[np.zeros(6), -1.0],
+            A_ub=rows,
+            b_ub=np.zeros(len(cuts)),
+            bounds=[*box, (None, None)],
+            method="highs",
+        )
         if not result.success or -result.fun < -tolerance:
             return False
         smallest, vector = _spread(result.x[:6])

@@ -111,9 +111,13 @@ def mass_properties(
             from tumble.mesh import from_mesh  # numba kernels: load only for meshes
 
             result = from_mesh(
-                mesh_path(spec, folder), density=spec.density, mass=spec.mass, units=spec.units,
-                merge_tolerance=spec.merge_tolerance, shell_thickness=spec.shell_thickness,
-            )  # fmt: skip
+                mesh_path(spec, folder),
+                density=spec.density,
+                mass=spec.mass,
+                units=spec.units,
+                merge_tolerance=spec.merge_tolerance,
+                shell_thickness=spec.shell_thickness,
+            )
         elif isinstance(spec, PointsBody):
             result = point_masses(list(spec.masses), [list(p) for p in spec.positions])
         elif isinstance(spec, InertiaBody):

@@ -181,9 +181,15 @@ def _rigid_body(
     dt = sim.dt
     with at_key(loaded, "internal" if parts else "simulation"):
         prepared = prepare(
-            mp, state.omega, attitude0=state.attitude, pivot=env.pivot, gravity=env.gravity,
-            torque=torque, method=sim.method, internal=parts,
-        )  # fmt: skip
+            mp,
+            state.omega,
+            attitude0=state.attitude,
+            pivot=env.pivot,
+            gravity=env.gravity,
+            torque=torque,
+            method=sim.method,
+            internal=parts,
+        )
     with at_key(loaded, "simulation"):
         if dt is None and prepared.integrator.kind != "stepping":
             # Methods that sample every dt rather than step by it (the exact
@@ -195,10 +201,13 @@ def _rigid_body(
             check_steps(loaded, whole_steps(sim.duration, step))
         every = record_every(sim.duration, step, spec.output.samples)
         check_recording(
-            sim.duration, step, every, len(value_columns(prepared.body.parts)),
+            sim.duration,
+            step,
+            every,
+            len(value_columns(prepared.body.parts)),
             "Ask for fewer samples in [output], or a shorter duration or a larger dt in "
             "[simulation].",
-        )  # fmt: skip
+        )
         traj = simulate(
             mp,
             state.omega,
@@ -219,9 +228,15 @@ def _rigid_body(
     if spec.theory.bearings is not None:
         options["bearings"] = spec.theory.bearings
     case = Case(
-        mp, state.omega, state.attitude, env.pivot, env.gravity, torque, options=options,
+        mp,
+        state.omega,
+        state.attitude,
+        env.pivot,
+        env.gravity,
+        torque,
+        options=options,
         internal=parts,
-    )  # fmt: skip
+    )
     model = spec.theory.model
     with at_key(loaded, "theory", "model"):
         check = choose_check(model, case)

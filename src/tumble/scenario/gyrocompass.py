@@ -56,10 +56,16 @@ def run_gyrocompass(
 
         with at_key(loaded, "gyrocompass"):
             run = models.gyrocompass(
-                mp, settings.spin_rate, settings.platform_rate, 0.0,
-                angle_rate0=beta * amplitude, duration=spec.simulation.duration,
-                dt=spec.simulation.dt, samples=spec.output.samples, progress=report,
-            )  # fmt: skip
+                mp,
+                settings.spin_rate,
+                settings.platform_rate,
+                0.0,
+                angle_rate0=beta * amplitude,
+                duration=spec.simulation.duration,
+                dt=spec.simulation.dt,
+                samples=spec.output.samples,
+                progress=report,
+            )
         index = kept(len(run.trajectory.t), spec.output.samples)
         traj = decimate(run.trajectory, spec.output.samples)
         angle = np.asarray(run.angle)[index]
@@ -74,7 +80,9 @@ def run_gyrocompass(
         small = np.degrees(amplitude * np.sin(beta * traj.t))
         curves.append(Curve(f"{name}, θ0 sin βt", traj.t, small, "theory"))
     panel = Panel(
-        "Gyrocompass: angle θ of the spin axis from the platform's axis", "θ (deg)", curves,
+        "Gyrocompass: angle θ of the spin axis from the platform's axis",
+        "θ (deg)",
+        curves,
         name="theta",
-    )  # fmt: skip
+    )
     return runs, rows, [panel], check.name

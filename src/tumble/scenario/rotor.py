@@ -78,10 +78,17 @@ def run_rotor(
 
         with at_key(loaded, "rotor"):
             runs[label] = models.run_up(
-                rotor, settings.unbalance, duration=duration, speed=start, acceleration=rate,
-                position=settings.unbalance_position, dt=spec.simulation.dt,
-                samples=spec.output.samples, progress=report, max_steps=MAX_STEPS,
-            )  # fmt: skip
+                rotor,
+                settings.unbalance,
+                duration=duration,
+                speed=start,
+                acceleration=rate,
+                position=settings.unbalance_position,
+                dt=spec.simulation.dt,
+                samples=spec.output.samples,
+                progress=report,
+                max_steps=MAX_STEPS,
+            )
     speeds = np.linspace(low, high, CURVE_POINTS)
     names = _bearing_names(rotor)
     rows = _critical_rows(rotor, runs["main"], names, settings)
@@ -147,10 +154,14 @@ def _steady(
     rows = []
     for name, theory_orbit, fitted in zip(names, expected, measured, strict=True):
         where = f"{name}, Ω = {speed:.4g} rad/s"
-        rows.append(comparison_row(
-            f"{where}: orbit's major semi-axis", major_semi_axis(theory_orbit[0], theory_orbit[1]),
-            major_semi_axis(fitted[0], fitted[1]), "m",
-        ))  # fmt: skip
+        rows.append(
+            comparison_row(
+                f"{where}: orbit's major semi-axis",
+                major_semi_axis(theory_orbit[0], theory_orbit[1]),
+                major_semi_axis(fitted[0], fitted[1]),
+                "m",
+            )
+        )
         # The lag in [0°, 360°); the fit's, as the theory's plus their difference
         # (in (−180°, 180°]), so that neither wraps apart from the other.
         lag = -math.degrees(np.angle(theory_orbit[0])) % 360.0
@@ -168,9 +179,13 @@ def _steady(
         ellipse = 1e6 * np.real(theory_orbit[:, None] * circle)
         curves.append(Curve(f"{name}, steady response", ellipse[0], ellipse[1], "theory"))
     panel = Panel(
-        f"Orbits at the bearings at {speed:.4g} rad/s (the run's last turn)", "y (µm)", curves,
-        name="orbits", xlabel="x (µm)", equal_aspect=True,
-    )  # fmt: skip
+        f"Orbits at the bearings at {speed:.4g} rad/s (the run's last turn)",
+        "y (µm)",
+        curves,
+        name="orbits",
+        xlabel="x (µm)",
+        equal_aspect=True,
+    )
     return rows, panel
 
 
@@ -200,10 +215,14 @@ def _critical_rows(
         bearing = int(np.argmax(steady[0]))
         amplitude = run.amplitude[near, bearing]
         peak = float(run.speed[near][np.argmax(amplitude)])
-        rows.append(comparison_row(
-            f"critical speed {k + 1}: the run-up's peak ({names[bearing]})", float(critical),
-            peak, "rad/s",
-        ))  # fmt: skip
+        rows.append(
+            comparison_row(
+                f"critical speed {k + 1}: the run-up's peak ({names[bearing]})",
+                float(critical),
+                peak,
+                "rad/s",
+            )
+        )
     return rows
 
 
@@ -227,9 +246,12 @@ def _campbell(rotor: RigidRotor, speeds: Array) -> Panel:
         y = np.tile([0.0, top, np.nan], len(inside))
         curves.append(Curve("critical speeds", x, y, "fit"))
     return Panel(
-        "Campbell diagram: whirl frequencies against the spin", "frequency (rad/s)", curves,
-        name="campbell", xlabel="spin speed Ω (rad/s)",
-    )  # fmt: skip
+        "Campbell diagram: whirl frequencies against the spin",
+        "frequency (rad/s)",
+        curves,
+        name="campbell",
+        xlabel="spin speed Ω (rad/s)",
+    )
 
 
 def _response(
@@ -246,9 +268,13 @@ def _response(
         curves.append(Curve(f"{name}, run-up", run.speed, measured))
         curves.append(Curve(f"{name}, steady response", speeds, expected, "theory"))
     return Panel(
-        "Unbalance response: the orbit's size against the spin", "orbit (µm)", curves,
-        name="response", log=True, xlabel="spin speed Ω (rad/s)",
-    )  # fmt: skip
+        "Unbalance response: the orbit's size against the spin",
+        "orbit (µm)",
+        curves,
+        name="response",
+        log=True,
+        xlabel="spin speed Ω (rad/s)",
+    )
 
 
 def _phase(rotor: RigidRotor, speeds: Array, settings: Any, names: list[str]) -> Panel:
@@ -259,6 +285,9 @@ def _phase(rotor: RigidRotor, speeds: Array, settings: Any, names: list[str]) ->
         for k, name in enumerate(names)
     ]
     return Panel(
-        "Phase of the unbalance response: x behind the unbalance", "phase lag (deg)", curves,
-        name="phase", xlabel="spin speed Ω (rad/s)",
-    )  # fmt: skip
+        "Phase of the unbalance response: x behind the unbalance",
+        "phase lag (deg)",
+        curves,
+        name="phase",
+        xlabel="spin speed Ω (rad/s)",
+    )

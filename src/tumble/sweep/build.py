@@ -458,8 +458,11 @@ class PlanBuilder:
         # (a positive diagonal added), so the box's lowest corner is the worst.
         low = {name: bounds[0] for name, bounds in ranges.items()}
         i1 = low["moment_1"]
-        moments = [i1, low.get("moment_2", low.get("ratio_2", 0.0) * i1),
-                   low.get("moment_3", low.get("ratio_3", 0.0) * i1)]  # fmt: skip
+        moments = [
+            i1,
+            low.get("moment_2", low.get("ratio_2", 0.0) * i1),
+            low.get("moment_3", low.get("ratio_3", 0.0) * i1),
+        ]
         platform = np.diag(moments) - sum(part.spin_inertia() for part in parts)
         left = np.linalg.eigvalsh(platform)
         if not left[0] > ZERO_MOMENT * max(moments):

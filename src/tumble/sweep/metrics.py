@@ -105,9 +105,15 @@ def compute_chunk(plan: Plan, index: int) -> dict[str, NDArray[np.generic]]:
         integrator = get_integrator(plan.method, batch=True)
         with _KERNEL_LOCK:
             out = measure_batch(
-                integrator, batch, plan.dt, plan.n_steps, bodies.axis, first_body=start,
-                where=f"of chunk {index}", final_state=plan.final_state,
-            )  # fmt: skip
+                integrator,
+                batch,
+                plan.dt,
+                plan.n_steps,
+                bodies.axis,
+                first_body=start,
+                where=f"of chunk {index}",
+                final_state=plan.final_state,
+            )
         omega, quaternion = w.T, q.T
         twice_energy = np.sum(bodies.moments * bodies.omega**2, axis=1)
         momentum = np.linalg.norm(bodies.moments * bodies.omega, axis=1)
@@ -154,8 +160,14 @@ def _measure_with_parts(
     integrator = get_integrator(plan.method, batch=True)
     with _KERNEL_LOCK:
         out, twice_energy = batch.measure(
-            integrator, bodies.torque, plan.dt, plan.n_steps, bodies.axis,
-            energy="energy_drift" in plan.metrics, first_body=start, where=f"of chunk {index}",
-        )  # fmt: skip
+            integrator,
+            bodies.torque,
+            plan.dt,
+            plan.n_steps,
+            bodies.axis,
+            energy="energy_drift" in plan.metrics,
+            first_body=start,
+            where=f"of chunk {index}",
+        )
     omega, quaternion, _ = batch.values(batch.y)
     return out, twice_energy, momentum, (omega, quaternion)

@@ -154,8 +154,9 @@ class RigidRotor:
     [447.2]
     """
 
-    def __init__(self, body: Any, bearings: Any, axis: Any = (0.0, 0.0, 1.0),
-                 point: Any = (0.0, 0.0, 0.0)) -> None:  # fmt: skip
+    def __init__(
+        self, body: Any, bearings: Any, axis: Any = (0.0, 0.0, 1.0), point: Any = (0.0, 0.0, 0.0)
+    ) -> None:
         mp: MassProperties = as_mass_properties(body, "body")
         n = spin_axis(axis)
         p = vector_to_si(point, "length", "point", (3,))
@@ -184,10 +185,13 @@ class RigidRotor:
         ky = np.array([p[1] for p in pairs])
         a = self.arms
         return np.array(
-            [[kx.sum(), 0.0, 0.0, (kx * a).sum()], [0.0, ky.sum(), -(ky * a).sum(), 0.0],
-             [0.0, -(ky * a).sum(), (ky * a * a).sum(), 0.0],
-             [(kx * a).sum(), 0.0, 0.0, (kx * a * a).sum()]]
-        )  # fmt: skip
+            [
+                [kx.sum(), 0.0, 0.0, (kx * a).sum()],
+                [0.0, ky.sum(), -(ky * a).sum(), 0.0],
+                [0.0, -(ky * a).sum(), (ky * a * a).sum(), 0.0],
+                [(kx * a).sum(), 0.0, 0.0, (kx * a * a).sum()],
+            ]
+        )
 
     @staticmethod
     def _fits(count: int, output: int, working: int, what: str) -> None:
@@ -279,8 +283,9 @@ class RigidRotor:
         at the speeds ``values`` (rad/s, checked), in one stacked eigenproblem."""
         eigenvalues, vectors = np.linalg.eig(self._state_matrices(values))
         order = np.argsort(-eigenvalues.imag, axis=1)[:, :4]  # the four of Im λ ≥ 0
-        order = np.take_along_axis(order, np.argsort(
-            np.take_along_axis(eigenvalues.imag, order, axis=1), axis=1), axis=1)  # fmt: skip
+        order = np.take_along_axis(
+            order, np.argsort(np.take_along_axis(eigenvalues.imag, order, axis=1), axis=1), axis=1
+        )
         lam = np.take_along_axis(eigenvalues, order, axis=1)
         # (n, mode, coordinate): the displacement half of each eigenvector.
         shapes = np.take_along_axis(vectors[:, :4, :], order[:, None, :], axis=2)
@@ -295,8 +300,9 @@ class RigidRotor:
         # mode at rest) is one forward and one backward circular whirl, whatever
         # pair of eigenvectors the solver returned.
         for j in range(3):
-            close = (np.abs(frequencies[:, j + 1] - frequencies[:, j])
-                     <= 1e-9 * frequencies[:, j + 1]) & (frequencies[:, j] > 0)  # fmt: skip
+            close = (
+                np.abs(frequencies[:, j + 1] - frequencies[:, j]) <= 1e-9 * frequencies[:, j + 1]
+            ) & (frequencies[:, j] > 0)
             forward[close, j], forward[close, j + 1] = False, True
         return frequencies, forward, ratios, shapes
 

@@ -270,9 +270,13 @@ def gyrostat_solution(
 
 
 def _gyrostat_motion(
-    constants: Array, moments: Array, h0: Array, rotor_momentum: Array, start: Rotation,
+    constants: Array,
+    moments: Array,
+    h0: Array,
+    rotor_momentum: Array,
+    start: Rotation,
     times: Array,
-) -> tuple[Array, Rotation]:  # fmt: skip
+) -> tuple[Array, Rotation]:
     """ω (n, 3) and the attitude of the gyrostat of :func:`gyrostat_solution`
     in the frame of its rotor axis (``h0``: H at t = 0 there, ``rotor_momentum``
     the rotors' part of it, along axis 3; ``start``: that frame's attitude at t = 0)."""
@@ -304,9 +308,12 @@ def _gyrostat_motion(
     psi = np.arctan2(turned[:, 0], turned[:, 1])
     initial = Rotation.from_euler(
         "ZXZ",
-        [0.0, np.arctan2(np.hypot(turned0[0], turned0[1]), turned0[2]),
-         np.arctan2(turned0[0], turned0[1])],
-    )  # fmt: skip
+        [
+            0.0,
+            np.arctan2(np.hypot(turned0[0], turned0[1]), turned0[2]),
+            np.arctan2(turned0[0], turned0[1]),
+        ],
+    )
     frame = start * cycle * initial.inv()  # space axes with z along H
     attitude = frame * Rotation.from_euler("ZXZ", np.column_stack([phi, theta, psi])) * cycle.inv()
     return (momentum - rotor_momentum) / moments, attitude
@@ -415,9 +422,14 @@ def lagrange_top(body: RigidBody, gravity: Array, omega0: Array, attitude0: Arra
 
 
 def symmetric_top(
-    frame: Array, transverse: float, axial: float, mass_lever: float, gravity: Array,
-    omega0: Array, attitude0: Array,
-) -> LagrangeTop:  # fmt: skip
+    frame: Array,
+    transverse: float,
+    axial: float,
+    mass_lever: float,
+    gravity: Array,
+    omega0: Array,
+    attitude0: Array,
+) -> LagrangeTop:
     """The Lagrange top of :func:`lagrange_top` from its parts: ``frame`` (3, 3)
     a proper rotation whose third column (body axes) is the symmetry axis from
     the pivot towards the centre of mass, the moments A (``transverse``) and C

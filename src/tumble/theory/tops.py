@@ -378,9 +378,15 @@ def _initial_state(
 
 
 def _heavy(
-    transverse: float, axial: float, mass_lever: float, g: float, omega: Array, q0: Array,
-    theta: float, turning: bool,
-) -> tuple[Any, tuple[float, float], float, float]:  # fmt: skip
+    transverse: float,
+    axial: float,
+    mass_lever: float,
+    g: float,
+    omega: Array,
+    q0: Array,
+    theta: float,
+    turning: bool,
+) -> tuple[Any, tuple[float, float], float, float]:
     """The exact motion under gravity (:func:`tumble.theory.motions.symmetric_top`),
     the tilt's turning points, the nutation period and the mean precession rate.
     The top's own frame has its axis from the pivot towards the centre of mass:
@@ -434,12 +440,13 @@ def _free(
 
     def motion(times: Array) -> tuple[Array, Array]:
         w, q = exact_principal(
-            moments[order], axes.T @ omega,
+            moments[order],
+            axes.T @ omega,
             (Rotation.from_quat(q0, scalar_first=True) * Rotation.from_matrix(axes)).as_quat(
                 scalar_first=True
             ),
             times,
-        )  # fmt: skip
+        )
         attitude = Rotation.from_quat(q, scalar_first=True) * Rotation.from_matrix(axes).inv()
         return w @ axes.T, attitude.as_quat(scalar_first=True)
 

@@ -286,14 +286,20 @@ class RotorMomentum(TorqueModel):
     summary = "rotors of prescribed relative momentum h(t): the torque −ω × h − ḣ"
     parameters = (
         Parameter(
-            "momentum", "angular_momentum", (3,), "the rotors' relative momentum h at t = 0",
+            "momentum",
+            "angular_momentum",
+            (3,),
+            "the rotors' relative momentum h at t = 0",
             sweep=_vector_field("rotor_momentum"),
         ),
         Parameter(
-            "momentum_rate", "torque", (3,), "dh/dt, constant",
+            "momentum_rate",
+            "torque",
+            (3,),
+            "dh/dt, constant",
             sweep=_vector_field("rotor_momentum_rate"),
         ),
-    )  # fmt: skip
+    )
     fields = (*_vector_field("momentum"), *_vector_field("rate"))
     kernel = staticmethod(kernels.rotor_momentum)
     depends_on = frozenset({"omega", "time"})

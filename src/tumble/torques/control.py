@@ -75,9 +75,12 @@ class AttitudeController(TorqueModel):
             object.__setattr__(self, "target", target.as_quat(scalar_first=True))
         super().__post_init__()
         unit = unit_vector(
-            self.target, "target", noun="a non-zero quaternion [w, x, y, z]", shape=(4,),
+            self.target,
+            "target",
+            noun="a non-zero quaternion [w, x, y, z]",
+            shape=(4,),
             floor=1e-12,
-        )  # fmt: skip
+        )
         object.__setattr__(self, "target", unit)
 
     def pack(self, body: Any, omega0: Array | None) -> Array:

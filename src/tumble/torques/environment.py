@@ -46,9 +46,20 @@ class GravityGradient(TorqueModel):
         Parameter("radial0", "dimensionless", (3,), "unit vector to the body at t = 0, space"),
     )
     fields = (
-        "orbit_rate", "radial_x", "radial_y", "radial_z", "along_x", "along_y", "along_z",
-        "inertia_11", "inertia_22", "inertia_33", "inertia_12", "inertia_13", "inertia_23",
-    )  # fmt: skip
+        "orbit_rate",
+        "radial_x",
+        "radial_y",
+        "radial_z",
+        "along_x",
+        "along_y",
+        "along_z",
+        "inertia_11",
+        "inertia_22",
+        "inertia_33",
+        "inertia_12",
+        "inertia_13",
+        "inertia_23",
+    )
     kernel = staticmethod(kernels.gravity_gradient)
     depends_on = frozenset({"attitude", "time"})
     in_batches = True

@@ -46,9 +46,17 @@ def run_adaptive(
 
         def advance(start: float, stop: float, rows: slice) -> int:
             status = kernel(
-                y, moments, parts, torque.params, torque.context, start, stop, control,
-                times[rows], out[rows],
-            )  # fmt: skip
+                y,
+                moments,
+                parts,
+                torque.params,
+                torque.context,
+                start,
+                stop,
+                control,
+                times[rows],
+                out[rows],
+            )
             return int(status)
 
         stops = switch_times(body.parts, float(times[-1]))
@@ -62,9 +70,18 @@ def run_adaptive(
 
         def advance(start: float, stop: float, rows: slice) -> int:
             status = kernel(
-                w, q, moments, torque.params, torque.context, start, stop, control,
-                times[rows], out_w[rows], out_q[rows],
-            )  # fmt: skip
+                w,
+                q,
+                moments,
+                torque.params,
+                torque.context,
+                start,
+                stop,
+                control,
+                times[rows],
+                out_w[rows],
+                out_q[rows],
+            )
             return int(status)
 
         stops = np.zeros(0)

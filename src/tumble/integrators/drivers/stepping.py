@@ -33,9 +33,18 @@ def run_stepping(
 
     def run(done: int, count: int) -> int:
         status = kernel(
-            w, q, inertia, torque.params, torque.context, schedule.step, count, done,
-            schedule.record_every, out_w, out_q,
-        )  # fmt: skip
+            w,
+            q,
+            inertia,
+            torque.params,
+            torque.context,
+            schedule.step,
+            count,
+            done,
+            schedule.record_every,
+            out_w,
+            out_q,
+        )
         return int(status)
 
     step_in_chunks(run, schedule.n_steps, schedule.step, progress)
@@ -59,9 +68,17 @@ def _run_parts_stepping(
 
     def run(done: int, count: int) -> int:
         status = kernel(
-            y, moments, parts, torque.params, torque.context, schedule.step, count, done,
-            schedule.record_every, out,
-        )  # fmt: skip
+            y,
+            moments,
+            parts,
+            torque.params,
+            torque.context,
+            schedule.step,
+            count,
+            done,
+            schedule.record_every,
+            out,
+        )
         return int(status)
 
     step_in_chunks(run, schedule.n_steps, schedule.step, progress)
