@@ -60,7 +60,7 @@ from numpy.typing import NDArray
 from tumble.core.polyhedron import mesh_integrals
 from tumble.core.topology import directed_edge_keys, edge_defects
 from tumble.mesh import MeshRepairWarning, mesh_mass_properties
-from tumble.mesh.checks import checked_topology, merge_identical_vertices
+from tumble.mesh.validation import checked_topology, merge_identical_vertices
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]

@@ -335,7 +335,7 @@ def test_every_loss_of_the_library_is_taken_and_named_in_the_help(
 ) -> None:
     import tumble.identification.fit
     from tumble.errors import InputError
-    from tumble.identification.checks import LOSSES
+    from tumble.identification.validation import LOSSES
 
     code, out, _ = invoke("fit", "--help")
     assert code == 0

@@ -213,7 +213,7 @@ def test_the_registrys_drags_name_the_torque_and_names_of_its_other_models_are_r
     by_name = tb.identify(t, measured, window=window, torque="drag")
     assert by_model.torque == "drag"
     np.testing.assert_array_equal(by_model.moment_ratios, by_name.moment_ratios)
-    assert tb.identification.checks.check_torque(tb.torques.QuadraticDrag) == "quadratic-drag"
+    assert tb.identification.validation.check_torque(tb.torques.QuadraticDrag) == "quadratic-drag"
     for other in ("damping", "gravity-gradient"):
         with pytest.raises(
             InputError,

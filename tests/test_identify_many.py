@@ -11,9 +11,9 @@ from scipy.spatial.transform import Rotation
 import tumble as tb
 from tumble.errors import InputError
 from tumble.identification import JointFit, ThrowFits, synthetic_throws
-from tumble.identification.checks import canonical
 from tumble.identification.joint import OUTLIER_DEVIATION, fit_under
 from tumble.identification.many import COLUMNS
+from tumble.identification.validation import canonical
 
 
 @pytest.fixture(scope="module")

@@ -1040,7 +1040,7 @@ def test_a_missing_reader_package_is_named(tmp_path, monkeypatch):
 def test_a_hash_collision_falls_back_to_the_exact_merge(monkeypatch):
     # Vertices are merged by a hash of their bits; if two different points ever
     # shared a hash, the merge must notice and fall back to np.unique(axis=0).
-    import tumble.mesh.checks as mesh_module
+    import tumble.mesh.validation as mesh_module
 
     real = mesh_module.merge_by_key
 

@@ -10,7 +10,7 @@ import pytest
 
 from tumble.core import drag_model, rate_model
 from tumble.errors import InputError
-from tumble.identification.checks import biases_within_rates
+from tumble.identification.validation import biases_within_rates
 
 #: Parameters: ln(I1/I3), ln(I2/I3), a small turn of the axes, ω0 (rad/s), the bias
 #: (rad/s), and for the drag model c/I3 (1/s) per axis.

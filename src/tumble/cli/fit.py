@@ -162,13 +162,13 @@ def fit_recording(
         span = parse_window(window) if window is not None else None
         with loading():
             from tumble.cli.runs import default_folder
-            from tumble.identification.checks import check_loss, check_torque
             from tumble.identification.fit import identify
             from tumble.identification.recordings import (
                 example_recording_path,
                 rate_unit,
                 read_recording,
             )
+            from tumble.identification.validation import check_loss, check_torque
             from tumble.report.fit import fit_name, write_fit
 
         # The library's own checks, before the recording is read: said at once.

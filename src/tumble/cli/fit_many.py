@@ -122,10 +122,10 @@ def fit_throws(
     output folder is checked by the caller first."""
     with loading():
         from tumble.cli.runs import default_folder
-        from tumble.identification.checks import check_loss, check_torque
         from tumble.identification.many import identify_many
         from tumble.identification.recordings import rate_unit, read_recording
         from tumble.identification.throws import example_throws_path
+        from tumble.identification.validation import check_loss, check_torque
         from tumble.identification.windows import read_windows
         from tumble.report.fit import fit_name
         from tumble.report.fit_many import write_many

@@ -26,7 +26,13 @@ from scipy.optimize import least_squares
 
 from tumble.core import drag_model, rate_model
 from tumble.errors import InputError
-from tumble.identification.checks import (
+from tumble.identification.decimation import averaged
+from tumble.identification.flight import free_flight, noise_level
+from tumble.identification.result import TORQUE_MODELS, BodyFit
+from tumble.identification.start import linear_start, smoothed
+from tumble.identification.torque_fit import fit_torque_model
+from tumble.identification.torque_values import fits_torque_model
+from tumble.identification.validation import (
     MAX_RATIO_ERROR,
     MIN_RATIO,
     MIN_SAMPLES,
@@ -44,12 +50,6 @@ from tumble.identification.checks import (
     symmetric_within_errors,
     window_bounds,
 )
-from tumble.identification.decimation import averaged
-from tumble.identification.flight import free_flight, noise_level
-from tumble.identification.result import TORQUE_MODELS, BodyFit
-from tumble.identification.start import linear_start, smoothed
-from tumble.identification.torque_fit import fit_torque_model
-from tumble.identification.torque_values import fits_torque_model
 from tumble.resources import check_memory
 from tumble.theory import flip_period
 

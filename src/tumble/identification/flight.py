@@ -5,7 +5,7 @@ the hand holds it. The rule that tells them apart comes from Euler's
 equations: in free flight ``ω̇_i = (I_j − I_k) ω_j ω_k / I_i``, and since every
 physical body has ``|I_j − I_k| ≤ I_i`` (the triangle inequality of its
 moments), ``|ω̇| ≤ |ω|²`` (even ``|ω|²/√3``:
-:data:`~tumble.identification.checks.FREE_BODY_BOUND`; the rule keeps the
+:data:`~tumble.identification.validation.FREE_BODY_BOUND`; the rule keeps the
 rounder bound, a margin for the noise of a plain difference). A hand turning
 the phone, a throw that spins it up and a catch all break that bound (the
 hand's torque), and so do impacts. The samples kept are those where
@@ -34,7 +34,7 @@ __all__ = ["free_flight", "free_flights", "noise_level"]
 
 Array = NDArray[np.float64]
 
-#: Fewest samples a free flight has (see :data:`tumble.identification.checks.MIN_SAMPLES`).
+#: Fewest samples a free flight has (see :data:`tumble.identification.validation.MIN_SAMPLES`).
 MIN_FLIGHT = 30
 
 #: Samples dropped at each end of the run found: the edges of the throw and catch.

@@ -31,7 +31,6 @@ from scipy.spatial.transform import Rotation
 
 from tumble.core import drag_model, rate_model
 from tumble.errors import InputError
-from tumble.identification.checks import canonical
 from tumble.identification.result import (
     DRAG_PARAMETERS,
     PARAMETERS,
@@ -39,6 +38,7 @@ from tumble.identification.result import (
     BodyFit,
     body_summary,
 )
+from tumble.identification.validation import canonical
 from tumble.theory import flip_period
 
 __all__ = ["OUTLIER_DEVIATION", "JointFit", "disagreement", "joint_fit"]

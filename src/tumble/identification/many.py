@@ -23,12 +23,12 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from tumble.errors import InputError
-from tumble.identification.checks import MIN_SAMPLES, check_torque, flag, samples
 from tumble.identification.fit import DECISIVE, identify
 from tumble.identification.flight import free_flights
 from tumble.identification.joint import JointFit, disagreement, fit_under, joint_fit
 from tumble.identification.result import BodyFit, information_criterion
 from tumble.identification.torque_values import fits_torque_model
+from tumble.identification.validation import MIN_SAMPLES, check_torque, flag, samples
 from tumble.identification.windows import check_windows
 
 __all__ = ["ThrowFits", "identify_many"]

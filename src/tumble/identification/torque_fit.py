@@ -19,9 +19,9 @@ from scipy.optimize import least_squares
 
 from tumble.core import rate_model
 from tumble.errors import InputError
-from tumble.identification.checks import MAX_MISS
 from tumble.identification.result import BodyFit
 from tumble.identification.torque_values import model_rates
+from tumble.identification.validation import MAX_MISS
 from tumble.theory import flip_period
 from tumble.torques import TorqueModel
 

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.errors import InputError, cut
-from tumble.identification.checks import MIN_SAMPLES
+from tumble.identification.validation import MIN_SAMPLES
 
 __all__ = ["check_windows", "read_windows"]
 

@@ -50,7 +50,9 @@ from tumble.errors import (
     quoted,
 )
 from tumble.massprops import MassProperties
-from tumble.mesh.checks import (
+from tumble.mesh.reading import check_mesh_file
+from tumble.mesh.step import STEP_SUFFIXES, tessellate_step
+from tumble.mesh.validation import (
     DEFAULT_MERGE_FRACTION,
     MeshRepairWarning,
     bounds_and_centre,
@@ -59,8 +61,6 @@ from tumble.mesh.checks import (
     cubic_metres,
     scaled_inertia,
 )
-from tumble.mesh.reading import check_mesh_file
-from tumble.mesh.step import STEP_SUFFIXES, tessellate_step
 from tumble.units import length_scale, to_si
 
 __all__ = [

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from tumble.core.polyhedron import shell_integrals
 from tumble.errors import InputError, MeshError
 from tumble.massprops import MassProperties
-from tumble.mesh.checks import bounds_and_centre, check_arrays, scaled_inertia
+from tumble.mesh.validation import bounds_and_centre, check_arrays, scaled_inertia
 
 __all__ = ["shell_mass_properties"]
 

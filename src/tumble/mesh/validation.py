@@ -1,4 +1,4 @@
-"""The checks and repairs that make a triangle mesh a solid before its integrals
+"""The validation and repairs that make a triangle mesh a solid before its integrals
 are taken (:mod:`tumble.mesh`): merging and welding vertices, cancelling
 coincident triangles, and checking that every edge closes the surface, or
 splits it into closed pieces, with consistent winding.

@@ -1,4 +1,4 @@
-"""The checks of what :func:`tumble.identify` is given: the samples, the window
+"""The validation of what :func:`tumble.identify` is given: the samples, the window
 and whether the motion in it can show a body at all."""
 
 from __future__ import annotations
