@@ -59,19 +59,22 @@ print(json.dumps(out))
 """
 
 
-def measure(source: str | None) -> dict[str, float]:
-    """ns per step of each case, in a fresh process on ``source`` (None: this tree)."""
+def measure(source: str | None, child: str = CHILD) -> dict[str, float]:
+    """ns per step of each case of the program ``child``, in a fresh process on
+    ``source`` (None: this tree)."""
     environment = dict(os.environ)
     if source:
         environment["PYTHONPATH"] = source
     done = subprocess.run(
-        [sys.executable, "-c", CHILD], env=environment, capture_output=True, text=True, check=True
+        [sys.executable, "-c", child], env=environment, capture_output=True, text=True, check=True
     )
     return dict(json.loads(done.stdout.strip().splitlines()[-1]))
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def main(child: str = CHILD, description: str = __doc__) -> None:
+    """Run ``child`` (a program printing its cases' ns a step as JSON) in this tree and
+    in ``--other``, alternated, and print the medians side by side."""
+    parser = argparse.ArgumentParser(description=description.split("\n\n")[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--other", help="Another tree's src folder, measured alongside.")
     args = parser.parse_args()
@@ -80,7 +83,7 @@ def main() -> None:
     runs: dict[str, list[dict[str, float]]] = {tree: [] for tree in trees}
     for _ in range(args.repeat):
         for tree, source in trees.items():  # alternated: the host's phases hit both
-            runs[tree].append(measure(source))
+            runs[tree].append(measure(source, child))
     cases = list(runs["this tree"][0])
     print(f"medians of {args.repeat}, ns per (body-)step")
     header = f"{'case':<38} {'this tree':>10}"

@@ -3,14 +3,17 @@ NUMBA_DISABLE_JIT=1)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+import pytest
 from numpy.testing import assert_allclose
 from scipy.spatial.transform import Rotation
 
 from tumble.core import stepping
-from tumble.core._jit import FINITE
+from tumble.core._jit import FINITE, njit
 from tumble.core.dynamics import rotate_to_body
-from tumble.core.rk4 import rk4_step
+from tumble.core.rk4 import fixed_step_run, rk4_step
 from tumble.core.torques import combine, constant_body_torque, constant_space_torque
 
 FREE = combine(())
@@ -77,3 +80,50 @@ def test_a_diverging_step_is_reported_and_not_taken() -> None:
     )  # fmt: skip
     assert status == 8
     assert_allclose(w, [0.0, 1e200, 1e200])
+
+
+@njit
+def _oscillator(t, y, dy, model):  # type: ignore[no-untyped-def]
+    """ẋ = v, v̇ = −ω² x, ω = model[0]."""
+    dy[0] = y[1]
+    dy[1] = -model[0] * model[0] * y[0]
+
+
+@njit
+def _cubic_in_time(t, y, dy, model):  # type: ignore[no-untyped-def]
+    """ẏ = t³ (then NaN from model[0] s on: a step that diverges)."""
+    dy[0] = t * t * t if t < model[0] else math.nan
+
+
+def test_the_shared_stepper_is_the_classical_runge_kutta_map() -> None:
+    # On ẏ = A y, one RK4 step of h multiplies y by R(hA) = I + hA + (hA)²/2 + (hA)³/6
+    # + (hA)⁴/24, exactly: 400 steps are the 400th power of that matrix (computed in
+    # numpy, an independent route), equal to round-off over 400 steps (1e-13 of |y|).
+    omega, h, steps = 3.0, 0.01, 400
+    run = fixed_step_run(_oscillator)
+    y = np.array([1.0, 0.0])
+    out = np.zeros((steps // 100 + 1, 2))
+    assert run(y, h, steps, 0, 100, out, (omega,)) == FINITE
+    z = h * np.array([[0.0, 1.0], [-omega * omega, 0.0]])
+    one_step = np.eye(2) + z + z @ z / 2 + z @ z @ z / 6 + z @ z @ z @ z / 24
+    assert_allclose(y, np.linalg.matrix_power(one_step, steps) @ [1.0, 0.0], atol=1e-13)
+    # Rows every 100th step, from row 1 (row 0 is the caller's: the start).
+    for row in range(1, 5):
+        expected = np.linalg.matrix_power(one_step, 100 * row) @ [1.0, 0.0]
+        assert_allclose(out[row], expected, atol=1e-13)
+    # And it is the oscillator: RK4's error over 4 s at ω h = 0.03 is ~(ωh)⁴ ω t / 120
+    # ≈ 8e-8 of the amplitude.
+    assert_allclose(y, [np.cos(omega * 4.0), -omega * np.sin(omega * 4.0)], atol=1e-6)
+
+
+def test_the_shared_stepper_reads_the_time_and_stops_before_a_diverging_step() -> None:
+    # Simpson's rule, which RK4 is on ẏ = f(t), is exact for cubics: y = t⁴/4 at each
+    # step, from the time first_step · dt (steps 50 to 149 of 0.01 s: 0.5 to 1.5 s).
+    run = fixed_step_run(_cubic_in_time)
+    y = np.array([0.5**4 / 4])
+    assert run(y, 0.01, 100, 50, 1000, np.zeros((1, 1)), (math.inf,)) == FINITE
+    assert y[0] == pytest.approx(1.5**4 / 4, rel=1e-14)
+    # The rates turn NaN from 1 s: the step from 0.99 s (global step 100) is not taken.
+    y = np.array([0.5**4 / 4])
+    assert run(y, 0.01, 100, 50, 1000, np.zeros((1, 1)), (1.0,)) == 100
+    assert y[0] == pytest.approx(0.99**4 / 4, rel=1e-13)

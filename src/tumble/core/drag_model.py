@@ -6,7 +6,8 @@ per principal axis, scaled by the largest moment (moments ``(r1, r2, 1)``):
 ``r_i ω̇_i = −(ω × (r ω))_i − k_i ω_i``          (linear drag, k_i = c_i / I3 in 1/s)
 ``r_i ω̇_i = −(ω × (r ω))_i − k_i ω_i |ω_i|``    (quadratic drag, k_i = c_i / I3 in 1/rad)
 
-No closed form exists: the rates are stepped with the classical Runge–Kutta method,
+No closed form exists: the rates are stepped with the classical Runge–Kutta method
+(:func:`tumble.core.rk4.rk4_array_step`),
 each interval between samples cut into substeps that turn the body by at most
 :data:`MOST_TURN` rad, where the method's error (≈ (|ω| h)⁵ / 120 a step relative to
 |ω|, some 3e-9; over a throw of a few hundred substeps ~1e-6 of |ω|) stays far below
@@ -24,6 +25,7 @@ import numpy as np
 
 from tumble.core._jit import njit
 from tumble.core.rate_model import forward_differences, moments_and_axes
+from tumble.core.rk4 import rk4_array_step
 
 __all__ = ["MOST_TURN", "drag_jacobian", "drag_rates", "drag_residuals"]
 
@@ -41,9 +43,11 @@ GIVEN_UP = 1e6
 MOST_SUBSTEPS = 100
 
 
-@njit
-def _rates_of_change(moments, drag, quadratic, w, out):  # type: ignore[no-untyped-def]
-    """ω̇ (3,) of the principal rates ``w`` under drag (see the module)."""
+@njit(inline="always")
+def _rates_of_change(t, w, out, model):  # type: ignore[no-untyped-def]
+    """ω̇ (3,) of the principal rates ``w`` under drag (see the module); ``model`` is
+    ``(moments, drag, quadratic)`` (no time ``t`` enters)."""
+    moments, drag, quadratic = model
     l0, l1, l2 = moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]
     gyro0 = w[1] * l2 - w[2] * l1
     gyro1 = w[2] * l0 - w[0] * l2
@@ -60,8 +64,9 @@ def _rates_of_change(moments, drag, quadratic, w, out):  # type: ignore[no-untyp
 
 @njit
 def _advance(moments, drag, quadratic, w, span, budget):  # type: ignore[no-untyped-def]
-    """Step ``w`` (3,) in place over ``span`` s (either sign) with RK4 substeps, at most
-    ``budget`` of them; the substeps taken."""
+    """Step ``w`` (3,) in place over ``span`` s (either sign) with RK4 substeps
+    (:func:`tumble.core.rk4.rk4_array_step`), at most ``budget`` of them; the substeps
+    taken."""
     if span == 0.0:
         return 0
     size = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
@@ -79,20 +84,10 @@ def _advance(moments, drag, quadratic, w, span, budget):  # type: ignore[no-unty
             w[i] = math.nan
         return 0
     h = span / count
-    k1, k2, k3, k4, trial = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    work = np.empty((5, 3))
+    model = (moments, drag, quadratic)
     for _ in range(int(count)):
-        _rates_of_change(moments, drag, quadratic, w, k1)
-        for i in range(3):
-            trial[i] = w[i] + 0.5 * h * k1[i]
-        _rates_of_change(moments, drag, quadratic, trial, k2)
-        for i in range(3):
-            trial[i] = w[i] + 0.5 * h * k2[i]
-        _rates_of_change(moments, drag, quadratic, trial, k3)
-        for i in range(3):
-            trial[i] = w[i] + h * k3[i]
-        _rates_of_change(moments, drag, quadratic, trial, k4)
-        for i in range(3):
-            w[i] += h * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]) / 6.0
+        rk4_array_step(_rates_of_change, 0.0, h, w, work, model)
     return int(count)
 
 

@@ -53,6 +53,10 @@ def derivatives(y, params, dy):  # type: ignore[no-untyped-def]
 def rk4_run(y, params, dt, n_steps, first_step, record_every, out):  # type: ignore[no-untyped-def]
     """Advance ``y`` in place by ``n_steps`` classical Runge–Kutta steps of ``dt`` s.
 
+    The steps are written out on scalars, not taken by the shared stepper of arrays
+    (:func:`tumble.core.rk4.fixed_step_run`): with three states held in registers a
+    step takes 57 ns, through arrays 72 ns (``bench/model_steppers.py``).
+
     After global step ``first_step + j + 1`` (j = 0 … n_steps − 1), if that
     number is a multiple of ``record_every``, the state is written to row
     ``number // record_every`` of ``out`` (·, 3).

@@ -1,4 +1,5 @@
-"""A rigid rotor on elastic bearings run up with an unbalance, stepped by a compiled RK4.
+"""A rigid rotor on elastic bearings run up with an unbalance, stepped by the compiled
+RK4 of :func:`tumble.core.rk4.fixed_step_run`.
 
 The rotor's small motions q = (x, y, α, β) (its centre of mass perpendicular
 to the axis, m, and the axis's tilts, rad) obey
@@ -19,18 +20,19 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
-from tumble.core._jit import FINITE, njit
+from tumble.core._jit import njit
+from tumble.core.rk4 import fixed_step_run
 
 __all__ = ["N_PARAMS", "derivatives", "rk4_run"]
 
 N_PARAMS = 4
 
 
-@njit
-def derivatives(t, y, matrices, params, dy):  # type: ignore[no-untyped-def]
-    """Write ẏ = (q̇, q̈) into ``dy`` (8,) for the state ``y`` at time ``t`` (s)."""
+@njit(inline="always")
+def derivatives(t, y, dy, model):  # type: ignore[no-untyped-def]
+    """Write ẏ = (q̇, q̈) into ``dy`` (8,) for the state ``y`` at time ``t`` (s);
+    ``model`` is ``(matrices, params)``."""
+    matrices, params = model
     start, rate, unbalance, arm = params[0], params[1], params[2], params[3]
     spin = start + rate * t
     angle = (start + 0.5 * rate * t) * t
@@ -51,50 +53,7 @@ def derivatives(t, y, matrices, params, dy):  # type: ignore[no-untyped-def]
         dy[4 + i] = total
 
 
-@njit
-def rk4_run(y, matrices, params, dt, n_steps, first_step, record_every, out):  # type: ignore[no-untyped-def]
-    """Advance ``y`` in place by ``n_steps`` classical Runge–Kutta steps of ``dt`` s
-    from the time ``first_step * dt``.
-
-    After global step ``first_step + j + 1`` (j = 0 … n_steps − 1), if that
-    number is a multiple of ``record_every``, the state is written to row
-    ``number // record_every`` of ``out`` (·, 8).
-
-    Returns
-    -------
-    ``FINITE`` (−1) if every step stayed finite, else the global number of the
-    first step that produced a NaN or an infinity (``y`` is left as it was
-    before that step).
-    """
-    k1 = np.empty(8)
-    k2 = np.empty(8)
-    k3 = np.empty(8)
-    k4 = np.empty(8)
-    trial = np.empty(8)
-    half = 0.5 * dt
-    for j in range(n_steps):
-        number = first_step + j
-        t = number * dt
-        derivatives(t, y, matrices, params, k1)
-        for i in range(8):
-            trial[i] = y[i] + half * k1[i]
-        derivatives(t + half, trial, matrices, params, k2)
-        for i in range(8):
-            trial[i] = y[i] + half * k2[i]
-        derivatives(t + half, trial, matrices, params, k3)
-        for i in range(8):
-            trial[i] = y[i] + dt * k3[i]
-        derivatives(t + dt, trial, matrices, params, k4)
-        finite = True
-        for i in range(8):
-            trial[i] = y[i] + dt / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i])
-            finite = finite and math.isfinite(trial[i])
-        if not finite:
-            return number + 1
-        for i in range(8):
-            y[i] = trial[i]
-        if (number + 1) % record_every == 0:
-            row = (number + 1) // record_every
-            for i in range(8):
-                out[row, i] = y[i]
-    return FINITE
+#: ``rk4_run(y, dt, n_steps, first_step, record_every, out, (matrices, params))``: the
+#: run of :func:`tumble.core.rk4.fixed_step_run` with these rates, recording rows
+#: (·, 8).
+rk4_run = fixed_step_run(derivatives)

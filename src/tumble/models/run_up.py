@@ -193,7 +193,7 @@ def run_up(
     out[0] = y = np.zeros(8)
     n_steps, step, every = schedule.n_steps, schedule.step, schedule.record_every
     step_in_chunks(
-        lambda done, count: whirl.rk4_run(y, stacked, params, step, count, done, every, out),
+        lambda done, count: whirl.rk4_run(y, step, count, done, every, out, (stacked, params)),
         n_steps,
         step,
         progress,
