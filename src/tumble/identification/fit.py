@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -351,111 +351,97 @@ def _start_of(fit: BodyFit, relative: Array, torque: str, bias: bool) -> Array:
     return np.concatenate([ratios, np.zeros(3), fit.omega0, offset, drag])
 
 
-def _fit(
-    times: Array,
-    rates: Array,
-    noise: float,
-    bias: bool,
-    loss: str,
-    note: str = "",
-    torque: str = "free",
-    start_from: BodyFit | None = None,
-) -> BodyFit:
-    """The fit of the samples of one window with one torque model (see
-    :func:`tumble.identify`); from the starts of the linear start and of a grid of
-    ratios, or only from the body, motion, bias (and drag) of ``start_from`` (a fit of
-    the same samples with another torque model)."""
-    start = float(times[0])
-    relative = times - start
-    check_motion(rates, noise)
-
-    smooth, derivative = smoothed(relative, rates)
+def _starts(
+    rates: Array, smooth: Array, derivative: Array, bias: bool
+) -> list[tuple[Array, Array]]:
+    """The torque-free starts (parameters, the frame their rotation turns): the
+    linear start (:func:`linear_start`) and a grid of ratios, each in the linear
+    start's axes and in those of the second moments of the samples (a motion near
+    the separatrix dwells along the middle axis)."""
     moments, frame, first = linear_start(smooth, derivative)
-    # A second guess of the axes: those of the second moments of the samples
-    # (a motion near the separatrix dwells along the middle axis).
     _, spread = np.linalg.eigh(rates.T @ rates)
     spread[:, 0] *= np.linalg.det(spread)
-    starts = [(moments[:2], frame)] + [
+    guesses = [(moments[:2], frame)] + [
         (np.array(r), axes) for axes in (frame, spread) for r in RATIO_STARTS
     ]
-    # The starts are tried on at most START_SAMPLES of the samples, evenly spread
-    # (the answer is polished on all of them below), and on growing spans of
-    # them: over many flips a small error of ω0 shifts the late flips by whole
-    # turns, and a fit from there can settle far away; a short span fixes ω0 first.
-    every = max(1, len(times) // START_SAMPLES)
-    some_times, some_rates = relative[::every], rates[::every]
-    spans = [
-        n
-        for n in (len(some_times) // 8, len(some_times) // 4, len(some_times) // 2)
-        if n >= 3 * MIN_SAMPLES
-    ] + [len(some_times)]
-    # The starts are searched with soft_l1 where a robust loss is asked for: it
-    # resists outliers as well, and its trust region converges where a
-    # redescending loss (cauchy, arctan) crawls from a poor start, for minutes,
-    # to a body off by several of its errors; the chosen loss polishes the best.
-    search = "linear" if loss == "linear" else "soft_l1"
-    candidates = [
-        np.concatenate([np.log(ratios), np.zeros(3), axes.T @ first, np.zeros(3 if bias else 0)])
-        for ratios, axes in starts
+    offset = np.zeros(3 if bias else 0)
+    return [
+        (np.concatenate([np.log(ratios), np.zeros(3), axes.T @ first, offset]), axes)
+        for ratios, axes in guesses
     ]
-    frames = [axes for _, axes in starts]
-    # Each start is searched torque-free (exact, fast, and unable to run off into a
-    # drag that decays faster than the samples); a drag is then searched from the best
-    # few torque-free results, the coefficients from none: the decay the torque-free
-    # body leaves over takes them from zero in a few steps. A fit of another model
-    # starts the drag directly.
-    searched = "free"
-    if start_from is not None:
-        candidates = [_start_of(start_from, relative, torque, bias)]
-        frames = [start_from.axes]
-        searched = torque
-    largest = float(np.abs(rates).max())
-    found = []
-    for x, axes in zip(candidates, frames, strict=True):
-        for n in spans:
-            result = _solve(
-                x, axes, some_times[:n], some_rates[:n], bias, search, False, noise, searched
-            )
-            x = result.x
-        found.append((result, axes))
-        if looks_like_noise(result.fun.reshape(-1, 3), noise, largest):
-            break  # residuals like the noise: the other starts are for a miss
-    found.sort(key=lambda pair: pair[0].cost)
-    if torque != searched:
-        if bias:
-            biases = np.array([result.x[8:11] for result, _ in found])
-            within = biases_within_rates(biases, rates, smooth, derivative)
-            found = [pair for pair, keep in zip(found, within, strict=True) if keep]
-        drags = []
-        for result, axes in found[:DRAG_STARTS]:
-            x = np.concatenate([result.x, np.zeros(3)])
-            drags.append(
-                (_solve(x, axes, some_times, some_rates, bias, search, False, noise, torque), axes)
-            )
-            if looks_like_noise(drags[-1][0].fun.reshape(-1, 3), noise, largest):
-                break
-        found = sorted(drags, key=lambda pair: pair[0].cost)
-    best, frame = found[0]
-    assert best is not None
 
-    # Polish in the canonical frame, from which the covariance is read.
+
+@dataclass(frozen=True)
+class _Samples:
+    """The samples the starts are searched on (times from the window's start, s, and
+    rates, rad/s), the fit's bias flag and noise, and the largest rate."""
+
+    times: Array
+    rates: Array
+    bias: bool
+    noise: float
+    largest: float
+
+    def search(
+        self, starts: list[tuple[Array, Array]], loss: str, torque: str, spans: bool = True
+    ) -> list[tuple[Any, Array]]:
+        """Each start searched (on growing spans of the samples with ``spans``), until
+        one leaves residuals like the noise; the results with their frames, least cost
+        first."""
+        count = len(self.times)
+        lengths = [n for n in (count // 8, count // 4, count // 2) if n >= 3 * MIN_SAMPLES]
+        lengths = [*lengths, count] if spans else [count]
+        found = []
+        for x, axes in starts:
+            for n in lengths:
+                result = _solve(
+                    x,
+                    axes,
+                    self.times[:n],
+                    self.rates[:n],
+                    self.bias,
+                    loss,
+                    False,
+                    self.noise,
+                    torque,
+                )
+                x = result.x
+            found.append((result, axes))
+            if looks_like_noise(result.fun.reshape(-1, 3), self.noise, self.largest):
+                break  # residuals like the noise: the other starts are for a miss
+        return sorted(found, key=lambda pair: pair[0].cost)
+
+
+def _polish(
+    best: Any,
+    frame: Array,
+    times: Array,
+    rates: Array,
+    bias: bool,
+    loss: str,
+    noise: float,
+    torque: str,
+) -> tuple[Any, Array, Array, Array, Array, Array]:
+    """The best search polished on all the samples in the canonical frame, from which
+    the covariance is read: the solver's result, the moments, axes, ω0, bias and drag
+    coefficients (each with its axis)."""
     body, axes, omega0, offset, drag = _unpack(best.x, frame, bias)
     if drag.size:
         drag = drag[np.argsort(body, kind="stable")]  # each coefficient with its axis
     moments, axes, omega0 = canonical(body, axes, omega0)
     x = np.concatenate([np.log(moments[:2]), np.zeros(3), omega0, offset if bias else [], drag])
-    final = _solve(x, axes, relative, rates, bias, loss, tight=True, noise=noise, torque=torque)
+    final = _solve(x, axes, times, rates, bias, loss, tight=True, noise=noise, torque=torque)
     body, axes, omega0, offset, drag = _unpack(final.x, axes, bias)
     if drag.size:
         drag = drag[np.argsort(body, kind="stable")]
     moments, axes, omega0 = canonical(body, axes, omega0)
+    return final, moments, axes, omega0, offset, drag
 
-    residual = float(np.sqrt(np.mean(final.fun**2)))
-    check_miss(final.fun, noise, times, rates, smooth, derivative, torque)
-    # A body matched the samples, but no sensor reads mostly its own offset: a bias
-    # beyond the rates is a unit error (whatever else the fit leaves undetermined).
-    check_bias(offset, rates)
-    check_determined(final.jac, bias)
+
+def _covariance(final: Any, moments: Array, size: int, bias: bool) -> tuple[Array, Array]:
+    """The covariance of the parameters (the ratios themselves, not their logarithms)
+    from the residuals of ``size`` numbers and the Jacobian, and the ratios' standard
+    errors; refused when they do not determine the ratios."""
     if moments[0] < MIN_RATIO:
         raise InputError(
             "Expected a recording that determines the moment ratios, got a fit that ran to a "
@@ -463,7 +449,7 @@ def _fit(
             "shows too little of the body (a longer free flight, or a throw further from a "
             "principal axis, would)."
         )
-    dof = max(rates.size - final.x.size, 1)
+    dof = max(size - final.x.size, 1)
     variance = 2 * final.cost / dof
     covariance = variance * np.linalg.pinv(final.jac.T @ final.jac, rcond=1e-12, hermitian=True)
     # From the logarithms of the ratios to the ratios: d r = r d(ln r).
@@ -485,6 +471,64 @@ def _fit(
             "bias, a symmetric body's ratios trade off against it (fit with bias=False if "
             "the sensor has none, or take the bias from a recording at rest)."
         )
+    return covariance, errors
+
+
+def _fit(
+    times: Array,
+    rates: Array,
+    noise: float,
+    bias: bool,
+    loss: str,
+    note: str = "",
+    torque: str = "free",
+    start_from: BodyFit | None = None,
+) -> BodyFit:
+    """The fit of the samples of one window with one torque model (see
+    :func:`tumble.identify`); from the starts of the linear start and of a grid of
+    ratios, or only from the body, motion, bias (and drag) of ``start_from`` (a fit of
+    the same samples with another torque model)."""
+    start = float(times[0])
+    relative = times - start
+    check_motion(rates, noise)
+    smooth, derivative = smoothed(relative, rates)
+    # The starts are tried on at most START_SAMPLES of the samples, evenly spread
+    # (the answer is polished on all of them below), and on growing spans of
+    # them: over many flips a small error of ω0 shifts the late flips by whole
+    # turns, and a fit from there can settle far away; a short span fixes ω0 first.
+    every = max(1, len(times) // START_SAMPLES)
+    some = _Samples(relative[::every], rates[::every], bias, noise, float(np.abs(rates).max()))
+    # The starts are searched with soft_l1 where a robust loss is asked for: it
+    # resists outliers as well, and its trust region converges where a
+    # redescending loss (cauchy, arctan) crawls from a poor start, for minutes,
+    # to a body off by several of its errors; the chosen loss polishes the best.
+    search = "linear" if loss == "linear" else "soft_l1"
+    # Each start is searched torque-free (exact, fast, and unable to run off into a
+    # drag that decays faster than the samples); a drag is then searched from the best
+    # few torque-free results, the coefficients from none: the decay the torque-free
+    # body leaves over takes them from zero in a few steps. A fit of another model
+    # starts the drag directly.
+    if start_from is None:
+        found = some.search(_starts(rates, smooth, derivative, bias), search, "free")
+    else:
+        starts = [(_start_of(start_from, relative, torque, bias), start_from.axes)]
+        found = some.search(starts, search, torque)
+    if torque != "free" and start_from is None:
+        if bias:
+            biases = np.array([result.x[8:11] for result, _ in found])
+            within = biases_within_rates(biases, rates, smooth, derivative)
+            found = [pair for pair, keep in zip(found, within, strict=True) if keep]
+        drag_starts = [(np.concatenate([r.x, np.zeros(3)]), axes) for r, axes in found]
+        found = some.search(drag_starts[:DRAG_STARTS], search, torque, spans=False)
+    final, moments, axes, omega0, offset, drag = _polish(
+        *found[0], relative, rates, bias, loss, noise, torque
+    )
+    check_miss(final.fun, noise, times, rates, smooth, derivative, torque)
+    # A body matched the samples, but no sensor reads mostly its own offset: a bias
+    # beyond the rates is a unit error (whatever else the fit leaves undetermined).
+    check_bias(offset, rates)
+    check_determined(final.jac, bias)
+    covariance, errors = _covariance(final, moments, rates.size, bias)
     ratios = moments[:2]
     return BodyFit(
         moment_ratios=ratios,
@@ -493,7 +537,7 @@ def _fit(
         omega0=omega0,
         bias=offset,
         covariance=covariance,
-        residual_rms=residual,
+        residual_rms=float(np.sqrt(np.mean(final.fun**2))),
         # Of the nearest physical body where noise puts the ratios just outside
         # the triangle inequality (a flat plate has I1 + I2 = I3).
         flip_period=flip_period([max(ratios[0], 1.0 - ratios[1]), ratios[1], 1.0], omega0),
