@@ -159,51 +159,81 @@ def fit_recording(
                 quiet=quiet,
             )
             return
-        span = parse_window(window) if window is not None else None
-        with loading():
-            from tumble.cli.runs import default_folder
-            from tumble.identification.fit import identify
-            from tumble.identification.recordings import (
-                example_recording_path,
-                rate_unit,
-                read_recording,
-            )
-            from tumble.identification.validation import check_loss, check_torque
-            from tumble.report.fit import fit_name, write_fit
-
-        # The library's own checks, before the recording is read: said at once.
-        check_loss(loss, "--loss")
-        check_torque(torque, "--torque")
-        rate_unit(units, "--units")
-        path = Path(recording) if recording is not None else example_recording_path()
-        source = str(path) if recording is not None else path.name
-        measured = read_recording(path, columns, units)
-        fit = identify(
-            measured.t, measured.omega, window=span, bias=not no_bias, loss=loss, torque=torque
-        )
-        folder = output if output is not None else default_folder(fit_name(source))
-        write_fit(
-            fit,
-            measured,
-            folder,
-            source=source,
-            noise=fit.noise,
-            found=span is None,
+        fit_window(
+            recording,
+            columns=columns,
+            units=units,
+            window=window,
+            bias=not no_bias,
             loss=loss,
-            figures=not no_figures,
+            torque=torque,
+            output=output,
             force=force,
+            figures=not no_figures,
+            quiet=quiet,
         )
-        if quiet:
-            return
-        if recording is None:
-            typer.echo(
-                f"No recording given: fitted the example shipped with tumble, {path} (a phone "
-                "thrown spinning about its intermediate axis: synthetic_phone(0) of "
-                "tumble.identification)."
-            )
-        print_fit(fit, measured, source, folder, fit.noise, found=span is None)
 
     run_command(work)
+
+
+def fit_window(
+    recording: str | None,
+    *,
+    columns: str | None,
+    units: str | None,
+    window: str | None,
+    bias: bool,
+    loss: str,
+    torque: str,
+    output: Path | None,
+    force: bool,
+    figures: bool,
+    quiet: bool,
+) -> None:
+    """``tumble fit`` of one free flight: the recording read, the flight in ``window``
+    (``START,END`` in s; None: found) fitted, the fit folder written and the fit
+    printed (see :func:`fit_recording`)."""
+    span = parse_window(window) if window is not None else None
+    with loading():
+        from tumble.cli.runs import default_folder
+        from tumble.identification.fit import identify
+        from tumble.identification.recordings import (
+            example_recording_path,
+            rate_unit,
+            read_recording,
+        )
+        from tumble.identification.validation import check_loss, check_torque
+        from tumble.report.fit import fit_name, write_fit
+
+    # The library's own checks, before the recording is read: said at once.
+    check_loss(loss, "--loss")
+    check_torque(torque, "--torque")
+    rate_unit(units, "--units")
+    path = Path(recording) if recording is not None else example_recording_path()
+    source = str(path) if recording is not None else path.name
+    measured = read_recording(path, columns, units)
+    fit = identify(measured.t, measured.omega, window=span, bias=bias, loss=loss, torque=torque)
+    folder = output if output is not None else default_folder(fit_name(source))
+    write_fit(
+        fit,
+        measured,
+        folder,
+        source=source,
+        noise=fit.noise,
+        found=span is None,
+        loss=loss,
+        figures=figures,
+        force=force,
+    )
+    if quiet:
+        return
+    if recording is None:
+        typer.echo(
+            f"No recording given: fitted the example shipped with tumble, {path} (a phone "
+            "thrown spinning about its intermediate axis: synthetic_phone(0) of "
+            "tumble.identification)."
+        )
+    print_fit(fit, measured, source, folder, fit.noise, found=span is None)
 
 
 def parse_window(text: str) -> tuple[float, float]:
