@@ -11,7 +11,7 @@ import typer
 from tumble.cli.app import loading
 
 if TYPE_CHECKING:
-    from tumble.identification import ThrowFits
+    from tumble.identification import JointFit, ThrowFits
     from tumble.identification.recordings import Recording
 
 __all__ = [
@@ -172,11 +172,7 @@ def fit_throws(
 def print_throws(many: ThrowFits, measured: Recording, source: str, folder: Path) -> None:
     """The table of the throws, the joint fit with its standard errors and its choice
     of torque, the medians of the forecast errors, and where the files are."""
-    import math
-
-    from rich import box
     from rich.console import Console
-    from rich.table import Table
 
     console = Console()
     t = measured.t
@@ -187,6 +183,44 @@ def print_throws(many: ThrowFits, measured: Recording, source: str, folder: Path
     )
     if measured.note:
         console.print(f"note: {measured.note}", highlight=False, soft_wrap=True)
+    console.print(_throws_table(many))
+    for row in many.table.itertuples():
+        if not row.fitted:
+            reason = str(row.reason)
+            shown = reason if len(reason) <= REASON_LENGTH else reason[: REASON_LENGTH - 1] + "…"
+            how = "refused alone, fitted under the joint body" if row.in_joint else "refused"
+            console.print(f"throw {row.throw} {how}: {shown}", highlight=False, soft_wrap=True)
+    joint = many.joint
+    if joint is None:
+        console.print(f"No joint fit: {many.joint_refusal}", highlight=False, soft_wrap=True)
+    else:
+        console.print(_joint_table(joint))
+        console.print(f"Torque: {joint.choice}", highlight=False, soft_wrap=True)
+    if many.hold_out > 0:
+        console.print(
+            f"Forecast of the held-out last {100 * many.hold_out:.3g} % of each throw, median "
+            f"error: {_percent(many.forecast_errors)} by the joint body of the first parts, "
+            f"{_percent(many.single_forecast_errors)} by each throw's first part alone",
+            highlight=False,
+            soft_wrap=True,
+        )
+    console.print(f"Fit folder: {folder}", highlight=False, soft_wrap=True)
+    console.print(f"Report: {folder / 'report.html'}", highlight=False, soft_wrap=True)
+    if joint is not None:
+        console.print(
+            f"Replay: tumble run {folder / 'fitted-scenario.toml'}", highlight=False, soft_wrap=True
+        )
+
+
+def _throws_table(many: ThrowFits) -> Any:
+    """A rich table of the throws, a row each: its window, its fit (its torque, or
+    refused, or joined), its ratios with their errors, residual over the noise,
+    forecast error and whether it is an outlier."""
+    import math
+
+    from rich import box
+    from rich.table import Table
+
     table = Table(
         title="Throws, each fitted alone (fit: its torque, or refused; ratios as "
         "value(standard error in its last digits))",
@@ -218,55 +252,37 @@ def print_throws(many: ThrowFits, measured: Recording, source: str, folder: Path
             f"{100 * row.forecast_error:.2g} %" if math.isfinite(row.forecast_error) else "",
             "yes" if row.outlier else "",
         )
-    console.print(table)
-    for row in many.table.itertuples():
-        if not row.fitted:
-            reason = str(row.reason)
-            shown = reason if len(reason) <= REASON_LENGTH else reason[: REASON_LENGTH - 1] + "…"
-            how = "refused alone, fitted under the joint body" if row.in_joint else "refused"
-            console.print(f"throw {row.throw} {how}: {shown}", highlight=False, soft_wrap=True)
-    joint = many.joint
-    if joint is None:
-        console.print(f"No joint fit: {many.joint_refusal}", highlight=False, soft_wrap=True)
-    else:
-        summary = Table(
-            title=f"Joint fit of {len(joint.throws)} throws (moments ascending)",
-            title_justify="left",
-        )
-        for name, justify in (
-            ("quantity", "left"),
-            ("value", "right"),
-            ("± std. error", "right"),
-            ("unit", "left"),
-        ):
-            summary.add_column(name, justify=justify)  # type: ignore[arg-type]
-        for k, name in enumerate(("I1/I3", "I2/I3")):
-            summary.add_row(name, *with_error(joint.moment_ratios[k], joint.uncertainty[k]), "")
-        for k in range(joint.torque_parameters.size):
-            value, error = with_error(joint.torque_parameters[k], joint.torque_uncertainty[k])
-            summary.add_row(f"c{k + 1}/I3 ({joint.torque})", value, error, joint.torque_units)
-        summary.add_row("residual rms", f"{joint.residual_rms:.3g}", "", "rad/s")
-        summary.add_row("sensor noise σ", f"{joint.noise:.3g}", "", "rad/s")
-        for k, axis in enumerate("xyz"):
-            summary.add_row(f"bias {axis}", f"{joint.bias[k]:.4g}", "", "rad/s")
-        outliers = ", ".join(str(i + 1) for i in joint.outliers) or "none"
-        summary.add_row("outliers", outliers, "", "")
-        console.print(summary)
-        console.print(f"Torque: {joint.choice}", highlight=False, soft_wrap=True)
-    if many.hold_out > 0:
-        console.print(
-            f"Forecast of the held-out last {100 * many.hold_out:.3g} % of each throw, median "
-            f"error: {_percent(many.forecast_errors)} by the joint body of the first parts, "
-            f"{_percent(many.single_forecast_errors)} by each throw's first part alone",
-            highlight=False,
-            soft_wrap=True,
-        )
-    console.print(f"Fit folder: {folder}", highlight=False, soft_wrap=True)
-    console.print(f"Report: {folder / 'report.html'}", highlight=False, soft_wrap=True)
-    if joint is not None:
-        console.print(
-            f"Replay: tumble run {folder / 'fitted-scenario.toml'}", highlight=False, soft_wrap=True
-        )
+    return table
+
+
+def _joint_table(joint: JointFit) -> Any:
+    """A rich table of the joint fit: the ratios and the drag with their standard
+    errors, the residual and the noise, the bias and the outliers."""
+    from rich.table import Table
+
+    summary = Table(
+        title=f"Joint fit of {len(joint.throws)} throws (moments ascending)",
+        title_justify="left",
+    )
+    for name, justify in (
+        ("quantity", "left"),
+        ("value", "right"),
+        ("± std. error", "right"),
+        ("unit", "left"),
+    ):
+        summary.add_column(name, justify=justify)  # type: ignore[arg-type]
+    for k, name in enumerate(("I1/I3", "I2/I3")):
+        summary.add_row(name, *with_error(joint.moment_ratios[k], joint.uncertainty[k]), "")
+    for k in range(joint.torque_parameters.size):
+        value, error = with_error(joint.torque_parameters[k], joint.torque_uncertainty[k])
+        summary.add_row(f"c{k + 1}/I3 ({joint.torque})", value, error, joint.torque_units)
+    summary.add_row("residual rms", f"{joint.residual_rms:.3g}", "", "rad/s")
+    summary.add_row("sensor noise σ", f"{joint.noise:.3g}", "", "rad/s")
+    for k, axis in enumerate("xyz"):
+        summary.add_row(f"bias {axis}", f"{joint.bias[k]:.4g}", "", "rad/s")
+    outliers = ", ".join(str(i + 1) for i in joint.outliers) or "none"
+    summary.add_row("outliers", outliers, "", "")
+    return summary
 
 
 def concise(value: float, error: float) -> str:
