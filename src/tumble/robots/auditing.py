@@ -156,66 +156,8 @@ def _declared(link: Link, solid: MassProperties | None, floor: float) -> list[Fi
         if refused:
             found.append(_round_off(link, moments, refused))
         return found
-    listed = ", ".join(f"{m:.6g}" for m in moments)
-    code, amount = verdict
-    if code == "not-positive-definite":
-        found.append(
-            link_finding(
-                link,
-                code,
-                f"Principal moments {listed} kg·m²: one is negative "
-                f"({amount:.3g}), beyond the rounding of the written digits; no body "
-                "has it.",
-            )
-        )
-    else:
-        found.append(
-            link_finding(
-                link,
-                code,
-                f"Principal moments {listed} kg·m² break I1 + I2 >= I3 "
-                f"by {100 * amount:.3g} % of I3; no body has them.",
-            )
-        )
-    powers = power_of_ten_candidates(values, texts)
-    swaps = swap_candidates(values, texts)
-    chosen, why = _one_power(link, powers, solid)
-    if chosen is not None:
-        ((name, value),) = chosen.items()
-        found.append(
-            link_finding(
-                link,
-                "power-of-ten",
-                f"Writing {name} = {value:.10g} (for "
-                f"{texts[INERTIA_ATTRIBUTES.index(name)]}) is {why}"
-                f"{_still_refused(values, chosen)}.",
-                accepted_change(values, chosen),
-            )
-        )
-    elif powers:
-        listed = ", ".join(f"{k} = {v:.6g}" for p in powers for k, v in p.items())
-        which = "its shapes do not tell which" if solid is not None else "no geometry to tell which"
-        found.append(
-            link_finding(
-                link,
-                "power-of-ten",
-                f"Moving a decimal point makes the tensor "
-                f"physical in {len(powers)} ways ({listed}); {which}.",
-                None,
-            )
-        )
-    elif len(swaps) == 1:
-        names = " and ".join(swaps[0])
-        found.append(
-            link_finding(
-                link,
-                "swapped-attributes",
-                f"Exchanging {names} is the one "
-                "exchange of two attributes that makes the tensor physical"
-                f"{_still_refused(values, swaps[0])}.",
-                accepted_change(values, swaps[0]),
-            )
-        )
+    found.append(_unphysical(link, moments, *verdict))
+    found += _corrections(link, values, texts, solid)
     if texts[1] == texts[3] and values[1] != 0.0:
         found.append(
             link_finding(
@@ -229,6 +171,74 @@ def _declared(link: Link, solid: MassProperties | None, floor: float) -> list[Fi
             )
         )
     return found
+
+
+def _unphysical(link: Link, moments: Array, code: str, amount: float) -> Finding:
+    """The finding of a declared tensor no body has (``code`` and ``amount`` of
+    :func:`judge_tensor`), naming its principal moments (kg·m²)."""
+    listed = ", ".join(f"{m:.6g}" for m in moments)
+    if code == "not-positive-definite":
+        return link_finding(
+            link,
+            code,
+            f"Principal moments {listed} kg·m²: one is negative "
+            f"({amount:.3g}), beyond the rounding of the written digits; no body "
+            "has it.",
+        )
+    return link_finding(
+        link,
+        code,
+        f"Principal moments {listed} kg·m² break I1 + I2 >= I3 "
+        f"by {100 * amount:.3g} % of I3; no body has them.",
+    )
+
+
+def _corrections(
+    link: Link, values: tuple[float, ...], texts: tuple[str, ...], solid: MassProperties | None
+) -> list[Finding]:
+    """The corrections that make an unphysical tensor physical: a decimal point moved
+    (the one its shapes choose, or every one when they cannot tell), or the one
+    exchange of two attributes."""
+    powers = power_of_ten_candidates(values, texts)
+    swaps = swap_candidates(values, texts)
+    chosen, why = _one_power(link, powers, solid)
+    if chosen is not None:
+        ((name, value),) = chosen.items()
+        return [
+            link_finding(
+                link,
+                "power-of-ten",
+                f"Writing {name} = {value:.10g} (for "
+                f"{texts[INERTIA_ATTRIBUTES.index(name)]}) is {why}"
+                f"{_still_refused(values, chosen)}.",
+                accepted_change(values, chosen),
+            )
+        ]
+    if powers:
+        listed = ", ".join(f"{k} = {v:.6g}" for p in powers for k, v in p.items())
+        which = "its shapes do not tell which" if solid is not None else "no geometry to tell which"
+        return [
+            link_finding(
+                link,
+                "power-of-ten",
+                f"Moving a decimal point makes the tensor "
+                f"physical in {len(powers)} ways ({listed}); {which}.",
+                None,
+            )
+        ]
+    if len(swaps) == 1:
+        names = " and ".join(swaps[0])
+        return [
+            link_finding(
+                link,
+                "swapped-attributes",
+                f"Exchanging {names} is the one "
+                "exchange of two attributes that makes the tensor physical"
+                f"{_still_refused(values, swaps[0])}.",
+                accepted_change(values, swaps[0]),
+            )
+        ]
+    return []
 
 
 def _still_refused(values: tuple[float, ...], change: dict[str, float]) -> str:
