@@ -236,41 +236,10 @@ def identify_many(
             refusal = str(error)
     joined: dict[int, BodyFit] = {}
     if joint is not None:
-        # The throws refused alone, fitted under the joint body, join it.
-        for i, fit in enumerate(fits):
-            inside = (times >= spans[i][0]) & (times <= spans[i][1])
-            if isinstance(fit, str) and inside.sum() >= MIN_SAMPLES:
-                under = fit_under(joint, times[inside], rates[inside], fit)
-                if under is not None:
-                    joined[i] = under
-        if joined:
-            members = sorted(set(joint.throws) | set(joint.outliers) | set(joined))
-            alone = dict(zip(joint.throws, joint.fits, strict=True))
-            alone |= {i: fits[i] for i in joint.outliers}  # type: ignore[misc]
-            joint = joint_fit(
-                [joined.get(i) or alone[i] for i in members],
-                members,
-                joint.torque,
-                bias,
-                loss,
-                joint.choice,
-            )
+        joint, joined = _join_refused(joint, fits, spans, times, rates, bias, loss)
     held_joint, errors = None, np.full(len(spans), math.nan)
     if joint is not None and hold_out > 0.0:
-        # The joint body's forecast: the same throws' first parts fitted together (from
-        # their whole fits, whose start values hold for their first parts too), each
-        # forecast over its own held-out part.
-        first_parts = [
-            replace(fit, t=fit.t[keep], measured=fit.measured[keep])
-            for fit in joint.fits
-            for keep in [fit.t <= _cut(fit.window, hold_out)]
-        ]
-        try:
-            held_joint = joint_fit(
-                first_parts, list(joint.throws), joint.torque, bias, loss, "held out"
-            )
-        except InputError:
-            held_joint = None  # too few throws agree on their first parts: no forecast
+        held_joint = _held_out_joint(joint, hold_out, bias, loss)
         for i in held_joint.throws if held_joint is not None else ():
             assert held_joint is not None
             cut = _cut(spans[i], hold_out)
@@ -287,6 +256,56 @@ def identify_many(
         single_forecast_errors=single_errors,
         hold_out=float(hold_out),
     )
+
+
+def _join_refused(
+    joint: JointFit,
+    fits: list[BodyFit | str],
+    spans: tuple[tuple[float, float], ...],
+    times: Array,
+    rates: Array,
+    bias: bool,
+    loss: str,
+) -> tuple[JointFit, dict[int, BodyFit]]:
+    """The throws refused alone (``fits``: their reasons) fitted under the joint body
+    (:func:`fit_under`: their ω0 alone), and the joint fit again with those that it
+    matches; the joint fit as it was when none does."""
+    joined: dict[int, BodyFit] = {}
+    for i, fit in enumerate(fits):
+        inside = (times >= spans[i][0]) & (times <= spans[i][1])
+        if isinstance(fit, str) and inside.sum() >= MIN_SAMPLES:
+            under = fit_under(joint, times[inside], rates[inside], fit)
+            if under is not None:
+                joined[i] = under
+    if not joined:
+        return joint, joined
+    members = sorted(set(joint.throws) | set(joint.outliers) | set(joined))
+    alone = dict(zip(joint.throws, joint.fits, strict=True))
+    alone |= {i: fits[i] for i in joint.outliers}  # type: ignore[misc]
+    refitted = joint_fit(
+        [joined.get(i) or alone[i] for i in members],
+        members,
+        joint.torque,
+        bias,
+        loss,
+        joint.choice,
+    )
+    return refitted, joined
+
+
+def _held_out_joint(joint: JointFit, hold_out: float, bias: bool, loss: str) -> JointFit | None:
+    """The joint body's forecast: the same throws' first parts fitted together (from
+    their whole fits, whose start values hold for their first parts too); None when
+    too few throws agree on their first parts."""
+    first_parts = [
+        replace(fit, t=fit.t[keep], measured=fit.measured[keep])
+        for fit in joint.fits
+        for keep in [fit.t <= _cut(fit.window, hold_out)]
+    ]
+    try:
+        return joint_fit(first_parts, list(joint.throws), joint.torque, bias, loss, "held out")
+    except InputError:
+        return None
 
 
 def _cut(span: tuple[float, float], hold_out: float) -> float:
