@@ -158,3 +158,37 @@ def test_no_module_names_a_concrete_part_or_torque_outside_its_package() -> None
             for name in sorted(names & concrete):
                 found.append(f"{'/'.join(inside)}:{node.lineno}: {name}")
     assert found == []
+
+
+def test_no_module_dispatches_on_a_part_or_torque_kind_by_its_name() -> None:
+    # Outside tumble/parts and tumble/torques, code that applies to a kind names it
+    # through the registries' objects (PARTS["rotor"], TORQUES["hold-rotation"]: a
+    # kind renamed fails at once), never by comparing a part's `kind` or a torque's
+    # `name` with a string, nor by handing such a string to `Case.parts_of`.
+    from tumble.parts import PARTS
+    from tumble.torques import TORQUES
+
+    names = set(PARTS) | set(TORQUES)
+    source = Path(tumble.config.__file__).parents[1]
+    found = []
+
+    def named(node: ast.AST) -> bool:
+        return isinstance(node, ast.Constant) and node.value in names
+
+    for path in sorted(source.rglob("*.py")):
+        inside = path.relative_to(source).parts
+        if inside[0] in {"parts", "torques"}:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Compare):
+                sides = [node.left, *node.comparators]
+                attributes = any(
+                    isinstance(side, ast.Attribute) and side.attr in {"kind", "name"}
+                    for side in sides
+                )
+                if attributes and any(named(side) for side in sides):
+                    found.append(f"{'/'.join(inside)}:{node.lineno}")
+            elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+                if node.func.attr == "parts_of" and any(named(arg) for arg in node.args):
+                    found.append(f"{'/'.join(inside)}:{node.lineno}")
+    assert found == []

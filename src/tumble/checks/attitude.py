@@ -14,6 +14,8 @@ from tumble import analysis, theory
 from tumble.analysis.common import turning_points
 from tumble.checks.base import Case, Comparison, Curve, Panel, TheoryCheck, comparison_row
 from tumble.errors import InputError
+from tumble.parts import PARTS
+from tumble.torques import TORQUES
 
 if TYPE_CHECKING:
     from tumble.trajectory import Trajectory
@@ -28,14 +30,12 @@ NEAR_EQUILIBRIUM = 0.35
 PRINCIPAL_CONE = 1e-6
 
 
-def _only(case: Case, name: str) -> Any:
-    """The one torque model of the registry's ``name`` of a case with no other, no
-    pivot and no damper; None otherwise."""
-    torques = case.torques
-    dampers = case.parts_of("kane-damper")
-    if len(torques) != 1 or torques[0].name != name or case.pivot is not None:
+def _only(case: Case, kind: type) -> Any:
+    """The one torque model, of ``kind`` (a class of the registry), of a case with no
+    other, no pivot and no damper; None otherwise."""
+    if case.pivot is not None or case.parts_of(PARTS["kane-damper"]):
         return None
-    return None if dampers else torques[0]
+    return case.only_torque(kind)
 
 
 def _closest_axis(axes: Array, direction: Array) -> tuple[Array, float]:
@@ -57,7 +57,7 @@ class LibrationCheck(TheoryCheck):
     needs = "a free rigid body under the gravity-gradient torque alone, near its equilibrium"
 
     def _equilibrium(self, case: Case) -> tuple[Any, Array, Array] | None:
-        model = _only(case, "gravity-gradient")
+        model = _only(case, TORQUES["gravity-gradient"])
         if model is None or not case.rigid:
             return None
         e1, _ = model.plane()
@@ -148,7 +148,7 @@ class SlewCheck(TheoryCheck):
     needs = "a free body under an attitude controller alone, its error about a principal axis"
 
     def _slew(self, case: Case) -> tuple[Any, Array, float] | None:
-        control = _only(case, "attitude-control")
+        control = _only(case, TORQUES["attitude-control"])
         if control is None:
             return None
         target = Rotation.from_quat(control.target, scalar_first=True)

@@ -106,9 +106,16 @@ class Case:
         """No internal parts: the closed forms of a rigid body apply."""
         return not self.internal
 
-    def parts_of(self, kind: str) -> tuple[Any, ...]:
-        """The internal parts of one kind (``"rotor"``, ``"kane-damper"``)."""
-        return tuple(part for part in self.internal if part.kind == kind)
+    def parts_of(self, kind: type) -> tuple[Any, ...]:
+        """The internal parts of one kind: a class of the registry
+        :data:`tumble.parts.PARTS` (``PARTS["rotor"]``)."""
+        return tuple(part for part in self.internal if isinstance(part, kind))
+
+    def only_torque(self, kind: type) -> Any:
+        """The one torque model of a case with no other, a model of ``kind`` (a class
+        of the registry :data:`tumble.torques.TORQUES`), or None."""
+        torques = self.torques
+        return torques[0] if len(torques) == 1 and isinstance(torques[0], kind) else None
 
     @property
     def heavy(self) -> bool:
