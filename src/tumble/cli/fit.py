@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -143,35 +143,21 @@ def fit_recording(
                 inputs=[path for path in (recording, windows) if path is not None],
             )
             check_fit_folder(output, force)
+        common: dict[str, Any] = {
+            "columns": columns,
+            "units": units,
+            "bias": not no_bias,
+            "loss": loss,
+            "torque": torque,
+            "output": output,
+            "force": force,
+            "figures": not no_figures,
+            "quiet": quiet,
+        }
         if many:
-            fit_throws(
-                recording,
-                columns=columns,
-                units=units,
-                windows=windows,
-                bias=not no_bias,
-                loss=loss,
-                torque=torque,
-                hold_out=hold_out,
-                output=output,
-                force=force,
-                figures=not no_figures,
-                quiet=quiet,
-            )
-            return
-        fit_window(
-            recording,
-            columns=columns,
-            units=units,
-            window=window,
-            bias=not no_bias,
-            loss=loss,
-            torque=torque,
-            output=output,
-            force=force,
-            figures=not no_figures,
-            quiet=quiet,
-        )
+            fit_throws(recording, windows=windows, hold_out=hold_out, **common)
+        else:
+            fit_window(recording, window=window, **common)
 
     run_command(work)
 
