@@ -1,13 +1,14 @@
-"""Classical Runge–Kutta: the step of a rigid body, and the one fixed step of any
-other model's state.
+"""Classical Runge–Kutta: the step of a rigid body, and the step of a model's state
+held in an array.
 
 :func:`rk4_step` steps a rigid body's state held as a tuple (the equations of
 :mod:`tumble.core.dynamics`; the quaternion renormalised after every step); the
 loops that run it over one body or a batch are :mod:`tumble.core.stepping`'s.
 :func:`rk4_array_step` steps a state held in an array, its rates given by a compiled
-function of the model's (the bodies carrying parts, the gimbal, the rotor's whirl,
-the fitted drag); :func:`fixed_step_run` makes a model's compiled run of many steps
-from its rates alone.
+function of the model's (the rotor's whirl, the fitted drag); :func:`fixed_step_run`
+makes a model's compiled run of many steps from its rates alone. (The bodies carrying
+parts and the gimbal keep steps of their own, measured faster: see
+``bench/model_steppers.py``.)
 """
 
 from __future__ import annotations
