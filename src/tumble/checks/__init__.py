@@ -3,7 +3,7 @@
 * :data:`THEORY_CHECKS` — the checks by name, in the order ``auto`` tries them:
   ``dual-spin`` and ``energy-sink`` (:mod:`~tumble.checks.gyrostats`),
   ``libration`` and ``slew`` (:mod:`~tumble.checks.attitude`), ``gyroscope``
-  (:mod:`~tumble.checks.tops`), ``rotor-loads`` (:mod:`~tumble.checks.rotors`),
+  (:mod:`~tumble.checks.tops`), ``rotor-loads`` (:mod:`~tumble.checks.loads`),
   ``free-symmetric-top`` and ``flip-period`` (:mod:`~tumble.checks.free`),
   ``gyrocompass`` (:mod:`~tumble.checks.gyrocompass`).
 * :func:`choose_check` — the check a scenario's ``[theory] model`` names, or
@@ -34,7 +34,7 @@ from tumble.checks.base import (
 from tumble.checks.free import FlipPeriodCheck, FreeSymmetricTopCheck
 from tumble.checks.gyrocompass import GyrocompassCheck
 from tumble.checks.gyrostats import DualSpinCheck, EnergySinkCheck
-from tumble.checks.rotors import RotorLoadsCheck
+from tumble.checks.loads import RotorLoadsCheck
 from tumble.checks.tops import GyroscopeCheck
 
 # In the order `auto` tries them: the most specific cases first.

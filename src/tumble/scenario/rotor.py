@@ -146,7 +146,7 @@ def _steady(
     rotor: RigidRotor, run: RunUp, settings: Any, names: list[str]
 ) -> tuple[list[dict[str, Any]], Panel]:
     """The steady orbits' rows (semi-axis and phase lag at each bearing) and their panel."""
-    from tumble.theory.bearings import major_semi_axis
+    from tumble.theory.rotordynamics import major_semi_axis
 
     speed = float(run.speed[0])
     expected = rotor.unbalance_orbits(speed, settings.unbalance, settings.unbalance_position)[0]

@@ -191,7 +191,7 @@ def number_or_pair(kind: str) -> Any:
     of them (along the rotor's x and y), in SI units of ``kind``."""
 
     def convert(value: Any, info: ValidationInfo) -> tuple[float, float]:
-        from tumble.theory.bearings import transverse_pair
+        from tumble.theory.rotordynamics import transverse_pair
 
         return transverse_pair(value, kind, str(info.field_name))
 

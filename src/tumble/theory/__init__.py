@@ -50,7 +50,6 @@ from tumble.theory.attitude import (
     attitude_slew,
     gravity_gradient_libration,
 )
-from tumble.theory.bearings import Bearing, RigidRotor, Whirl
 from tumble.theory.compass import Gyrocompass, gyrocompass
 from tumble.theory.free import (
     AxisStability,
@@ -69,7 +68,7 @@ from tumble.theory.gyrostats import (
     kane_damper_decay,
     wheel_spin_up,
 )
-from tumble.theory.rotors import (
+from tumble.theory.loads import (
     PivotLoads,
     RotorLoads,
     SkewRod,
@@ -77,6 +76,7 @@ from tumble.theory.rotors import (
     rotor_loads,
     skew_rod,
 )
+from tumble.theory.rotordynamics import Bearing, RigidRotor, Whirl
 from tumble.theory.tops import Gyroscope, gyroscope
 
 __all__ = [

@@ -1,4 +1,4 @@
-"""The checks of a rigid rotor's inputs (see :mod:`tumble.theory.bearings`).
+"""The validation of a rigid rotor's inputs (see :mod:`tumble.theory.rotordynamics`).
 
 The values of a bearing, the rotor's body about its spin axis, the bearings'
 matrices and the spin speeds: each refused with one :class:`~tumble.errors.InputError`
@@ -20,7 +20,7 @@ from tumble.theory.common import as_flat
 from tumble.units import to_si, vector_to_si
 
 if TYPE_CHECKING:
-    from tumble.theory.bearings import Bearing, RigidRotor
+    from tumble.theory.rotordynamics import Bearing, RigidRotor
 
 __all__ = [
     "check_matrices",

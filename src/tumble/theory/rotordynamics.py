@@ -35,7 +35,7 @@ from tumble.errors import InputError, quoted
 from tumble.massprops import MassProperties, as_mass_properties, readonly
 from tumble.resources import check_memory
 from tumble.theory.common import spin_axis
-from tumble.theory.rotor_checks import (
+from tumble.theory.rotordynamics_validation import (
     check_matrices,
     check_tilt_held,
     checked_speeds,
@@ -114,7 +114,7 @@ def _rotor_frame(axis: Array) -> Array:
 
 
 class RigidRotor:
-    """A rigid axisymmetric rotor on elastic bearings (see :mod:`tumble.theory.bearings`).
+    """A rigid axisymmetric rotor on elastic bearings (see :mod:`tumble.theory.rotordynamics`).
 
     Parameters
     ----------
@@ -206,8 +206,9 @@ class RigidRotor:
     def _speeds_in_budget(
         self, speeds: Any, output: int, working: int, what: str
     ) -> tuple[Array, bool]:
-        """The speeds (rad/s, see :func:`~tumble.theory.rotor_checks.checked_speeds`) and
-        whether one was given as a scalar, refusing ``what`` (``output`` bytes a speed,
+        """The speeds (rad/s; see
+        :func:`~tumble.theory.rotordynamics_validation.checked_speeds`) and whether one was
+        given as a scalar, refusing ``what`` (``output`` bytes a speed,
         ``working`` bytes a speed of one chunk) where it would not fit in the memory budget."""
         values, scalar = checked_speeds(self, speeds)
         self._fits(len(values), output, working, what)
