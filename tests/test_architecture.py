@@ -161,10 +161,10 @@ def test_no_module_names_a_concrete_part_or_torque_outside_its_package() -> None
 
 
 def test_no_module_dispatches_on_a_part_or_torque_kind_by_its_name() -> None:
-    # Outside tumble/parts and tumble/torques, code that applies to a kind names it
-    # through the registries' objects (PARTS["rotor"], TORQUES["hold-rotation"]: a
-    # kind renamed fails at once), never by comparing a part's `kind` or a torque's
-    # `name` with a string, nor by handing such a string to `Case.parts_of`.
+    # Outside tumble/parts and tumble/torques, code that applies to some kinds asks what
+    # the kind declares (its `closed_forms`, `gyrostatic`, `dissipative`, ...), never
+    # its name: no part's `kind` or torque's `name` compared with a registered name, no
+    # isinstance or issubclass of a class looked up by name in PARTS or TORQUES.
     from tumble.parts import PARTS
     from tumble.torques import TORQUES
 
@@ -174,6 +174,13 @@ def test_no_module_dispatches_on_a_part_or_torque_kind_by_its_name() -> None:
 
     def named(node: ast.AST) -> bool:
         return isinstance(node, ast.Constant) and node.value in names
+
+    def looked_up(node: ast.AST) -> bool:
+        return (
+            isinstance(node, ast.Subscript)
+            and isinstance(node.value, ast.Name)
+            and node.value.id in {"PARTS", "TORQUES"}
+        )
 
     for path in sorted(source.rglob("*.py")):
         inside = path.relative_to(source).parts
@@ -190,12 +197,34 @@ def test_no_module_dispatches_on_a_part_or_torque_kind_by_its_name() -> None:
                     found.append(f"{'/'.join(inside)}:{node.lineno}")
             elif (
                 isinstance(node, ast.Call)
-                and isinstance(node.func, ast.Attribute)
-                and node.func.attr == "parts_of"
-                and any(named(arg) for arg in node.args)
+                and isinstance(node.func, ast.Name)
+                and node.func.id in {"isinstance", "issubclass"}
+                and any(looked_up(arg) for arg in ast.walk(node) if arg is not node)
             ):
                 found.append(f"{'/'.join(inside)}:{node.lineno}")
     assert found == []
+
+
+def test_every_closed_form_a_kind_declares_is_a_registered_check() -> None:
+    from tumble.checks import THEORY_CHECKS
+    from tumble.parts import PARTS
+    from tumble.torques import TORQUES
+
+    declared = {
+        (kind.__name__, check)
+        for kind in (*PARTS.values(), *TORQUES.values())
+        for check in kind.closed_forms
+    }
+    assert {(kind, check) for kind, check in declared if check not in THEORY_CHECKS} == set()
+    # And the checks that apply to parts or torques find them: the built-ins declare
+    # the rotor's two, the damper's, and the torques' three.
+    assert {check for _, check in declared} == {
+        "dual-spin",
+        "slew",
+        "energy-sink",
+        "libration",
+        "rotor-loads",
+    }
 
 
 #: The functions of more than 80 lines of code (the docstring not counted) that remain

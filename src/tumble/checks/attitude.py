@@ -14,8 +14,6 @@ from tumble import analysis, theory
 from tumble.analysis.common import turning_points
 from tumble.checks.base import Case, Comparison, Curve, Panel, TheoryCheck, comparison_row
 from tumble.errors import InputError
-from tumble.parts import PARTS
-from tumble.torques import TORQUES
 
 if TYPE_CHECKING:
     from tumble.trajectory import Trajectory
@@ -30,12 +28,14 @@ NEAR_EQUILIBRIUM = 0.35
 PRINCIPAL_CONE = 1e-6
 
 
-def _only(case: Case, kind: type) -> Any:
-    """The one torque model, of ``kind`` (a class of the registry), of a case with no
-    other, no pivot and no damper; None otherwise."""
-    if case.pivot is not None or case.parts_of(PARTS["kane-damper"]):
+def _only(case: Case, check: str) -> Any:
+    """The one torque model of a case with no other and no pivot, whose kind declares
+    the closed form of the check named ``check``, on a body whose parts all declare it
+    too (a slew's reaction wheels; no damper); None otherwise."""
+    if case.pivot is not None or len(case.parts_for(check)) != len(case.internal):
         return None
-    return case.only_torque(kind)
+    held = case.torques_for(check)
+    return held[0] if len(held) == len(case.torques) == 1 else None
 
 
 def _closest_axis(axes: Array, direction: Array) -> tuple[Array, float]:
@@ -57,7 +57,7 @@ class LibrationCheck(TheoryCheck):
     needs = "a free rigid body under the gravity-gradient torque alone, near its equilibrium"
 
     def _equilibrium(self, case: Case) -> tuple[Any, Array, Array] | None:
-        model = _only(case, TORQUES["gravity-gradient"])
+        model = _only(case, self.name)
         if model is None or not case.rigid:
             return None
         e1, _ = model.plane()
@@ -148,7 +148,7 @@ class SlewCheck(TheoryCheck):
     needs = "a free body under an attitude controller alone, its error about a principal axis"
 
     def _slew(self, case: Case) -> tuple[Any, Array, float] | None:
-        control = _only(case, TORQUES["attitude-control"])
+        control = _only(case, self.name)
         if control is None:
             return None
         target = Rotation.from_quat(control.target, scalar_first=True)

@@ -106,16 +106,16 @@ class Case:
         """No internal parts: the closed forms of a rigid body apply."""
         return not self.internal
 
-    def parts_of(self, kind: type) -> tuple[Any, ...]:
-        """The internal parts of one kind: a class of the registry
-        :data:`tumble.parts.PARTS` (``PARTS["rotor"]``)."""
-        return tuple(part for part in self.internal if isinstance(part, kind))
+    def parts_for(self, check: str) -> tuple[Any, ...]:
+        """The internal parts whose kind declares that the closed form of the theory
+        check named ``check`` holds with it (:attr:`tumble.parts.InternalPart.closed_forms`)."""
+        return tuple(part for part in self.internal if check in part.closed_forms)
 
-    def only_torque(self, kind: type) -> Any:
-        """The one torque model of a case with no other, a model of ``kind`` (a class
-        of the registry :data:`tumble.torques.TORQUES`), or None."""
-        torques = self.torques
-        return torques[0] if len(torques) == 1 and isinstance(torques[0], kind) else None
+    def torques_for(self, check: str) -> tuple[TorqueModel, ...]:
+        """The torque models (besides gravity) whose kind declares that the closed form
+        of the theory check named ``check`` holds under it
+        (:attr:`tumble.torques.TorqueModel.closed_forms`)."""
+        return tuple(term for term in self.torques if check in term.closed_forms)
 
     @property
     def heavy(self) -> bool:

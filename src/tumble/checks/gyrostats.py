@@ -12,7 +12,6 @@ from numpy.typing import NDArray
 from tumble import analysis, theory
 from tumble.checks.base import Case, Comparison, Curve, Panel, TheoryCheck, comparison_row
 from tumble.errors import InputError
-from tumble.parts import PARTS
 
 if TYPE_CHECKING:
     from tumble.trajectory import Trajectory
@@ -20,9 +19,6 @@ if TYPE_CHECKING:
 __all__ = ["DualSpinCheck", "EnergySinkCheck", "spin_axis"]
 
 Array = NDArray[np.float64]
-
-#: The part kinds these checks apply to, from the registry.
-ROTOR, KANE_DAMPER = PARTS["rotor"], PARTS["kane-damper"]
 
 #: A body counts as spun about an axis when ω0 is within this angle of it, rad.
 SPIN_CONE = 0.3
@@ -65,7 +61,7 @@ class DualSpinCheck(TheoryCheck):
     result_type = theory.GyrostatStability
 
     def _axis(self, case: Case) -> tuple[Array, float, float] | None:
-        rotors = case.parts_of(ROTOR)
+        rotors = case.parts_for(self.name)
         if not rotors or len(rotors) != len(case.internal) or not case.free:
             return None
         spun = spin_axis(case)
@@ -165,7 +161,7 @@ class EnergySinkCheck(TheoryCheck):
     result_type = theory.KaneDamperDecay
 
     def fits(self, case: Case) -> bool:
-        dampers = case.parts_of(KANE_DAMPER)
+        dampers = case.parts_for(self.name)
         return (
             case.free
             and len(dampers) == 1
@@ -194,7 +190,7 @@ class EnergySinkCheck(TheoryCheck):
         if spun is None or not self.fits(case):
             raise InputError(f"Expected {self.needs}, got another setup.")
         axis, rate = spun
-        damper = case.parts_of(KANE_DAMPER)[0]
+        damper = case.parts_for(self.name)[0]
         mp = case.mass_properties
         decay = theory.kane_damper_decay(mp, damper.inertia, damper.damping, rate, axis)
         moments = mp.principal()[0]

@@ -17,7 +17,6 @@ from tumble.checks.base import (
     comparison_row,
 )
 from tumble.errors import InputError
-from tumble.torques import TORQUES
 
 if TYPE_CHECKING:
     from tumble.trajectory import Trajectory
@@ -50,7 +49,7 @@ class RotorLoadsCheck(TheoryCheck):
 
     def fits(self, case: Case) -> bool:
         torques = case.torques
-        held = bool(torques) and all(isinstance(term, TORQUES["hold-rotation"]) for term in torques)
+        held = bool(torques) and len(case.torques_for(self.name)) == len(torques)
         return held and case.rigid
 
     def compare(self, case: Case, trajectory: Trajectory) -> Comparison:

@@ -219,6 +219,10 @@ class InternalPart:
     free_body_only: ClassVar[str | None] = None
     #: None, or why batches of bodies (given by their inertia alone) do not take it.
     not_in_batches: ClassVar[str | None] = None
+    #: The theory checks (names in :data:`tumble.checks.THEORY_CHECKS`) whose closed
+    #: forms hold with parts of this kind on the body: a check asks the kind
+    #: (:meth:`tumble.checks.Case.parts_for`), never its name.
+    closed_forms: ClassVar[frozenset[str]] = frozenset()
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

@@ -63,6 +63,7 @@ class KaneDamper(InternalPart):
 
     kind = "kane-damper"
     summary = "a sphere turning in viscous fluid inside the body: an energy sink"
+    closed_forms = frozenset({"energy-sink"})
     label = "damper"
     size = 3
     value_labels = ("omega_x", "omega_y", "omega_z")

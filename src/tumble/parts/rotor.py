@@ -128,6 +128,7 @@ class Rotor(InternalPart):
     equations = ROTOR_EQUATIONS
     gyrostatic = True
     actuated = True
+    closed_forms = frozenset({"dual-spin", "slew"})
     spin = 0
 
     def __post_init__(self) -> None:

@@ -244,6 +244,7 @@ class HoldRotation(TorqueModel):
 
     name = "hold-rotation"
     summary = "the torque ω0 × (I ω0) that keeps the initial rotation steady"
+    closed_forms = frozenset({"rotor-loads"})
     fields = _vector_field("torque")
     kernel = staticmethod(kernels.constant_body_torque)
 

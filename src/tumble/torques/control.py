@@ -55,6 +55,7 @@ class AttitudeController(TorqueModel):
     actuator: str = "external"
 
     name = "attitude-control"
+    closed_forms = frozenset({"slew"})
     summary = "quaternion feedback τ = −K ε − C ω toward a target attitude"
     parameters = (
         Parameter("target", "dimensionless", (4,), "target attitude quaternion [w, x, y, z]"),

@@ -39,6 +39,7 @@ class GravityGradient(TorqueModel):
     radial0: Any = (1.0, 0.0, 0.0)
 
     name = "gravity-gradient"
+    closed_forms = frozenset({"libration"})
     summary = "the gravity-gradient torque of a circular orbit, 3 n² r × (I r)"
     parameters = (
         Parameter("orbit_rate", "angular_velocity", (), "orbit rate n", 0.0, strict=True),

@@ -76,6 +76,10 @@ class TorqueModel:
     conservative: ClassVar[bool] = False
     #: True when scenario files may use it (its parameters are numbers).
     in_files: ClassVar[bool] = True
+    #: The theory checks (names in :data:`tumble.checks.THEORY_CHECKS`) whose closed
+    #: forms hold under a torque of this kind: a check asks the kind
+    #: (:meth:`tumble.checks.Case.torques_for`), never its name.
+    closed_forms: ClassVar[frozenset[str]] = frozenset()
     #: True when simulate_batch and sweeps accept it (parameters may be per body).
     in_batches: ClassVar[bool] = False
     #: None, or why a sum may hold only one model of this class (what to do instead).
