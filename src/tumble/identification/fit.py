@@ -336,7 +336,7 @@ def _fit_torque(
     return replace(fits[chosen], choice=choice)
 
 
-def _start_of(fit: BodyFit, relative: Array, torque: str, bias: bool) -> Array:
+def _start_of(fit: BodyFit, torque: str, bias: bool) -> Array:
     """The parameters of a fit of the same samples as the start of a fit with ``torque``:
     its body, motion and bias; a linear drag's coefficients k turned into a quadratic
     one's as k / ⟨|ω_i|⟩ (the same mean torque), and none where the fit had none."""
@@ -425,17 +425,22 @@ def _polish(
     """The best search polished on all the samples in the canonical frame, from which
     the covariance is read: the solver's result, the moments, axes, ω0, bias and drag
     coefficients (each with its axis)."""
-    body, axes, omega0, offset, drag = _unpack(best.x, frame, bias)
+    moments, axes, omega0, offset, drag = _canonical_parameters(best.x, frame, bias)
+    x = np.concatenate([np.log(moments[:2]), np.zeros(3), omega0, offset if bias else [], drag])
+    final = _solve(x, axes, times, rates, bias, loss, tight=True, noise=noise, torque=torque)
+    return final, *_canonical_parameters(final.x, axes, bias)
+
+
+def _canonical_parameters(
+    x: Array, frame: Array, bias: bool
+) -> tuple[Array, Array, Array, Array, Array]:
+    """The moments, axes and ω0 of the parameters ``x`` in the canonical frame
+    (:func:`canonical`), with the bias and the drag coefficients, each with its axis."""
+    body, axes, omega0, offset, drag = _unpack(x, frame, bias)
     if drag.size:
         drag = drag[np.argsort(body, kind="stable")]  # each coefficient with its axis
     moments, axes, omega0 = canonical(body, axes, omega0)
-    x = np.concatenate([np.log(moments[:2]), np.zeros(3), omega0, offset if bias else [], drag])
-    final = _solve(x, axes, times, rates, bias, loss, tight=True, noise=noise, torque=torque)
-    body, axes, omega0, offset, drag = _unpack(final.x, axes, bias)
-    if drag.size:
-        drag = drag[np.argsort(body, kind="stable")]
-    moments, axes, omega0 = canonical(body, axes, omega0)
-    return final, moments, axes, omega0, offset, drag
+    return moments, axes, omega0, offset, drag
 
 
 def _covariance(final: Any, moments: Array, size: int, bias: bool) -> tuple[Array, Array]:
@@ -511,7 +516,7 @@ def _fit(
     if start_from is None:
         found = some.search(_starts(rates, smooth, derivative, bias), search, "free")
     else:
-        starts = [(_start_of(start_from, relative, torque, bias), start_from.axes)]
+        starts = [(_start_of(start_from, torque, bias), start_from.axes)]
         found = some.search(starts, search, torque)
     if torque != "free" and start_from is None:
         if bias:
