@@ -103,6 +103,9 @@ def test_the_standard_errors_cover_the_truth() -> None:
     # Calibration: noisy recordings of random bodies, both sides of the separatrix;
     # the truth within 3 standard errors in at least 95 % of the trials (Gaussian
     # errors would give 99.5 % for both ratios at once). 20 trials, 200 under CI.
+    # A recording the fit refuses as not determining the body counts as a miss: one
+    # of the 200 (seed 93) starts within 0.1 % of the separatrix (L²/2T = I2), and
+    # bodies from (0.45, 0.50) to the true (0.61, 0.87) match its 10 s to the noise.
     trials = 200 if os.environ.get("CI") else 20
     generator = np.random.default_rng(2024)
     inside = 0
@@ -111,7 +114,11 @@ def test_the_standard_errors_cover_the_truth() -> None:
         omega0 = 3.0 * generator.normal(size=3)
         bias = 0.02 * generator.normal(size=3)
         t, w = recording(moments, omega0, sigma=0.01, bias=bias, axes=axes, seed=seed)
-        fit = tb.identify(t, w, window=(t[0], t[-1]))
+        try:
+            fit = tb.identify(t, w, window=(t[0], t[-1]))
+        except InputError as refusal:
+            assert "determines the moment ratios" in str(refusal)
+            continue
         misses = np.abs(fit.moment_ratios - np.array(moments[:2])) / fit.uncertainty
         inside += bool(np.all(misses < 3.0))
     assert inside >= 0.95 * trials
