@@ -532,7 +532,7 @@ def _integrator_kind(loaded: Any) -> str:
     from tumble.simulation import prepare
 
     spec = loaded.spec
-    if spec.gyrocompass is not None:
+    if "gyrocompass" in spec.model_tables():
         return "gyrocompass"
     mp = mass_properties(spec.body, loaded.folder, loaded)
     parts, added = internal_parts(spec, loaded)

@@ -41,17 +41,22 @@ def test_the_readme_draws_the_layers_as_the_architecture_page_does() -> None:
 
 
 def test_the_architecture_page_recipes_run(tmp_path: Path) -> None:
-    # The page's extension recipes (a torque model, an integrator, a part kind),
-    # run in a fresh process: their registrations stay out of this one. Each
-    # block prints what it shows; the part kind's wheel takes energy away.
+    # The page's extension recipes (a torque model, an integrator, a part kind, a
+    # model), run in a fresh process: their registrations stay out of this one.
+    # Each block prints what it shows; the part kind's wheel takes energy away; the
+    # torsion pendulum swings at its closed form's frequency (RK4 at 1 ms, as in
+    # tests/test_model_registry.py: within 1e-6).
     page = (ROOT / "docs" / "explanation" / "architecture.md").read_text(encoding="utf-8")
     blocks = re.findall(r"```python\n(.*?)```", page, flags=re.S)
-    assert len(blocks) == 3
+    assert len(blocks) == 4
     script = tmp_path / "recipes.py"
     script.write_text("\n\n".join(blocks), encoding="utf-8")
     done = subprocess.run(
         [sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path, check=False
     )
     assert done.returncode == 0, done.stderr
-    first, last = (float(x) for x in done.stdout.strip().splitlines()[-1].split())
+    *_, wheel, model = done.stdout.strip().splitlines()
+    first, last = (float(x) for x in wheel.split())
     assert last < first
+    assert model.startswith("damped frequency ω_d ")
+    assert float(model.split()[-1]) < 1e-6

@@ -207,12 +207,12 @@ def test_run_up_within_max_steps_runs() -> None:
     ("changes", "message"),
     [
         ([('stiffness = "2e6 N/m"', "stiffness = 1e308"), ('stiffness = "3e6 N/m"', "stiffness = 1e308")],
-         r"line \d+, `rotor`: Expected bearings whose stiffness matrix .* got stiffness up to "
+         r"line \d+, `rotordynamics`: Expected bearings whose stiffness matrix .* got stiffness up to "
          r"1e\+308 N/m"),
         ([('position = "-25 cm"', 'position = "1e200 m"')],
-         r"line \d+, `rotor`: Expected bearings whose stiffness matrix .* at arms up to 1e\+200 m"),
+         r"line \d+, `rotordynamics`: Expected bearings whose stiffness matrix .* at arms up to 1e\+200 m"),
         ([('duration = "2 s"', 'duration = "1e9 s"')],
-         r"line \d+, `rotor`: Expected at most max_steps = 5e\+07 steps, got duration / dt = "
+         r"line \d+, `rotordynamics`: Expected at most max_steps = 5e\+07 steps, got duration / dt = "
          r"1e\+09 s"),
     ],
     ids=["stiffness", "position", "duration"],
@@ -231,3 +231,12 @@ def test_the_cli_refuses_an_overflowing_rotor_scenario_in_one_line(
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in result.output
     assert re.search(message, lines[0]), lines[0]
+
+
+def test_a_run_up_of_something_other_than_a_rigid_rotor_is_refused() -> None:
+    body = tb.shapes.solid_cylinder(1.0, 0.05, 0.4)
+    with pytest.raises(
+        tb.InputError,
+        match=r"Expected `rotor` to be a tumble.theory.RigidRotor, got MassProperties\.",
+    ):
+        run_up(body, 1e-4, duration=1.0)

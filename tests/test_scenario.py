@@ -161,7 +161,7 @@ def edited(old: str, new: str, text: str = GYRO) -> str:
         (
             'model = "gyroscope"',
             'model = "lagrange"',
-            r"line 36, `theory\.model`: Expected `model` to be one of auto, none, dual-spin, energy-sink, libration, slew, gyroscope, rotor-loads, free-symmetric-top, flip-period, gyrocompass, got 'lagrange'\.",
+            r"line 36, `theory\.model`: Expected `model` to be one of auto, none, dual-spin, energy-sink, libration, slew, gyroscope, rotor-loads, free-symmetric-top, flip-period, gyrocompass, rigid-rotor, got 'lagrange'\.",
         ),
         (
             "samples = 2500",

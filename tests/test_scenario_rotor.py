@@ -1,4 +1,4 @@
-"""The built-in rotor on elastic bearings and the ``[rotor]`` table: the run-up's
+"""The built-in rotor on elastic bearings and the ``[rotordynamics]`` table: the run-up's
 steady orbits and critical speeds against tumble.theory.RigidRotor, the panels
 the report draws, and the refusals of the table."""
 
@@ -11,6 +11,7 @@ from numpy.testing import assert_allclose
 import tumble as tb
 from scenario_tools import rows
 from tumble.scenario import ScenarioError, builtin_text, parse, run
+from tumble.scenario.model_kinds import MODEL_KINDS
 
 
 @pytest.fixture(scope="module")
@@ -82,7 +83,7 @@ def test_the_report_is_written(tmp_path) -> None:  # type: ignore[no-untyped-def
         ),
         (
             ('stiffness = "2e6 N/m"', 'stiffness = "-2e6 N/m"'),
-            r"`rotor\.bearings\[0\]\.stiffness`: Expected `stiffness` >= 0, got -2000000\.0\.",
+            r"`rotordynamics\.bearings\[0\]\.stiffness`: Expected `stiffness` >= 0, got -2000000\.0\.",
         ),
         (
             ('stiffness = "2e6 N/m"', 'stiffness = "2e6 kg"'),
@@ -90,24 +91,24 @@ def test_the_report_is_written(tmp_path) -> None:  # type: ignore[no-untyped-def
         ),
         (
             ("axis = [0, 0, 1]", "axis = [1, 0, 0]"),
-            r"line \d+, `rotor`: Expected an axisymmetric rotor",
+            r"line \d+, `rotordynamics`: Expected an axisymmetric rotor",
         ),
         (('unbalance = "50 g*mm"', 'unbalance = "-50 g*mm"'), r"Expected `unbalance` > 0"),
         (
             ("viewer = false", 'viewer = false\n\n[initial]\nomega = "0, 0, 1 rad/s"'),
-            r"Expected no \[initial\] with \[rotor\] \(its model sets the initial state, the forces "
+            r"Expected no \[initial\] with \[rotordynamics\] \(its model sets the initial state, the forces "
             r"and the closed form\)\.",
         ),
         (
             ("viewer = false", 'viewer = false\n\n[theory]\nmodel = "none"'),
-            r"Expected no \[theory\] with \[rotor\]",
+            r"Expected no \[theory\] with \[rotordynamics\]",
         ),
         (
             (
                 "viewer = false",
                 "viewer = false\n\n[gyrocompass]\nspin_rate = 1\nplatform_rate = 1\namplitudes = [0.1]",
             ),
-            r"Expected one of \[gyrocompass\] and \[rotor\], got both\.",
+            r"Expected one model table at most, got \[gyrocompass\] and \[rotordynamics\]\.",
         ),
     ],
     ids=["speeds", "negative", "unit", "axis", "unbalance", "initial", "theory", "both"],
@@ -121,13 +122,25 @@ def test_refusals(change: tuple[str, str], message: str) -> None:
 
 def test_one_bearing_is_refused() -> None:
     text = builtin_text("rotor-on-bearings")
-    first = text.index("[[rotor.bearings]]")
-    second = text.index("[[rotor.bearings]]", first + 1)
+    first = text.index("[[rotordynamics.bearings]]")
+    second = text.index("[[rotordynamics.bearings]]", first + 1)
     with pytest.raises(
         ScenarioError,
-        match=r"`rotor`: Expected two or more \[\[rotor\.bearings\]\] \(to hold the rotor's tilt\), got 1\.$",
+        match=r"`rotordynamics\.bearings`: Expected two or more bearings \(to hold the rotor's "
+        r"tilt\), got 1\.$",
     ):
         parse(text[:first] + text[second:])
+
+
+def test_the_former_name_of_the_table_is_read_with_a_warning() -> None:
+    text = builtin_text("rotor-on-bearings").replace("rotordynamics", "rotor")
+    assert "[rotor]" in text
+    with pytest.warns(FutureWarning, match=r"The table \[rotor\] is now called \[rotordynamics\]"):
+        loaded = parse(text)
+    assert loaded.spec.model_tables() == {"rotor": MODEL_KINDS["rotordynamics"]}
+    # Its errors are located at the name the file gives it.
+    with pytest.warns(FutureWarning), pytest.raises(ScenarioError, match=r"line \d+, `rotor`: "):
+        run(parse(text.replace("axis = [0, 0, 1]", "axis = [1, 0, 0]")))
 
 
 def test_anisotropic_bearings_give_the_steady_ellipse_and_a_peak_after_each_critical() -> None:

@@ -97,12 +97,12 @@ def _model_keys(model: Any, seen: set[type]) -> Iterator[str]:
 
 
 def test_the_scenario_keys_page_names_every_key_the_parsers_accept() -> None:
-    from tumble.scenario.schema import Scenario
+    from tumble.scenario.schema import scenario_schema
     from tumble.sweep.schema import SweepFile
     from tumble.torques import TORQUES
 
     page = tumble_docs.scenario_keys()
-    keys = set(_model_keys(Scenario, set())) | set(_model_keys(SweepFile, set()))
+    keys = set(_model_keys(scenario_schema(), set())) | set(_model_keys(SweepFile, set()))
     keys |= {p.name for model in TORQUES.values() if model.in_files for p in model.parameters}
     # "values" holds a torque's parameters once validated; files write them directly.
     keys -= {"values"}

@@ -153,6 +153,27 @@ def _table(title: str, model: Any, skip: tuple[str, ...] = ()) -> list[str]:
     return out
 
 
+def _model_tables() -> list[str]:
+    """The table of each model kind of the registry, and the arrays of tables inside it."""
+    import typing
+
+    from pydantic import BaseModel
+
+    from tumble.scenario.model_kinds import MODEL_KINDS
+
+    lines = []
+    for kind in MODEL_KINDS.values():
+        former = "".join(f" (formerly ``[{name}]``)" for name in kind.former_tables)
+        lines += _table(f"``[{kind.table}]``{former}", kind.settings)
+        for name, field in kind.settings.model_fields.items():
+            if typing.get_origin(field.annotation) is not list:
+                continue
+            (inner,) = typing.get_args(field.annotation)
+            if isinstance(inner, type) and issubclass(inner, BaseModel):
+                lines += _table(f"``[[{kind.table}.{name}]]``", inner)
+    return lines
+
+
 def scenario_keys() -> str:
     """The page of every key of scenario and sweep files."""
     from tumble.checks import THEORY_CHECKS
@@ -186,11 +207,9 @@ def scenario_keys() -> str:
         ("[simulation]", schema.Simulation),
         ("[theory]", schema.Theory),
         ("[output]", schema.Output),
-        ("[gyrocompass]", schema.GyrocompassSettings),
-        ("[rotor]", schema.RotorSettings),
-        ("[[rotor.bearings]]", schema.RotorBearing),
     ):
         lines += _table(f"``{key}``", model)
+    lines += _model_tables()
     lines += ["The methods of ``[simulation] method``:", ""]
     lines += [f"* ``{name}``: {entry.summary}" for name, entry in INTEGRATORS.items()]
     lines += ["", "The closed forms of ``[theory] model`` (besides ``auto`` and ``none``):", ""]

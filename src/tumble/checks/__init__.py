@@ -5,7 +5,8 @@
   ``libration`` and ``slew`` (:mod:`~tumble.checks.attitude`), ``gyroscope``
   (:mod:`~tumble.checks.tops`), ``rotor-loads`` (:mod:`~tumble.checks.loads`),
   ``free-symmetric-top`` and ``flip-period`` (:mod:`~tumble.checks.free`),
-  ``gyrocompass`` (:mod:`~tumble.checks.gyrocompass`).
+  ``gyrocompass`` (:mod:`~tumble.checks.gyrocompass`), ``rigid-rotor``
+  (:mod:`~tumble.checks.rigid_rotor`).
 * :func:`choose_check` — the check a scenario's ``[theory] model`` names, or
   the first that fits its case.
 * :func:`compare`, :func:`comparison_row`, :func:`comparison_table` — closed-form
@@ -35,6 +36,7 @@ from tumble.checks.free import FlipPeriodCheck, FreeSymmetricTopCheck
 from tumble.checks.gyrocompass import GyrocompassCheck
 from tumble.checks.gyrostats import DualSpinCheck, EnergySinkCheck
 from tumble.checks.loads import RotorLoadsCheck
+from tumble.checks.rigid_rotor import RigidRotorCheck
 from tumble.checks.tops import GyroscopeCheck
 
 # In the order `auto` tries them: the most specific cases first.
@@ -48,6 +50,7 @@ for _check in (
     FreeSymmetricTopCheck(),
     FlipPeriodCheck(),
     GyrocompassCheck(),
+    RigidRotorCheck(),
 ):
     register_check(_check)
 

@@ -165,6 +165,18 @@ class TheoryCheck:
         """The comparison of a trajectory of this case with the closed form."""
         raise NotImplementedError
 
+    def compare_runs(
+        self, case: Case, trajectories: Mapping[str, Trajectory], results: Mapping[str, Any]
+    ) -> Comparison:
+        """The comparison of a model's runs (:class:`tumble.scenario.ModelRuns`): its
+        trajectories by label, ``"main"`` first, and the model's own results by the
+        same labels. By default the main trajectory's, by :meth:`compare`; a check
+        that reads more of a model's runs says so."""
+        comparison = self.compare(case, trajectories["main"])
+        for row in comparison.rows:
+            row.setdefault("run", "main")
+        return comparison
+
     def rows(self, trajectory: Trajectory, result: Any, **options: Any) -> list[dict[str, Any]]:
         """The rows for a result of :mod:`tumble.theory` (see :func:`compare`)."""
         raise NotImplementedError

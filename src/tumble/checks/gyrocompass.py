@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from tumble import analysis, theory
-from tumble.checks.base import Case, Comparison, TheoryCheck, comparison_row
+from tumble.checks.base import Case, Comparison, Curve, Panel, TheoryCheck, comparison_row
 
 if TYPE_CHECKING:
     from tumble.trajectory import Trajectory
@@ -74,3 +75,33 @@ class GyrocompassCheck(TheoryCheck):
         result = theory.gyrocompass(case.mass_properties, case.options["spin_rate"], rate)
         direction = np.sign(rate) * np.array([0.0, 0.0, 1.0])
         return Comparison(self.rows(trajectory, result, vertical=direction), [])
+
+    def compare_runs(
+        self, case: Case, trajectories: Mapping[str, Trajectory], results: Mapping[str, Any]
+    ) -> Comparison:
+        """The rows of each run of the gimbal model (``results``: a
+        :class:`~tumble.models.GyrocompassRun` by label, each named by its amplitude
+        θ0), and one panel of θ(t) against the small swing from the same start,
+        ``θ(0) cos βt + θ̇(0)/β sin βt``."""
+        beta = theory.gyrocompass(
+            case.mass_properties, case.options["spin_rate"], case.options["platform_rate"]
+        ).oscillation_frequency
+        rows: list[dict[str, Any]] = []
+        curves: list[Curve] = []
+        for label, run in results.items():
+            trajectory = trajectories[label]
+            angle0, rate0 = float(run.angle[0]), float(run.angle_rate[0])
+            name = f"θ0 = {math.degrees(math.hypot(angle0, rate0 / beta)):.0f}°"
+            for row in self.compare(case, trajectory).rows:
+                rows.append({**row, "quantity": f"{name}: {row['quantity']}", "run": label})
+            curves.append(Curve(f"{name}, simulation", trajectory.t, np.degrees(run.angle)))
+            phase = beta * trajectory.t
+            small = angle0 * np.cos(phase) + rate0 / beta * np.sin(phase)
+            curves.append(Curve(f"{name}, θ0 sin βt", trajectory.t, np.degrees(small), "theory"))
+        panel = Panel(
+            "Gyrocompass: angle θ of the spin axis from the platform's axis",
+            "θ (deg)",
+            curves,
+            name="theta",
+        )
+        return Comparison(rows, [panel])

@@ -7,7 +7,7 @@ the spin angle and the platform's turn in closed form. The closed form of the
 small and large swings is :func:`tumble.theory.gyrocompass`; the check that
 compares the two is :class:`tumble.checks.gyrocompass.GyrocompassCheck`, and a
 scenario's ``[gyrocompass]`` table runs this model
-(:mod:`tumble.scenario.gyrocompass`).
+(:mod:`tumble.scenario.model_kinds.gyrocompass`).
 """
 
 from __future__ import annotations

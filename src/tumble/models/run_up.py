@@ -46,6 +46,7 @@ from tumble.kinematics import same_hemisphere
 from tumble.massprops import readonly
 from tumble.resources import DEFAULT_MAX_STEPS
 from tumble.simulation import most_steps
+from tumble.theory import RigidRotor
 from tumble.trajectory import Trajectory
 from tumble.units import to_si
 
@@ -143,13 +144,13 @@ def run_up(
     >>> print(abs(run.amplitude[-1] / steady - 1).max() < 1e-6)
     True
     """
-    try:  # the rotor's matrices (M, K, C, G) and bearing arms, as the theory gives them
-        matrices = rotor.mass_matrix, rotor.stiffness, rotor.damping, rotor.gyroscopic
-        centre, arms, frame = rotor.centre, rotor.arms, rotor.frame
-    except AttributeError:
+    if not isinstance(rotor, RigidRotor):
         raise InputError(
             f"Expected `rotor` to be a tumble.theory.RigidRotor, got {type(rotor).__name__}."
-        ) from None
+        )
+    # The rotor's matrices (M, K, C, G) and bearing arms, as the theory gives them.
+    matrices = rotor.mass_matrix, rotor.stiffness, rotor.damping, rotor.gyroscopic
+    centre, arms, frame = rotor.centre, rotor.arms, rotor.frame
     u = to_si(unbalance, "unbalance", "unbalance")
     span = to_si(duration, "time", "duration")
     start = to_si(speed, "angular_velocity", "speed")

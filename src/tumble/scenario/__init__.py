@@ -76,10 +76,10 @@ def parse(
         others there are).
     """
     from tumble.scenario.bodies import key_path
-    from tumble.scenario.schema import Scenario
+    from tumble.scenario.schema import scenario_schema
 
     spec = validate_toml(
-        Scenario,
+        scenario_schema(),
         text,
         source,
         error=ScenarioError,

@@ -1,10 +1,10 @@
 """Run a scenario: simulate, then compare with the theory check that fits it.
 
 The check comes from the registry (:mod:`tumble.checks`): the one the file's
-``[theory] model`` names, or the first that fits the case. A scenario with a
-``[gyrocompass]`` table runs the gimbal model instead
-(:mod:`tumble.scenario.gyrocompass`), one with a ``[rotor]`` table the rotor on
-elastic bearings (:mod:`tumble.scenario.rotor`). The result, :class:`RunResult`, holds
+``[theory] model`` names, or the first that fits the case. A scenario with the
+table of a model kind (:mod:`tumble.scenario.model_kinds`: ``[gyrocompass]``,
+``[rotordynamics]``, …) runs that model instead, compared by the check the kind
+names. The result, :class:`RunResult`, holds
 everything a report needs: the trajectories, the rows theory vs simulation,
 the drift of the conserved quantities, and the curves (:class:`~tumble.checks.Panel`)
 to draw.
@@ -31,15 +31,14 @@ from tumble.scenario.build import (
     mass_properties,
     torque_model,
 )
-from tumble.scenario.gyrocompass import run_gyrocompass
 from tumble.scenario.loaded import ScenarioError, where
-from tumble.scenario.rotor import run_rotor
 from tumble.scenario.sampling import decimate, record_every
 from tumble.scenario.schema import MAX_STEPS, MAX_STEPS_TEXT
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
     from tumble.scenario.loaded import LoadedScenario
+    from tumble.scenario.model_kinds import ModelKind
     from tumble.trajectory import Trajectory
 
 __all__ = ["RunResult", "execute"]
@@ -122,15 +121,11 @@ def execute(loaded: LoadedScenario, progress: Progress = None) -> RunResult:
     parts, added = internal_parts(spec, loaded)
     if added is not None:
         mp = mp + added
+    tables = spec.model_tables()
     theory: str | None
-    if spec.gyrocompass is not None:
-        runs, comparisons, panels, theory = run_gyrocompass(loaded, mp, progress)
-        notes = [
-            "The gimbal model: the disk's energy is not conserved (the platform does work); "
-            "the Jacobi integral T − Ω·L is."
-        ]
-    elif spec.rotor is not None:
-        runs, comparisons, panels, theory, notes = run_rotor(loaded, mp, progress)
+    if tables:
+        table, kind = next(iter(tables.items()))
+        runs, comparisons, panels, theory, notes = _model(loaded, mp, table, kind, progress)
     else:
         runs, comparisons, panels, theory, notes = _rigid_body(loaded, mp, parts, progress)
     main = next(iter(runs.values()))
@@ -163,6 +158,26 @@ def check_steps(loaded: LoadedScenario, total: int) -> None:
             "should run in seconds (give a longer `dt` or a shorter `duration`, or use "
             "tumble.simulate for long runs)."
         )
+
+
+def _model(
+    loaded: LoadedScenario, mp: MassProperties, table: str, kind: ModelKind, progress: Progress
+) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str, list[str]]:
+    """The runs of the model kind of the file's ``table``, compared by the theory check
+    the kind names."""
+    from tumble.checks import THEORY_CHECKS
+
+    spec = loaded.spec
+    simulation = spec.simulation
+    settings = getattr(spec, table)
+    with at_key(loaded, table):
+        done = kind.run(
+            mp, settings, simulation.duration, simulation.dt, spec.output.samples, progress
+        )
+    check = THEORY_CHECKS[kind.check]
+    comparison = check.compare_runs(done.case, done.trajectories, done.results)
+    notes = [*kind.notes, *comparison.notes]
+    return dict(done.trajectories), comparison.rows, comparison.panels, check.name, notes
 
 
 def _rigid_body(

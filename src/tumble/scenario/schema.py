@@ -3,9 +3,10 @@
 A scenario is a TOML file with the tables ``[scenario]`` (name, title,
 description), ``[body]``, ``[[internal]]`` (its rotors and dampers,
 :mod:`tumble.config.parts`), ``[initial]``, ``[environment]``,
-``[[torques]]``, ``[simulation]``, ``[theory]``, ``[output]`` and, for the
-gimballed gyroscope, ``[gyrocompass]``, for a rotor on elastic bearings
-``[rotor]``. Quantities are numbers (SI) or strings with units (``"250 g"``,
+``[[torques]]``, ``[simulation]``, ``[theory]``, ``[output]``, or instead of
+the free body the table of a model kind (:mod:`tumble.scenario.model_kinds`:
+``[gyrocompass]``, ``[rotordynamics]``, the registry's; :func:`scenario_schema`
+adds them). Quantities are numbers (SI) or strings with units (``"250 g"``,
 ``"3000 rpm"``, ``"0, 0, -10 cm"``); every value is converted to SI floats
 here, with :mod:`tumble.units`, so what passes validation is a plain
 description in SI. Unknown keys are errors (a typo must not be ignored
@@ -15,11 +16,12 @@ silently); see :func:`tumble.scenario.parse` for how errors are reported. The
 
 from __future__ import annotations
 
-import math
+import functools
 import re
-from typing import Annotated, Any, Literal
+import warnings
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Field, ValidationInfo, field_validator, model_validator
+from pydantic import BeforeValidator, Field, create_model, field_validator, model_validator
 
 from tumble.config import StrictModel, key_error
 from tumble.config.parts import InternalSpec
@@ -27,30 +29,29 @@ from tumble.config.registries import method_choice, theory_choice, torque_entry
 from tumble.errors import quoted
 from tumble.resources import DEFAULT_MAX_STEPS, DEFAULT_MAX_STEPS_TEXT
 from tumble.scenario.bodies import (
-    Angle,
-    AngularVelocity,
     Attitude,
     Body,
     LengthVector,
     Time,
     Vector,
-    scalar_field,
     vector_field,
 )
+
+if TYPE_CHECKING:
+    from tumble.scenario.model_kinds import ModelKind
 
 __all__ = [
     "MAX_STEPS",
     "MAX_STEPS_TEXT",
+    "SCENARIO_TABLES",
     "Environment",
-    "GyrocompassSettings",
     "Initial",
     "Output",
-    "RotorBearing",
-    "RotorSettings",
     "Scenario",
     "Simulation",
     "Theory",
     "Torque",
+    "scenario_schema",
 ]
 
 
@@ -158,93 +159,6 @@ class Output(StrictModel):
     viewer_frames: Annotated[int, Field(ge=2, le=2000)] = 300
 
 
-class GyrocompassSettings(StrictModel):
-    """``[gyrocompass]``: the gimballed gyroscope on a turning platform.
-
-    The disk is ``[body]`` (symmetric about its z axis), spinning at
-    ``spin_rate``; the platform turns at ``platform_rate``; each entry of
-    ``amplitudes`` is one run released from rest at that angle θ0 between the
-    spin axis and the platform's axis.
-    """
-
-    spin_rate: AngularVelocity
-    platform_rate: AngularVelocity
-    amplitudes: Annotated[list[Angle], Field(min_length=1, max_length=4)]
-
-    @model_validator(mode="after")
-    def _physical(self) -> GyrocompassSettings:
-        if self.spin_rate == 0 or self.platform_rate == 0:
-            raise ValueError(
-                "Expected `spin_rate` and `platform_rate` ≠ 0 rad/s, got "
-                f"{self.spin_rate!r} and {self.platform_rate!r}."
-            )
-        for theta in self.amplitudes:
-            if not 0 < theta < math.pi:
-                raise ValueError(
-                    f"Expected each of `amplitudes` in (0, 180) deg, got {theta!r} rad."
-                )
-        return self
-
-
-def number_or_pair(kind: str) -> Any:
-    """A validator of one value ≥ 0 (the same along both transverse axes) or a pair
-    of them (along the rotor's x and y), in SI units of ``kind``."""
-
-    def convert(value: Any, info: ValidationInfo) -> tuple[float, float]:
-        from tumble.theory.rotordynamics import transverse_pair
-
-        return transverse_pair(value, kind, str(info.field_name))
-
-    return BeforeValidator(convert)
-
-
-class RotorBearing(StrictModel):
-    """``[[rotor.bearings]]``: one elastic bearing (:class:`tumble.theory.Bearing`):
-    ``position`` along the rotor's axis from the body's origin; ``stiffness``
-    (N/m) and ``damping`` (N·s/m), each one value or two (``"1e6, 2e6 N/m"``:
-    along the rotor's x and y)."""
-
-    position: Annotated[float, scalar_field("length")]
-    stiffness: Annotated[tuple[float, float], number_or_pair("stiffness")]
-    damping: Annotated[tuple[float, float], number_or_pair("linear_damping")] = (0.0, 0.0)
-
-
-class RotorSettings(StrictModel):
-    """``[rotor]``: ``[body]`` as a rigid rotor on elastic bearings
-    (:class:`tumble.theory.RigidRotor`), spinning about ``axis`` (body axes; a
-    principal axis with equal moments about the other two).
-
-    The run (:func:`tumble.models.run_up`) takes the rotor from the first of
-    ``speeds`` to the second over ``[simulation] duration`` with an
-    ``unbalance`` (kg·m, the unbalance mass times its radius) at
-    ``unbalance_position`` along the axis; a second run at ``steady_speed``
-    (if given) settles on the steady orbits. The Campbell diagram and the
-    unbalance response are drawn over ``speeds``.
-    """
-
-    axis: Annotated[Vector, vector_field("dimensionless")] = (0.0, 0.0, 1.0)
-    bearings: list[RotorBearing]
-    unbalance: Annotated[float, scalar_field("unbalance", positive=True)]
-    unbalance_position: Annotated[float, scalar_field("length")] = 0.0
-    speeds: Annotated[tuple[float, float], vector_field("angular_velocity", (2,))]
-    steady_speed: Annotated[float, scalar_field("angular_velocity", positive=True)] | None = None
-
-    @model_validator(mode="after")
-    def _consistent(self) -> RotorSettings:
-        if len(self.bearings) < 2:
-            raise ValueError(
-                "Expected two or more [[rotor.bearings]] (to hold the rotor's tilt), got "
-                f"{len(self.bearings)}."
-            )
-        low, high = self.speeds
-        if not 0 <= low < high:
-            raise ValueError(
-                f"Expected `speeds` = [from, to] with 0 <= from < to (rad/s), got [{low!r}, "
-                f"{high!r}]."
-            )
-        return self
-
-
 class Scenario(StrictModel):
     """A whole scenario file, validated and in SI units."""
 
@@ -257,8 +171,6 @@ class Scenario(StrictModel):
     simulation: Simulation
     theory: Theory = Theory()
     output: Output = Output()
-    gyrocompass: GyrocompassSettings | None = None
-    rotor: RotorSettings | None = None
 
     @model_validator(mode="after")
     def _consistent(self) -> Scenario:
@@ -269,10 +181,10 @@ class Scenario(StrictModel):
                 f"Expected `duration` long enough to space [output] samples = {samples} apart, "
                 f"got {self.simulation.duration!r} s (duration / samples rounds to 0 s).",
             )
-        models = [name for name in ("gyrocompass", "rotor") if getattr(self, name) is not None]
-        if len(models) > 1:
-            raise ValueError("Expected one of [gyrocompass] and [rotor], got both.")
-        if models:
+        tables = self.model_tables()
+        if len(tables) > 1:
+            raise ValueError(f"Expected one model table at most, got [{'] and ['.join(tables)}].")
+        for table, kind in tables.items():
             extra = [
                 name
                 for name, given in (
@@ -286,7 +198,62 @@ class Scenario(StrictModel):
             ]
             if extra:
                 raise ValueError(
-                    f"Expected no [{extra[0]}] with [{models[0]}] (its model sets the "
+                    f"Expected no [{extra[0]}] with [{table}] (its model sets the "
                     "initial state, the forces and the closed form)."
                 )
+            if table != kind.table:
+                warnings.warn(
+                    f"The table [{table}] is now called [{kind.table}]: the old name "
+                    "is read until the next release.",
+                    FutureWarning,
+                    stacklevel=2,
+                )
         return self
+
+    def model_tables(self) -> dict[str, ModelKind]:
+        """The model tables the file holds, by the name it gives them, with their kinds
+        (:data:`tumble.scenario.model_kinds.MODEL_KINDS`)."""
+        from tumble.scenario.model_kinds import MODEL_KINDS
+
+        return {
+            name: kind
+            for kind in MODEL_KINDS.values()
+            for name in (kind.table, *kind.former_tables)
+            if getattr(self, name, None) is not None
+        }
+
+
+#: The tables of every scenario file; a model kind's table takes another name.
+SCENARIO_TABLES = tuple(Scenario.model_fields)
+
+
+def scenario_schema() -> type[Scenario]:
+    """The schema of scenario files: :class:`Scenario` with a table for each registered
+    model kind (:data:`tumble.scenario.model_kinds.MODEL_KINDS`), and for each of
+    their former names, made anew when the registry changes.
+
+    Raises
+    ------
+    ValueError
+        A model kind whose table takes the name of one of every file's tables.
+    """
+    from tumble.scenario.model_kinds import MODEL_KINDS
+
+    tables = tuple(
+        (name, kind.settings)
+        for kind in MODEL_KINDS.values()
+        for name in (kind.table, *kind.former_tables)
+    )
+    for name, _ in tables:
+        if name in SCENARIO_TABLES:
+            raise ValueError(
+                f"Expected the model kinds' tables to be named other than every file's tables "
+                f"({', '.join(SCENARIO_TABLES)}), got {name!r}."
+            )
+    return _schema_with(tables)
+
+
+@functools.cache
+def _schema_with(tables: tuple[tuple[str, type[StrictModel]], ...]) -> type[Scenario]:
+    fields: dict[str, Any] = {name: (settings | None, None) for name, settings in tables}
+    return create_model("Scenario", __base__=Scenario, __module__=__name__, **fields)

@@ -1,10 +1,7 @@
-"""A scenario with a ``[rotor]`` table: a rigid rotor on elastic bearings, run up.
+"""The rigid rotor on elastic bearings run up: its orbits against the closed forms of
+:class:`tumble.theory.RigidRotor`.
 
-The body is a :class:`tumble.theory.RigidRotor` on the bearings of the table.
-The main run is :func:`tumble.models.run_up` through the table's ``speeds``
-over ``[simulation] duration``; with ``steady_speed`` a second run holds that
-speed until the start-up transient has died away. Compared with the closed
-forms: the steady orbits at the bearings (major semi-axis and the phase lag of
+Compared: the steady orbits at the bearings (major semi-axis and the phase lag of
 x behind the unbalance, fitted over the last tenth of the steady run) and the
 critical speeds (the speeds where the run-up's orbit is largest come after
 them, later the faster the run-up). Drawn: the Campbell diagram, the
@@ -14,30 +11,23 @@ unbalance response against the run-up's orbit, its phase, and the orbits.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.checks import Curve, Panel, comparison_row
-from tumble.scenario.build import at_key
-from tumble.scenario.schema import MAX_STEPS
+from tumble.checks.base import Case, Comparison, Curve, Panel, TheoryCheck, comparison_row
+from tumble.errors import InputError
 
 if TYPE_CHECKING:
-    from tumble.massprops import MassProperties
     from tumble.models import RunUp
-    from tumble.scenario.loaded import LoadedScenario
     from tumble.theory import RigidRotor
     from tumble.trajectory import Trajectory
 
-__all__ = ["CLOSED_FORM", "run_rotor"]
+__all__ = ["RigidRotorCheck"]
 
 Array = NDArray[np.float64]
-Progress = Callable[[int, int], object] | None
-
-#: The name the report gives the closed form compared with.
-CLOSED_FORM = "rigid-rotor"
 
 #: Speeds at which the Campbell diagram and the unbalance response are drawn.
 CURVE_POINTS = 400
@@ -49,78 +39,67 @@ STEADY_TAIL = 0.1
 CLUSTER = 0.02
 
 
-def run_rotor(
-    loaded: LoadedScenario, mp: MassProperties, progress: Progress
-) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str, list[str]]:
-    """The runs by label ("main" the run-up, "steady" the run at ``steady_speed``),
-    the rows theory vs simulation, the panels, the name of the closed form and
-    notes for the report."""
-    from tumble import models, theory
+class RigidRotorCheck(TheoryCheck):
+    """The run-ups of a rigid rotor on elastic bearings (:func:`tumble.models.run_up`)
+    against its closed forms (:class:`tumble.theory.RigidRotor`). ``options``:
+    ``rigid_rotor`` (the RigidRotor), ``unbalance`` (kg·m) at ``unbalance_position``
+    (m along the axis), and ``speeds`` (rad/s, the run-up's first and last); the
+    runs: ``"main"`` the run-up, ``"steady"`` (if any) a run at one speed."""
 
-    spec = loaded.spec
-    settings = spec.rotor
-    if settings is None:  # pragma: no cover - called for scenarios with [rotor] only
-        raise ValueError("Expected a scenario with a [rotor] table.")
-    bearings = [theory.Bearing(b.position, b.stiffness, b.damping) for b in settings.bearings]
-    with at_key(loaded, "rotor"):
-        rotor = theory.RigidRotor(mp, bearings, axis=settings.axis)
-    low, high = settings.speeds
-    duration = spec.simulation.duration
-    planned = [("main", low, (high - low) / duration)]
-    if settings.steady_speed is not None:
-        planned.append(("steady", settings.steady_speed, 0.0))
-    runs: dict[str, RunUp] = {}
-    for k, (label, start, rate) in enumerate(planned):
+    name = "rigid-rotor"
+    needs = "the rigid rotor on elastic bearings of a [rotordynamics] table"
+    result_type = ()
 
-        def report(done: int, steps: int, k: int = k) -> None:
-            if progress is not None:
-                progress(k * steps + done, len(planned) * steps)
+    def fits(self, case: Case) -> bool:
+        return "rigid_rotor" in case.options
 
-        with at_key(loaded, "rotor"):
-            runs[label] = models.run_up(
-                rotor,
-                settings.unbalance,
-                duration=duration,
-                speed=start,
-                acceleration=rate,
-                position=settings.unbalance_position,
-                dt=spec.simulation.dt,
-                samples=spec.output.samples,
-                progress=report,
-                max_steps=MAX_STEPS,
-            )
-    speeds = np.linspace(low, high, CURVE_POINTS)
-    names = _bearing_names(rotor)
-    rows = _critical_rows(rotor, runs["main"], names, settings)
-    for row in rows:
-        row["run"] = "main"
-    panels = [
-        _campbell(rotor, speeds),
-        _response(rotor, speeds, runs["main"], settings, names),
-        _phase(rotor, speeds, settings, names),
+    def compare(self, case: Case, trajectory: Trajectory) -> Comparison:
+        raise InputError(
+            "Expected the runs of tumble.models.run_up (their bearing orbits) for the "
+            "rigid-rotor check, got a trajectory alone: run the rotor from a "
+            "[rotordynamics] table."
+        )
+
+    def compare_runs(
+        self, case: Case, trajectories: Mapping[str, Trajectory], results: Mapping[str, Any]
+    ) -> Comparison:
+        rotor = case.options["rigid_rotor"]
+        unbalance = (case.options["unbalance"], case.options["unbalance_position"])
+        low, high = case.options["speeds"]
+        speeds = np.linspace(low, high, CURVE_POINTS)
+        names = _bearing_names(rotor)
+        critical = _critical_rows(rotor, results["main"], names, unbalance)
+        rows = [{**row, "run": "main"} for row in critical]
+        panels = [
+            _campbell(rotor, speeds),
+            _response(rotor, speeds, results["main"], unbalance, names),
+            _phase(rotor, speeds, unbalance, names),
+        ]
+        notes = []
+        if "steady" in results:
+            steady = results["steady"]
+            steady_rows, orbits = _steady(rotor, steady, unbalance, names)
+            rows = steady_rows + rows
+            panels.append(orbits)
+            notes.extend(_transient_left(rotor, steady))
+        return Comparison(rows, panels, notes=tuple(notes))
+
+
+def _transient_left(rotor: RigidRotor, steady: RunUp) -> list[str]:
+    """A note when the start-up transient of the steady run has not died away where
+    its orbit is fitted. The free vibration of the start decays as e^{Re λ t}, its
+    slowest mode's rate the least −Re λ; the orbit is fitted from (1 − STEADY_TAIL) T on."""
+    speed = float(steady.speed[0])
+    decay = float(-np.linalg.eigvals(rotor.state_matrices(speed)).real.min())
+    left = math.exp(-decay * (1.0 - STEADY_TAIL) * float(steady.t[-1]))
+    if left <= 1e-6:
+        return []
+    return [
+        f"The start-up transient of the run at {speed:.4g} rad/s has decayed only to "
+        f"{left:.1e} of its size where the orbit is fitted (the slowest mode decays at "
+        f"{decay:.3g} 1/s): the steady rows carry that error (a longer [simulation] "
+        "duration, or damped bearings, take it away)."
     ]
-    notes = [
-        "The rotor model: the motor does work and the bearings take it, so nothing is "
-        "conserved; its whirl, critical speeds and unbalance response are "
-        "tumble.theory.RigidRotor's."
-    ]
-    if "steady" in runs:
-        steady_rows, orbits = _steady(rotor, runs["steady"], settings, names)
-        rows = steady_rows + rows
-        panels.append(orbits)
-        # The free vibration of the start decays as e^{Re λ t}, its slowest mode's
-        # rate the least −Re λ; the orbit is fitted from (1 − STEADY_TAIL) T on.
-        decay = float(-np.linalg.eigvals(rotor.state_matrices(runs["steady"].speed[0])).real.min())
-        left = math.exp(-decay * (1.0 - STEADY_TAIL) * duration)
-        if left > 1e-6:
-            notes.append(
-                f"The start-up transient of the run at {settings.steady_speed:.4g} rad/s has "
-                f"decayed only to {left:.1e} of its size where the orbit is fitted (the "
-                f"slowest mode decays at {decay:.3g} 1/s): the steady rows carry that error "
-                "(a longer [simulation] duration, or damped bearings, take it away)."
-            )
-    trajectories = {label: run.trajectory for label, run in runs.items()}
-    return trajectories, rows, panels, CLOSED_FORM, notes
 
 
 def _bearing_names(rotor: RigidRotor) -> list[str]:
@@ -143,13 +122,13 @@ def _fitted_orbit(run: RunUp, speed: float) -> NDArray[np.complex128]:
 
 
 def _steady(
-    rotor: RigidRotor, run: RunUp, settings: Any, names: list[str]
+    rotor: RigidRotor, run: RunUp, unbalance: tuple[float, float], names: list[str]
 ) -> tuple[list[dict[str, Any]], Panel]:
     """The steady orbits' rows (semi-axis and phase lag at each bearing) and their panel."""
     from tumble.theory.rotordynamics import major_semi_axis
 
     speed = float(run.speed[0])
-    expected = rotor.unbalance_orbits(speed, settings.unbalance, settings.unbalance_position)[0]
+    expected = rotor.unbalance_orbits(speed, *unbalance)[0]
     measured = _fitted_orbit(run, speed)
     rows = []
     for name, theory_orbit, fitted in zip(names, expected, measured, strict=True):
@@ -190,7 +169,7 @@ def _steady(
 
 
 def _critical_rows(
-    rotor: RigidRotor, run: RunUp, names: list[str], settings: Any
+    rotor: RigidRotor, run: RunUp, names: list[str], unbalance: tuple[float, float]
 ) -> list[dict[str, Any]]:
     """For each critical speed the run-up passes, the speed where the orbit is
     largest after it (up to halfway to the next, and 30 % above it at most), at
@@ -211,7 +190,7 @@ def _critical_rows(
         near = (run.speed >= critical) & (run.speed <= upper)
         if not near.any():
             continue
-        steady = rotor.unbalance_response(critical, settings.unbalance, settings.unbalance_position)
+        steady = rotor.unbalance_response(critical, *unbalance)
         bearing = int(np.argmax(steady[0]))
         amplitude = run.amplitude[near, bearing]
         peak = float(run.speed[near][np.argmax(amplitude)])
@@ -255,10 +234,10 @@ def _campbell(rotor: RigidRotor, speeds: Array) -> Panel:
 
 
 def _response(
-    rotor: RigidRotor, speeds: Array, run: RunUp, settings: Any, names: list[str]
+    rotor: RigidRotor, speeds: Array, run: RunUp, unbalance: tuple[float, float], names: list[str]
 ) -> Panel:
     """The steady unbalance response at each bearing against the run-up's orbit."""
-    steady = rotor.unbalance_response(speeds, settings.unbalance, settings.unbalance_position)
+    steady = rotor.unbalance_response(speeds, *unbalance)
     curves = []
     # Drawn from a thousandth of the largest orbit up (it starts from 0 at rest).
     floor = 1e-3 * float(steady.max())
@@ -277,9 +256,11 @@ def _response(
     )
 
 
-def _phase(rotor: RigidRotor, speeds: Array, settings: Any, names: list[str]) -> Panel:
+def _phase(
+    rotor: RigidRotor, speeds: Array, unbalance: tuple[float, float], names: list[str]
+) -> Panel:
     """The phase lag of the steady orbit's x behind the unbalance, at each bearing."""
-    orbits = rotor.unbalance_orbits(speeds, settings.unbalance, settings.unbalance_position)
+    orbits = rotor.unbalance_orbits(speeds, *unbalance)
     curves = [
         Curve(name, speeds, -np.degrees(np.unwrap(np.angle(orbits[:, k, 0]))))
         for k, name in enumerate(names)
