@@ -111,3 +111,18 @@ def test_no_module_imports_the_package_root() -> None:
                         if alias.name not in SUBMODULES
                     ]
     assert found == []
+
+
+def test_the_rotordynamics_namespace_offers_the_rotors_names_themselves() -> None:
+    # One object under each name: the namespace gathers, it does not wrap.
+    assert tumble.rotordynamics.RigidRotor is tumble.theory.RigidRotor
+    assert tumble.rotordynamics.Bearing is tumble.theory.Bearing
+    assert tumble.rotordynamics.run_up is tumble.models.run_up
+    assert tumble.rotordynamics.RunUp is tumble.models.RunUp
+    assert set(tumble.rotordynamics.__all__) == {
+        "Bearing",
+        "RigidRotor",
+        "RunUp",
+        "Whirl",
+        "run_up",
+    }

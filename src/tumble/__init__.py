@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from tumble import identification as identification
     from tumble import models as models
     from tumble import robots as robots
+    from tumble import rotordynamics as rotordynamics
     from tumble import shapes as shapes
     from tumble import sweep as sweep
     from tumble import symbolic as symbolic
@@ -94,6 +95,7 @@ _PUBLIC = {
     "identification": "tumble.identification",
     "models": "tumble.models",
     "robots": "tumble.robots",
+    "rotordynamics": "tumble.rotordynamics",
     "shapes": "tumble.shapes",
     "sweep": "tumble.sweep",
     "symbolic": "tumble.symbolic",
