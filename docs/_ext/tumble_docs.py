@@ -480,8 +480,8 @@ def copy_mathjax(app: Any, error: Exception | None) -> None:
 # ------------------------------------------------------------------ references
 #: The modules whose ``__all__`` the reference documents, besides ``tumble``'s own.
 PUBLIC_MODULES = (
-    "theory", "analysis", "identification", "torques", "shapes", "models", "robots",
-    "conformance", "sweep", "units",
+    "theory", "analysis", "identification", "torques", "shapes", "models", "rotordynamics",
+    "robots", "conformance", "sweep", "units",
 )  # fmt: skip
 
 #: Libraries whose names docstrings mention: with no network there is no

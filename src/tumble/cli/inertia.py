@@ -192,17 +192,14 @@ def _build_body(
     dimensions: dict[str, str],
     mesh_options: dict[str, str] | None = None,
 ) -> tuple[str, MassProperties]:
-    import inspect
-
-    from tumble import shapes
     from tumble.errors import InputError
+    from tumble.shapes import SHAPE_KINDS
 
-    shape_name = body.strip().lower().replace("-", "_")
-    if shape_name in shapes.__all__:
-        function = getattr(shapes, shape_name)
-        parameters = [p for p in inspect.signature(function).parameters if p != "mass"]
-        accepted = ", ".join(_option(p) for p in ["mass", *parameters])
-        extra = [p for p in dimensions if p not in parameters]
+    shape_name = body.strip().lower().replace("_", "-")
+    if shape_name in SHAPE_KINDS:
+        kind = SHAPE_KINDS[shape_name]
+        accepted = ", ".join(_option(p) for p in ["mass", *kind.dimensions])
+        extra = [p for p in dimensions if p not in kind.dimensions]
         if density is not None or units is not None:
             extra += ["density"] if density is not None else []
             extra += ["units"] if units is not None else []
@@ -211,14 +208,14 @@ def _build_body(
             raise InputError(f"Expected only {accepted} for {shape_name}, got {_option(extra[0])}.")
         missing = [
             p
-            for p in ["mass", *parameters]
+            for p in ["mass", *kind.dimensions]
             if (p == "mass" and mass is None) or (p != "mass" and p not in dimensions)
         ]
         if missing:
             raise InputError(
                 f"Expected {_option(missing[0])} for {shape_name} (it takes {accepted})."
             )
-        return shape_name.replace("_", "-"), function(mass, **dimensions)
+        return shape_name, kind.function(mass, **dimensions)
     from tumble.errors import unknown_choice
     from tumble.mesh.step import STEP_SUFFIXES
 
@@ -238,8 +235,7 @@ def _build_body(
         return str(path), from_mesh(
             path, density=density, mass=mass, units=units, **(mesh_options or {})
         )
-    names = [s.replace("_", "-") for s in shapes.__all__]
-    raise unknown_choice(body, names, "a shape", alternative="a mesh file")
+    raise unknown_choice(body, list(SHAPE_KINDS), "a shape", alternative="a mesh file")
 
 
 def _inertia_json(label: str, mp: MassProperties, point: Any) -> dict[str, Any]:

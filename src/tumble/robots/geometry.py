@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -13,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from tumble import shapes as primitives
 from tumble.errors import QUOTED_PATH_LENGTH, InputError, quoted, unknown_choice
 from tumble.massprops import MassProperties
 
@@ -92,48 +94,45 @@ class Shape:
         return f"mesh {self.mesh}" if self.mesh is not None else self.kind
 
 
-def _unit_density(shape: Shape) -> MassProperties:
-    from tumble import shapes
+#: The primitives of robot files, by the files' words, as the catalogue's
+#: (:data:`tumble.shapes.SHAPE_KINDS`): its name and its dimensions from the file's
+#: sizes (a cylinder's and a capsule's ``length`` is the catalogue's ``height`` and
+#: ``cylinder_height``).
+PRIMITIVES: dict[str, tuple[str, Callable[[tuple[float, ...]], dict[str, Any]]]] = {
+    "box": ("box", lambda size: {"size": tuple(size)}),
+    "cylinder": ("solid-cylinder", lambda size: {"radius": size[0], "height": size[1]}),
+    "sphere": ("solid-sphere", lambda size: {"radius": size[0]}),
+    "capsule": ("capsule", lambda size: {"radius": size[0], "cylinder_height": size[1]}),
+    "ellipsoid": ("ellipsoid", lambda size: {"semi_axes": tuple(size)}),
+}
 
-    kind, size = shape.kind, shape.size
-    if kind == "box":
-        return shapes.box(size[0] * size[1] * size[2], size)
-    if kind == "cylinder":
-        radius, length = size
-        return shapes.solid_cylinder(math.pi * radius * radius * length, radius, length)
-    if kind == "sphere":
-        return shapes.solid_sphere(4.0 / 3.0 * math.pi * size[0] ** 3, size[0])
-    if kind == "capsule":
-        radius, length = size
-        volume = math.pi * radius * radius * (length + 4.0 * radius / 3.0)
-        return shapes.capsule(volume, radius, length)
-    if kind == "ellipsoid":
-        return shapes.ellipsoid(4.0 / 3.0 * math.pi * size[0] * size[1] * size[2], size)
+
+def _primitive(shape: Shape) -> primitives.Shape:
+    """A primitive shape as the catalogue's :class:`tumble.shapes.Shape` (its sizes
+    not checked: its closed form checks them when it is used)."""
+    name, dimensions = PRIMITIVES[shape.kind]
+    return primitives.Shape(primitives.SHAPE_KINDS[name], dimensions(shape.size))
+
+
+def _unit_density(shape: Shape) -> MassProperties:
+    kind = shape.kind
+    if kind in PRIMITIVES:
+        return _primitive(shape).at_density(1.0)
     if kind == "mesh" and shape.vertices is not None and shape.faces is not None:
         return _inline_mesh(shape)[0]
     if kind == "mesh":
         if shape.mesh is None:
             raise InputError("Expected a mesh shape to name its file, got none.")
         return _mesh_solid(shape.mesh, shape.scale)[0]
-    raise unknown_choice(
-        kind, ("box", "cylinder", "sphere", "capsule", "ellipsoid", "mesh"), "a shape's kind"
-    )
+    raise unknown_choice(kind, (*PRIMITIVES, "mesh"), "a shape's kind")
 
 
 def _half_extents(shape: Shape) -> Array:
-    """Half the edges of the box around a primitive shape, in its own frame."""
-    size = shape.size
-    if shape.kind == "box":
-        return np.array(size) / 2
-    if shape.kind == "cylinder":
-        return np.array([size[0], size[0], size[1] / 2])
-    if shape.kind == "capsule":
-        return np.array([size[0], size[0], size[1] / 2 + size[0]])
-    if shape.kind == "sphere":
-        return np.full(3, size[0])
-    if shape.kind == "ellipsoid":
-        return np.array(size)
-    return np.zeros(3)
+    """Half the edges of the box around a primitive shape, in its own frame (the
+    primitives of robot files are centred on their origin)."""
+    if shape.kind not in PRIMITIVES:
+        return np.zeros(3)
+    return _primitive(shape).bounding_box[1]
 
 
 _MESHES: dict[tuple[str, int, tuple[float, ...]], tuple[MassProperties, Array, Array]] = {}

@@ -9,7 +9,7 @@ Quantities are numbers (SI) or strings with units (``"250 g"``,
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import numpy as np
 from pydantic import (
@@ -26,8 +26,10 @@ from tumble.config import StrictModel, key_error
 from tumble.errors import InputError, unknown_choice
 from tumble.units import to_si, vector_to_si
 
+if TYPE_CHECKING:
+    from tumble.massprops import MassProperties
+
 __all__ = [
-    "SHAPES",
     "Angle",
     "AngularVelocity",
     "Attitude",
@@ -173,25 +175,6 @@ def _unit(vector: Any) -> Any:
 
 
 # ------------------------------------------------------------ bodies
-#: Solids by name (dashes as on the command line) and the dimensions each takes.
-SHAPES: dict[str, tuple[str, ...]] = {
-    "box": ("size",),
-    "solid-cylinder": ("radius", "height"),
-    "hollow-cylinder": ("inner_radius", "outer_radius", "height"),
-    "solid-sphere": ("radius",),
-    "spherical-shell": ("radius",),
-    "hollow-sphere": ("inner_radius", "outer_radius"),
-    "solid-cone": ("radius", "height"),
-    "thin-rod": ("length",),
-    "thin-disk": ("radius",),
-    "thin-ring": ("radius",),
-    "ellipsoid": ("semi_axes",),
-    "torus": ("major_radius", "minor_radius"),
-    "capsule": ("radius", "cylinder_height"),
-    "regular-tetrahedron": ("edge",),
-}
-
-
 class _Placed(StrictModel):
     """A body that may be moved: first rotated about its origin, then translated."""
 
@@ -200,7 +183,9 @@ class _Placed(StrictModel):
 
 
 class ShapeBody(_Placed):
-    """A closed-form solid from :mod:`tumble.shapes`: ``shape``, ``mass`` and its dimensions."""
+    """A closed-form solid from :mod:`tumble.shapes`: ``shape``, ``mass`` and its
+    dimensions (those of its kind in :data:`tumble.shapes.SHAPE_KINDS`; the fields
+    below are every dimension of the catalogue, a test holds them to it)."""
 
     shape: str
     mass: Mass
@@ -218,11 +203,13 @@ class ShapeBody(_Placed):
 
     @model_validator(mode="after")
     def _dimensions(self) -> ShapeBody:
+        from tumble.shapes import SHAPE_KINDS
+
         name = self.shape.lower().replace("_", "-")
-        if name not in SHAPES:
-            raise key_error("shape", str(unknown_choice(self.shape, SHAPES, "`shape`")))
-        needed = SHAPES[name]
-        every = {n for dims in SHAPES.values() for n in dims}
+        if name not in SHAPE_KINDS:
+            raise key_error("shape", str(unknown_choice(self.shape, SHAPE_KINDS, "`shape`")))
+        needed = SHAPE_KINDS[name].dimensions
+        every = {n for kind in SHAPE_KINDS.values() for n in kind.dimensions}
         given = {n for n in every if getattr(self, n) is not None}
         extra = sorted(given - set(needed))
         if extra:
@@ -242,8 +229,22 @@ class ShapeBody(_Placed):
         return self
 
     def dimensions(self) -> dict[str, Any]:
-        """The shape function's keyword arguments (SI)."""
-        return {n: getattr(self, n) for n in SHAPES[self.shape]}
+        """Its dimensions by name (SI), those its kind takes."""
+        from tumble.shapes import SHAPE_KINDS
+
+        return {n: getattr(self, n) for n in SHAPE_KINDS[self.shape].dimensions}
+
+    def solid(self) -> MassProperties:
+        """The solid at its mass, about its centre of mass (before it is placed).
+
+        Raises
+        ------
+        InputError
+            Dimensions its closed form refuses.
+        """
+        from tumble.shapes import SHAPE_KINDS
+
+        return SHAPE_KINDS[self.shape].function(self.mass, **self.dimensions())
 
 
 class MeshBody(_Placed):

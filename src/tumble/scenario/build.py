@@ -94,7 +94,6 @@ def mass_properties(
     path: tuple[str | int, ...] = ("body",),
 ) -> MassProperties:
     """The mass properties of a body of the schema (parts added in the same coordinates)."""
-    from tumble import shapes
     from tumble.massprops import point_masses
 
     with at_key(loaded, *path):
@@ -105,8 +104,7 @@ def mass_properties(
             ]
             result: MassProperties = sum(parts[1:], parts[0])
         elif isinstance(spec, ShapeBody):
-            function = getattr(shapes, spec.shape.replace("-", "_"))
-            result = function(spec.mass, **spec.dimensions())
+            result = spec.solid()
         elif isinstance(spec, MeshBody):
             from tumble.mesh import from_mesh  # numba kernels: load only for meshes
 
