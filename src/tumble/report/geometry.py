@@ -18,14 +18,14 @@ from numpy.typing import NDArray
 from tumble.massprops import MassProperties
 
 __all__ = [
+    "DiscDrawing",
     "Geometry",
     "Mesh",
-    "RotorDrawing",
     "box",
     "cylinder",
+    "disc_mesh",
     "equal_inertia_ellipsoid",
     "revolve",
-    "rotor_mesh",
     "sphere",
     "torus",
 ]
@@ -137,9 +137,9 @@ def equal_inertia_ellipsoid(mp: MassProperties) -> Geometry:
 
 
 @dataclass(frozen=True)
-class RotorDrawing:
-    """Where to draw a rotor: its centre (m) and unit spin axis in body coordinates,
-    its radius and thickness (m)."""
+class DiscDrawing:
+    """Where to draw a part that spins as a disc (a rotor, a wheel): its centre (m)
+    and unit spin axis in body coordinates, its radius and thickness (m)."""
 
     position: Array
     axis: Array
@@ -147,13 +147,13 @@ class RotorDrawing:
     thickness: float
 
 
-def disc_drawing(drawing: Any) -> RotorDrawing | None:
+def disc_drawing(drawing: Any) -> DiscDrawing | None:
     """A part's drawing (:class:`tumble.parts.PartDrawing`) as a turning disc, or
     None when it is not a disc that spins."""
     if drawing is None or drawing.shape != "disc" or drawing.spin is None:
         return None
     axis = np.asarray(drawing.axis, dtype=float)
-    return RotorDrawing(
+    return DiscDrawing(
         np.asarray(drawing.position, dtype=float),
         axis / np.linalg.norm(axis),
         float(drawing.radius),
@@ -161,7 +161,7 @@ def disc_drawing(drawing: Any) -> RotorDrawing | None:
     )
 
 
-def rotor_mesh(drawing: RotorDrawing) -> tuple[Array, NDArray[np.int64], NDArray[np.bool_]]:
+def disc_mesh(drawing: DiscDrawing) -> tuple[Array, NDArray[np.int64], NDArray[np.bool_]]:
     """A disc with a stripe along one radius (to see it turn), in body coordinates at
     its place: vertices, faces, and which faces belong to the stripe."""
     from scipy.spatial.transform import Rotation

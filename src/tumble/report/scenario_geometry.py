@@ -16,9 +16,9 @@ from numpy.typing import NDArray
 
 from tumble.massprops import MassProperties
 from tumble.report.geometry import (
+    DiscDrawing,
     Geometry,
     Mesh,
-    RotorDrawing,
     box,
     cylinder,
     disc_drawing,
@@ -140,7 +140,7 @@ def _concatenate(pieces: list[tuple[Array, NDArray[np.int64]]]) -> tuple[Array, 
 
 def part_drawings(
     parts: Any, centre: Array, geometry: Geometry
-) -> tuple[Geometry, list[RotorDrawing | None]]:
+) -> tuple[Geometry, list[DiscDrawing | None]]:
     """The body's mesh with the parts drawn as balls added to it, and the discs of
     the parts that spin, one per column of the rotors' speeds (None for one not
     drawn as a disc), from each part's :meth:`~tumble.parts.InternalPart.drawing`.
@@ -149,7 +149,7 @@ def part_drawings(
     vertices = geometry.vertices
     reach = float(np.max(np.ptp(vertices, axis=0))) if len(vertices) else 1.0
     pieces = [(geometry.vertices, geometry.faces)]
-    rotors: list[RotorDrawing | None] = []
+    rotors: list[DiscDrawing | None] = []
     for entry in parts:
         part = getattr(entry, "part", entry)
         drawing = part.drawing(

@@ -31,7 +31,7 @@ from tumble.report.poinsot import poinsot_data, poinsot_figure
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
-    from tumble.report.geometry import Geometry, RotorDrawing
+    from tumble.report.geometry import DiscDrawing, Geometry
     from tumble.trajectory import Trajectory
 
 __all__ = ["Viewer", "viewer_html"]
@@ -54,7 +54,7 @@ def _geometry(traj: Trajectory, geometry: Geometry | None) -> tuple[Array, NDArr
     return geometry.vertices, geometry.faces, geometry.exact
 
 
-def _rotor_drawings(traj: Trajectory, reach: float) -> list[RotorDrawing | None]:
+def _disc_drawings(traj: Trajectory, reach: float) -> list[DiscDrawing | None]:
     """Discs for the trajectory's parts that spin (its rotors, one per column of
     ``rotor_speed``), as each part draws itself
     (:meth:`tumble.parts.InternalPart.drawing`): at the centre of mass, sized to
@@ -69,7 +69,7 @@ def _rotor_drawings(traj: Trajectory, reach: float) -> list[RotorDrawing | None]
 
 def _rotor_data(
     traj: Trajectory,
-    drawings: Sequence[RotorDrawing | None],
+    drawings: Sequence[DiscDrawing | None],
     origin: Array,
     index: Any,
 ) -> list[dict[str, Any]]:
@@ -83,13 +83,13 @@ def _rotor_data(
         return []  # without importing scipy.integrate (0.1 s)
     from scipy.integrate import cumulative_trapezoid
 
-    from tumble.report.geometry import rotor_mesh
+    from tumble.report.geometry import disc_mesh
 
     rotors = []
     for k, drawing in enumerate(drawings):
         if drawing is None:
             continue
-        vertices, faces, marked = rotor_mesh(drawing)
+        vertices, faces, marked = disc_mesh(drawing)
         angles = cumulative_trapezoid(speeds[:, k], traj.t, initial=0.0)[index] % (2 * np.pi)
         rotors.append(
             {
@@ -108,7 +108,7 @@ def viewer_data(
     traj: Trajectory,
     geometry: Geometry | None = None,
     frames: int = 300,
-    rotors: Sequence[RotorDrawing | None] | None = None,
+    rotors: Sequence[DiscDrawing | None] | None = None,
 ) -> dict[str, Any]:
     """The numbers the viewer's script needs (SI, space axes; the fixed point at the
     origin); ``rotors`` places the trajectory's rotors (default: discs at the
@@ -145,7 +145,7 @@ def viewer_data(
             return np.zeros_like(vectors)
         return vectors * (arrow / size)
 
-    drawings = _rotor_drawings(traj, reach) if rotors is None else rotors
+    drawings = _disc_drawings(traj, reach) if rotors is None else rotors
     return {
         "poinsot": poinsot_data(traj, index),
         "rotors": _rotor_data(traj, drawings, origin, index),
@@ -332,7 +332,7 @@ def viewer_html(
     *,
     frames: int = 300,
     title: str = "",
-    rotors: Sequence[RotorDrawing | None] | None = None,
+    rotors: Sequence[DiscDrawing | None] | None = None,
 ) -> str:
     """The viewer page of a trajectory, as one self-contained HTML string.
 
