@@ -496,17 +496,27 @@ EXTERNAL = frozenset(
 
 def public_names() -> list[str]:
     """Every name the reference documents: ``tumble.X`` for X in ``tumble.__all__``
-    and ``tumble.M.Y`` for Y in the ``__all__`` of each public module M."""
+    and ``tumble.M.Y`` for Y in the ``__all__`` of each public module M, but for a
+    class or function a later module offers again (:mod:`tumble.rotordynamics`
+    gathers names of :mod:`tumble.theory` and :mod:`tumble.models`): it is
+    documented once, under its first name, and the gathering module's page links
+    there."""
     import importlib
+    import inspect
 
     import tumble
 
     names = [f"tumble.{name}" for name in tumble.__all__]
+    offered: set[int] = set()
     for module in PUBLIC_MODULES:
-        names += [
-            f"tumble.{module}.{name}"
-            for name in importlib.import_module(f"tumble.{module}").__all__
-        ]
+        space = importlib.import_module(f"tumble.{module}")
+        for name in space.__all__:
+            value = getattr(space, name)
+            if inspect.isclass(value) or inspect.isfunction(value):
+                if id(value) in offered:
+                    continue
+                offered.add(id(value))
+            names.append(f"tumble.{module}.{name}")
     return names
 
 

@@ -1,15 +1,16 @@
 """Rotordynamics: a rigid rotor on elastic bearings, its closed forms and its run-up,
 in one namespace.
 
-* :class:`RigidRotor` on :class:`Bearing` objects — a rigid rotor (the body, a
-  solid of revolution about its spin axis) on elastic, damped bearings: its
-  whirl frequencies and modes (:class:`Whirl`, the Campbell diagram), its
-  critical speeds and its unbalance response, in closed form (defined in
-  :mod:`tumble.theory`, which offers them too).
-* :func:`run_up` → :class:`RunUp` — the rotor run up (or held at one speed) with
-  an unbalance, integrated in time by a compiled Runge–Kutta kernel
-  (``tumble.core.whirl``): its bearing orbits through the critical speeds
-  (defined in :mod:`tumble.models`, which offers them too).
+* ``RigidRotor`` on ``Bearing`` objects — a rigid rotor (the body, a solid of
+  revolution about its spin axis) on elastic, damped bearings: its whirl
+  frequencies and modes (``Whirl``, the Campbell diagram), its critical speeds
+  and its unbalance response, in closed form: the same objects as
+  :class:`tumble.theory.RigidRotor`, :class:`tumble.theory.Bearing` and
+  :class:`tumble.theory.Whirl`, documented there.
+* ``run_up`` → ``RunUp`` — the rotor run up (or held at one speed) with an
+  unbalance, integrated in time by a compiled Runge–Kutta kernel
+  (``tumble.core.whirl``): its bearing orbits through the critical speeds; the
+  same objects as :func:`tumble.models.run_up` and :class:`tumble.models.RunUp`.
 
 A scenario file's ``[rotordynamics]`` table runs both and compares them (``tumble
 show rotor-on-bearings``). Not to be confused with the ``rotor`` part of
