@@ -71,9 +71,11 @@ def measure(source: str | None, child: str = CHILD) -> dict[str, float]:
     return dict(json.loads(done.stdout.strip().splitlines()[-1]))
 
 
-def main(child: str = CHILD, description: str = __doc__) -> None:
-    """Run ``child`` (a program printing its cases' ns a step as JSON) in this tree and
-    in ``--other``, alternated, and print the medians side by side."""
+def main(
+    child: str = CHILD, description: str = __doc__, unit: str = "ns per (body-)step"
+) -> None:
+    """Run ``child`` (a program printing its cases' times as JSON, in ``unit``) in this
+    tree and in ``--other``, alternated, and print the medians side by side."""
     parser = argparse.ArgumentParser(description=description.split("\n\n")[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--other", help="Another tree's src folder, measured alongside.")
@@ -85,7 +87,7 @@ def main(child: str = CHILD, description: str = __doc__) -> None:
         for tree, source in trees.items():  # alternated: the host's phases hit both
             runs[tree].append(measure(source, child))
     cases = list(runs["this tree"][0])
-    print(f"medians of {args.repeat}, ns per (body-)step")
+    print(f"medians of {args.repeat}, {unit}")
     header = f"{'case':<38} {'this tree':>10}"
     if args.other:
         header += f" {'other':>10} {'other/this':>11}"
