@@ -71,9 +71,7 @@ def measure(source: str | None, child: str = CHILD) -> dict[str, float]:
     return dict(json.loads(done.stdout.strip().splitlines()[-1]))
 
 
-def main(
-    child: str = CHILD, description: str = __doc__, unit: str = "ns per (body-)step"
-) -> None:
+def main(child: str = CHILD, description: str = __doc__, unit: str = "ns per (body-)step") -> None:
     """Run ``child`` (a program printing its cases' times as JSON, in ``unit``) in this
     tree and in ``--other``, alternated, and print the medians side by side."""
     parser = argparse.ArgumentParser(description=description.split("\n\n")[0])
