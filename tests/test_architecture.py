@@ -237,7 +237,6 @@ LONG_FUNCTIONS = {
     "conformance/engines/pybullet_engine.py:build",
     "sweep/build.py:plan",
     "sweep/build.py:axis",
-    "scenario/execute.py:_rigid_body",
     "report/poinsot.py:poinsot_figure",
     "robots/ros.py:expand_xacro",
     "identification/throws.py:synthetic_throws",

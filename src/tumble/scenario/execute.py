@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble._version import __version__
-from tumble.checks import Case, Comparison, Panel, choose_check
+from tumble.checks import Case, Comparison, Panel, TheoryCheck, choose_check
 from tumble.errors import InputError
 from tumble.scenario.build import (
     at_key,
@@ -183,14 +183,51 @@ def _model(
 def _rigid_body(
     loaded: LoadedScenario, mp: MassProperties, parts: tuple[Any, ...], progress: Progress
 ) -> tuple[dict[str, Trajectory], list[dict[str, Any]], list[Panel], str | None, list[str]]:
+    """The free rigid body of ``[body]`` (with its parts, torques and supports)
+    simulated, and compared with the theory check ``[theory]`` chooses."""
+    spec = loaded.spec
+    state = initial_state(spec)
+    torque = torque_model(spec, loaded)
+    traj, dt = _simulate(loaded, mp, parts, state, torque, progress)
+    env = spec.environment
+    options: dict[str, Any] = {"method": spec.simulation.method, "dt": dt}
+    options["samples"] = spec.output.samples
+    if spec.theory.bearings is not None:
+        options["bearings"] = spec.theory.bearings
+    case = Case(
+        mp,
+        state.omega,
+        state.attitude,
+        env.pivot,
+        env.gravity,
+        torque,
+        options=options,
+        internal=parts,
+    )
+    comparison, check = _compare(loaded, case, traj)
+    for row in comparison.rows:
+        row.setdefault("run", "main")
+    theory = None if check is None else check.name
+    runs = {"main": traj, **comparison.runs}
+    return runs, comparison.rows, comparison.panels, theory, list(comparison.notes)
+
+
+def _simulate(
+    loaded: LoadedScenario,
+    mp: MassProperties,
+    parts: tuple[Any, ...],
+    state: Any,
+    torque: Any,
+    progress: Progress,
+) -> tuple[Trajectory, float | None]:
+    """The run of ``[simulation]``, kept to about ``[output] samples`` samples, and the
+    step the file gives (or the sampling interval of a method that samples)."""
     from tumble.integrators.limits import check_recording
     from tumble.integrators.steps import whole_steps
     from tumble.parts import value_columns
     from tumble.simulation import prepare, simulate
 
     spec = loaded.spec
-    state = initial_state(spec)
-    torque = torque_model(spec, loaded)
     sim = spec.simulation
     env = spec.environment
     dt = sim.dt
@@ -238,45 +275,35 @@ def _rigid_body(
             internal=parts,
             max_steps=MAX_STEPS,
         )
-    traj = decimate(traj, spec.output.samples)
-    options: dict[str, Any] = {"method": sim.method, "dt": dt, "samples": spec.output.samples}
-    if spec.theory.bearings is not None:
-        options["bearings"] = spec.theory.bearings
-    case = Case(
-        mp,
-        state.omega,
-        state.attitude,
-        env.pivot,
-        env.gravity,
-        torque,
-        options=options,
-        internal=parts,
-    )
+    return decimate(traj, spec.output.samples), dt
+
+
+def _compare(
+    loaded: LoadedScenario, case: Case, traj: Trajectory
+) -> tuple[Comparison, TheoryCheck | None]:
+    """The comparison with the check ``[theory] model`` names (or the first that fits),
+    and that check; none, with a note saying why, when none fits or the check chosen
+    for the case cannot measure this run of it."""
+    spec = loaded.spec
     model = spec.theory.model
     with at_key(loaded, "theory", "model"):
         check = choose_check(model, case)
     if check is None:
-        comparison = Comparison([], [], notes=(_no_check(model),))
-    else:
-        try:
-            comparison = check.compare(case, traj)
-        except ScenarioError:
-            raise
-        except InputError as exc:
-            if model != "auto" or spec.theory.bearings is not None:  # asked for: say it
-                raise ScenarioError(
-                    f'{where(loaded, ("theory",))}: {exc} Set [theory] model = "none" to run '
-                    "it without a comparison."
-                ) from None
-            # The check chosen for the case cannot measure this state of it (an
-            # upright top has no azimuth): the run stands, and says why.
-            note = f"no theory comparison: the {check.name} check cannot measure this run: {exc}"
-            comparison, check = Comparison([], [], notes=(note,)), None
-    for row in comparison.rows:
-        row.setdefault("run", "main")
-    theory = None if check is None else check.name
-    runs = {"main": traj, **comparison.runs}
-    return runs, comparison.rows, comparison.panels, theory, list(comparison.notes)
+        return Comparison([], [], notes=(_no_check(model),)), None
+    try:
+        return check.compare(case, traj), check
+    except ScenarioError:
+        raise
+    except InputError as exc:
+        if model != "auto" or spec.theory.bearings is not None:  # asked for: say it
+            raise ScenarioError(
+                f'{where(loaded, ("theory",))}: {exc} Set [theory] model = "none" to run '
+                "it without a comparison."
+            ) from None
+        # The check chosen for the case cannot measure this state of it (an
+        # upright top has no azimuth): the run stands, and says why.
+        note = f"no theory comparison: the {check.name} check cannot measure this run: {exc}"
+        return Comparison([], [], notes=(note,)), None
 
 
 def _no_check(model: str) -> str:
