@@ -239,7 +239,6 @@ LONG_FUNCTIONS = {
     "sweep/build.py:axis",
     "report/poinsot.py:poinsot_figure",
     "robots/ros.py:expand_xacro",
-    "identification/throws.py:synthetic_throws",
 }
 
 

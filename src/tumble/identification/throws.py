@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -118,7 +119,6 @@ def synthetic_throws(
     """
     # Imported here: the simulator is needed only to make a recording, not to fit one.
     from tumble.massprops import MassProperties
-    from tumble.simulation import simulate
     from tumble.torques import TORQUES
 
     generator = np.random.default_rng(seed)
@@ -129,11 +129,41 @@ def synthetic_throws(
     body = MassProperties(1.0, np.zeros(3), np.diag(moments))
     drag_torque = TORQUES["drag"](coefficients * moments[2])  # type: ignore[call-arg]
     torque = drag_torque if np.any(coefficients) else None
-    step = 1.0 / rate
-    spin_up = max(round(SPIN_UP * rate), 1)
-    catch = max(round(CATCH * rate), 1)
 
-    # Each throw's phases as sample counts; the flights' true rates in the sensor's axes.
+    holds, starts, flights, knocks = _flights(count, generator, body, torque, rate, samples)
+    flights = [flight @ axes.T for flight in flights]  # the true rates in the sensor's axes
+    holds.append(round(generator.uniform(*HOLD) * rate))
+    t, omega, windows = _recording(holds, flights, knocks, generator, rate)
+    offset = np.array(SENSOR_BIAS)
+    # The noise is drawn last, so the same seed gives the same truth at every noise level.
+    measured = omega + offset + noise * generator.standard_normal(omega.shape)
+    return ThrowsRecording(
+        t=t,
+        omega=measured,
+        moment_ratios=ratios,
+        axes=axes,
+        bias=offset,
+        noise=noise,
+        drag=coefficients,
+        windows=tuple(windows),
+        omega0=np.array(starts).reshape(count, 3),
+    )
+
+
+def _flights(
+    count: int,
+    generator: np.random.Generator,
+    body: Any,
+    torque: Any,
+    rate: float,
+    samples: int,
+) -> tuple[list[int], list[Array], list[Array], list[Array]]:
+    """Each throw's time held before it (samples), its ω0 (body axes, rad/s), its free
+    flight's true rates (``samples`` of them, body axes) and the direction of the
+    impact that ends it, drawn in that order from ``generator``."""
+    from tumble.simulation import simulate
+
+    step = 1.0 / rate
     holds, starts, flights, knocks = [], [], [], []
     for _ in range(count):
         holds.append(round(generator.uniform(*HOLD) * rate))
@@ -155,11 +185,27 @@ def synthetic_throws(
             atol=1e-12,
         )
         starts.append(omega0)
-        flights.append(np.asarray(run.omega)[:samples] @ axes.T)
+        flights.append(np.asarray(run.omega)[:samples])
         direction = generator.standard_normal(3)
         knocks.append(direction / np.linalg.norm(direction))
-    holds.append(round(generator.uniform(*HOLD) * rate))
-    length = sum(holds) + count * (spin_up + samples + catch)
+    return holds, starts, flights, knocks
+
+
+def _recording(
+    holds: list[int],
+    flights: list[Array],
+    knocks: list[Array],
+    generator: np.random.Generator,
+    rate: float,
+) -> tuple[Array, Array, list[tuple[float, float]]]:
+    """The times (s), the true rates (rad/s, the sensor's axes) and the flights'
+    windows of the whole recording: the hand's slow turning between the throws, each
+    throw's spin-up from it, its flight, and its catch with an impact."""
+    step = 1.0 / rate
+    spin_up = max(round(SPIN_UP * rate), 1)
+    catch = max(round(CATCH * rate), 1)
+    samples = len(flights[0]) if flights else 0
+    length = sum(holds) + len(flights) * (spin_up + samples + catch)
     t = np.arange(length, dtype=float) * step
     # The hand turns the body slowly (a few tenths of rad/s, about 1 Hz).
     phases = generator.uniform(0.0, 2.0 * np.pi, 3)
@@ -185,17 +231,4 @@ def synthetic_throws(
         impact = 8.0 * np.exp(-(((after - 0.01) / 0.004) ** 2)) * knock
         omega[part] = (1.0 - falling) * flight[-1] + falling * hand[part] + impact
         index += catch
-    offset = np.array(SENSOR_BIAS)
-    # The noise is drawn last, so the same seed gives the same truth at every noise level.
-    measured = omega + offset + noise * generator.standard_normal(omega.shape)
-    return ThrowsRecording(
-        t=t,
-        omega=measured,
-        moment_ratios=ratios,
-        axes=axes,
-        bias=offset,
-        noise=noise,
-        drag=coefficients,
-        windows=tuple(windows),
-        omega0=np.array(starts).reshape(count, 3),
-    )
+    return t, omega, windows
