@@ -238,7 +238,6 @@ LONG_FUNCTIONS = {
     "sweep/build.py:plan",
     "sweep/build.py:axis",
     "report/poinsot.py:poinsot_figure",
-    "robots/ros.py:expand_xacro",
 }
 
 

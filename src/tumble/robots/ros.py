@@ -233,62 +233,17 @@ def expand_xacro(
         an argument with no value, an expression xacro cannot evaluate, XML that
         is not well-formed, an included file that cannot be read.
     """
-    try:
-        import xacro  # type: ignore[import-untyped]
-        from xacro import substitution_args
-    except ImportError:
-        raise InputError(
-            f"Expected the xacro package to expand {shown(path)}, got none installed: "
-            "pip install 'tumble[robots]'."
-        ) from None
     import xml.dom.minidom
     from xml.parsers import expat
 
-    missing_names = missing_xacro_internals()
-    if missing_names:
-        raise InputError(
-            f"Expected a xacro version that tumble supports (the `robots` extra's pin) to "
-            f"expand {shown(path)}, got xacro {_version()} without {', '.join(missing_names)}: "
-            "pip install 'tumble[robots]'."
-        )
+    xacro, substitution_args = _installed_xacro(path)
     data = read_regular(path)
-    missing: list[str] = []
-    sources = [path]
-
-    def find(name: str) -> str:
-        folder = find_package(name, Path(xacro.filestack[-1] or path), packages)
-        if folder is None:
-            missing.append(name)
-            raise InputError(f"ROS package {name!r} not found")
-        return str(folder)
-
-    def parse(inp: Any, filename: str | None = None) -> Any:
-        if inp is not None:
-            return original_parse(inp, filename)
-        included = Path(os.path.join(xacro.root_dir, filename or ""))
-        try:
-            text = read_regular(included, "a file to include")
-        except InputError as error:
-            if not os.path.lexists(included):
-                # as xacro's own parse: an optional include may be missing
-                raise xacro.XacroException(
-                    f"No such file to include: {included}", exc=FileNotFoundError()
-                ) from None
-            raise InputError(f"Expected {shown(path)} to expand with xacro, got: {error}") from None
-        sources.append(included)
-        try:
-            return xml.dom.minidom.parseString(text)
-        except expat.ExpatError as error:
-            raise InputError(
-                f"Expected {shown(included)}, which {shown(path)} includes, to be well-formed "
-                f"XML, got {error}."
-            ) from None
-
-    original_parse = xacro.parse
+    files = _XacroFiles(xacro, path, packages)
+    missing = files.missing
     problems = io.StringIO()
     with (
         _XACRO_LOCK,
-        _patched(substitution_args, xacro, find, parse),
+        _patched(substitution_args, xacro, files.find, files.parse),
         contextlib.redirect_stderr(problems),
     ):
         try:
@@ -315,7 +270,80 @@ def expand_xacro(
     said = " ".join(problems.getvalue().split())
     if said:
         warnings.warn(f"xacro, expanding {path.name}: {cut(said, 300)}", stacklevel=2)
-    return Expansion(expanded, tuple(sources))
+    return Expansion(expanded, tuple(files.sources))
+
+
+def _installed_xacro(path: Path) -> tuple[Any, Any]:
+    """The xacro module and its ``substitution_args``, of a version tumble supports.
+
+    Raises
+    ------
+    InputError
+        xacro not installed, or a version without the internals tumble patches.
+    """
+    try:
+        import xacro  # type: ignore[import-untyped]
+        from xacro import substitution_args
+    except ImportError:
+        raise InputError(
+            f"Expected the xacro package to expand {shown(path)}, got none installed: "
+            "pip install 'tumble[robots]'."
+        ) from None
+    missing_names = missing_xacro_internals()
+    if missing_names:
+        raise InputError(
+            f"Expected a xacro version that tumble supports (the `robots` extra's pin) to "
+            f"expand {shown(path)}, got xacro {_version()} without {', '.join(missing_names)}: "
+            "pip install 'tumble[robots]'."
+        )
+    return xacro, substitution_args
+
+
+class _XacroFiles:
+    """What xacro reads while it expands ``path``, in tumble's hands: ``$(find pkg)``
+    looked up in ``packages`` (the names found nowhere kept in ``missing``), and each
+    included file read as tumble reads files (kept in ``sources``)."""
+
+    def __init__(self, xacro: Any, path: Path, packages: Mapping[str, Path] | None) -> None:
+        self.xacro = xacro
+        self.path = path
+        self.packages = packages
+        self.missing: list[str] = []
+        self.sources = [path]
+        self.original_parse = xacro.parse
+
+    def find(self, name: str) -> str:
+        folder = find_package(name, Path(self.xacro.filestack[-1] or self.path), self.packages)
+        if folder is None:
+            self.missing.append(name)
+            raise InputError(f"ROS package {name!r} not found")
+        return str(folder)
+
+    def parse(self, inp: Any, filename: str | None = None) -> Any:
+        import xml.dom.minidom
+        from xml.parsers import expat
+
+        if inp is not None:
+            return self.original_parse(inp, filename)
+        path = self.path
+        included = Path(os.path.join(self.xacro.root_dir, filename or ""))
+        try:
+            text = read_regular(included, "a file to include")
+        except InputError as error:
+            if not os.path.lexists(included):
+                # as xacro's own parse: an optional include may be missing
+                raise self.xacro.XacroException(
+                    f"No such file to include: {included}", exc=FileNotFoundError()
+                ) from None
+            raise InputError(f"Expected {shown(path)} to expand with xacro, got: {error}") from None
+        self.sources.append(included)
+        try:
+            return xml.dom.minidom.parseString(text)
+        except expat.ExpatError as error:
+            raise InputError(
+                f"Expected {shown(included)}, which {shown(path)} includes, to be well-formed "
+                f"XML, got {error}."
+            ) from None
 
 
 def missing_xacro_internals() -> list[str]:
