@@ -237,7 +237,6 @@ LONG_FUNCTIONS = {
     "conformance/engines/pybullet_engine.py:build",
     "sweep/build.py:plan",
     "sweep/build.py:axis",
-    "report/poinsot.py:poinsot_figure",
 }
 
 

@@ -64,25 +64,31 @@ def poinsot_data(traj: Trajectory, index: Any) -> dict[str, Any] | None:
 
 def poinsot_figure(data: dict[str, Any]) -> dict[str, Any]:
     """The plotly figure of the Poinsot construction at frame 0 (ω-space, rad/s)."""
+    half = 1.1 * data["reach"]
+    traces = [*_surfaces(data), *_curves(np.asarray(data["normal"]) * data["height"])]
+    axis = {"range": [-half, half]}
+    layout = {
+        "margin": {"l": 0, "r": 0, "t": 30, "b": 0},
+        "uirevision": "keep",
+        "title": {"text": "Poinsot construction: the ellipsoid rolls on the plane", "x": 0.5},
+        "legend": {"x": 0, "y": 1, "bgcolor": "rgba(255,255,255,0.6)"},
+        "scene": {
+            "aspectmode": "cube",
+            "xaxis": {**axis, "title": {"text": "ωx (rad/s)"}},
+            "yaxis": {**axis, "title": {"text": "ωy (rad/s)"}},
+            "zaxis": {**axis, "title": {"text": "ωz (rad/s)"}},
+            "camera": {"eye": {"x": 1.5, "y": -1.5, "z": 0.9}},
+        },
+    }
+    return {"data": traces, "layout": layout}
+
+
+def _surfaces(data: dict[str, Any]) -> list[dict[str, Any]]:
+    """The inertia ellipsoid and the invariable plane, as plotly meshes."""
     ellipsoid = np.asarray(data["ellipsoid"])
     faces = data["ellipsoid_faces"]
     square = np.asarray(data["plane"])
-    foot = np.asarray(data["normal"]) * data["height"]
-    half = 1.1 * data["reach"]
-
-    def line(name: str, colour: str, width: int, **extra: Any) -> dict[str, Any]:
-        return {
-            "type": "scatter3d",
-            "mode": "lines",
-            "name": name,
-            "x": [0],
-            "y": [0],
-            "z": [0],
-            "line": {"color": colour, "width": width},
-            **extra,
-        }
-
-    traces: list[dict[str, Any]] = [
+    return [
         {
             "type": "mesh3d",
             "name": "inertia ellipsoid ω·Jω = 2T (turns with the body)",
@@ -112,6 +118,25 @@ def poinsot_figure(data: dict[str, Any]) -> dict[str, Any]:
             "showlegend": True,
             "hoverinfo": "skip",
         },
+    ]
+
+
+def _curves(foot: Any) -> list[dict[str, Any]]:
+    """The polhode, the herpolhode, ω and its contact point (filled frame by frame),
+    and L̂ to the plane's ``foot``."""
+
+    def line(name: str, colour: str, width: int) -> dict[str, Any]:
+        return {
+            "type": "scatter3d",
+            "mode": "lines",
+            "name": name,
+            "x": [0],
+            "y": [0],
+            "z": [0],
+            "line": {"color": colour, "width": width},
+        }
+
+    return [
         line("polhode (ω on the body)", "#d62728", 4),
         line("herpolhode (ω on the plane)", "#2ca02c", 4),
         line("ω", "#ff7f0e", 8),
@@ -134,18 +159,3 @@ def poinsot_figure(data: dict[str, Any]) -> dict[str, Any]:
             "line": {"color": "#9467bd", "width": 6, "dash": "dash"},
         },
     ]
-    axis = {"range": [-half, half]}
-    layout = {
-        "margin": {"l": 0, "r": 0, "t": 30, "b": 0},
-        "uirevision": "keep",
-        "title": {"text": "Poinsot construction: the ellipsoid rolls on the plane", "x": 0.5},
-        "legend": {"x": 0, "y": 1, "bgcolor": "rgba(255,255,255,0.6)"},
-        "scene": {
-            "aspectmode": "cube",
-            "xaxis": {**axis, "title": {"text": "ωx (rad/s)"}},
-            "yaxis": {**axis, "title": {"text": "ωy (rad/s)"}},
-            "zaxis": {**axis, "title": {"text": "ωz (rad/s)"}},
-            "camera": {"eye": {"x": 1.5, "y": -1.5, "z": 0.9}},
-        },
-    }
-    return {"data": traces, "layout": layout}
