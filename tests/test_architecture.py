@@ -235,8 +235,6 @@ LONG_FUNCTIONS = {
     "core/parts.py:measuring_kernel",
     "core/adaptive.py:adaptive_loop",
     "conformance/engines/pybullet_engine.py:build",
-    "sweep/build.py:plan",
-    "sweep/build.py:axis",
 }
 
 

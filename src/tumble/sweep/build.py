@@ -101,10 +101,61 @@ class PlanBuilder:
     # --------------------------------------------------------------- plan
     def plan(self) -> Plan:
         spec = self.spec
-        base = spec.base
+        fixed = self.fixed()
+        self.check_grid_size()  # before the grid's values are built
+        axes = [self.axis(name, vary) for name, vary in spec.vary.items()]
+        grid = [axis for axis in axes if isinstance(axis, GridAxis)]
+        random = [axis for axis in axes if isinstance(axis, RandomAxis)]
+        for name, value in defaults().items():
+            if name not in fixed and name not in spec.vary:
+                fixed[name] = value
+        varied = set(spec.vary)
+        self.check_given(set(fixed) | varied, varied)
+        ranges = {name: (value, value) for name, value in fixed.items()}
+        for axis in grid:
+            ranges[axis.name] = (float(axis.values.min()), float(axis.values.max()))
+        for draw in random:
+            ranges[draw.name] = (draw.low, draw.high)
+        self.check_ranges(ranges, varied)
+        self.check_triangle(ranges)
+        duration, n_steps = self.steps()
+        if INTEGRATORS[spec.base.method].kind != "sampling":  # a closed form takes no steps
+            self.warn_coarse(ranges, duration / n_steps)
+        parts = self.parts(ranges)
+        maps = self.maps(tuple(spec.vary), tuple(spec.outputs.metrics))
+        scheduler, timeout = self.dask()
+        plan = Plan(
+            name=spec.sweep.name,
+            description=spec.sweep.description,
+            fixed=fixed,
+            grid=tuple(grid),
+            random=tuple(random),
+            samples=spec.sweep.samples,
+            seed=spec.sweep.seed,
+            chunk_size=spec.sweep.chunk_size,
+            duration=duration,
+            dt=duration / n_steps,
+            n_steps=n_steps,
+            method=spec.base.method,
+            metrics=tuple(dict.fromkeys(spec.outputs.metrics)),
+            final_state=spec.outputs.final_state,
+            initial_state=spec.outputs.initial_state,
+            maps=maps,
+            scheduler=scheduler,
+            workers=spec.dask.workers,
+            timeout=timeout,
+            text=self.text,
+            parts=parts,
+        )
+        self.check_limits(plan)
+        return plan
+
+    def fixed(self) -> dict[str, float]:
+        """The parameters [base] gives (SI), refused where [vary] varies them too."""
+        spec = self.spec
         fixed: dict[str, float] = {}
         for name, (kind, _) in PARAMETERS.items():
-            value = base.value(name)
+            value = spec.base.value(name)
             if value is None:
                 continue
             if name in spec.vary:
@@ -113,20 +164,10 @@ class PlanBuilder:
                     f"Expected `{name}` in [base] or in [vary], not both, got both.",
                 )
             fixed[name] = self.si(value, kind, ("base", name))
-        self.check_grid_size()  # before the grid's values are built
-        grid: list[GridAxis] = []
-        random: list[RandomAxis] = []
-        for name, vary in spec.vary.items():
-            axis = self.axis(name, vary)
-            if isinstance(axis, GridAxis):
-                grid.append(axis)
-            else:
-                random.append(axis)
-        for name, value in defaults().items():
-            if name not in fixed and name not in spec.vary:
-                fixed[name] = value
-        varied = set(spec.vary)
-        given = set(fixed) | varied
+        return fixed
+
+    def check_given(self, given: set[str], varied: set[str]) -> None:
+        """Refuse a body given twice (a moment and its ratio) or not at all."""
         for first, second in (("moment_2", "ratio_2"), ("moment_3", "ratio_3")):
             if first in given and second in given:
                 key = ("vary", second) if second in varied else ("base", second)
@@ -142,14 +183,10 @@ class PlanBuilder:
             if not any(n in given for n in needed):
                 names = " or ".join(f"`{n}`" for n in needed)
                 raise self.fail(("base",), f"Expected {names} in [base] or [vary], got neither.")
-        ranges = {name: (value, value) for name, value in fixed.items()}
-        for axis in grid:
-            ranges[axis.name] = (float(axis.values.min()), float(axis.values.max()))
-        for draw in random:
-            ranges[draw.name] = (draw.low, draw.high)
-        self.check_ranges(ranges, varied)
-        self.check_triangle(ranges)
 
+    def steps(self) -> tuple[float, int]:
+        """The duration (s) and the whole number of steps that span it."""
+        base = self.spec.base
         duration = self.si(base.duration, "time", ("base", "duration"))
         dt = self.si(base.dt, "time", ("base", "dt"))
         if not duration > 0:
@@ -163,12 +200,11 @@ class PlanBuilder:
                 f"Expected at most 2**53 steps per body (duration / dt), got {steps:.3g} from "
                 f"duration = {duration!r} s and dt = {dt!r} s.",
             )
-        n_steps = max(1, math.ceil(steps * (1 - 1e-12)))
-        if INTEGRATORS[base.method].kind != "sampling":  # a closed form takes no steps
-            self.warn_coarse(ranges, duration / n_steps)
+        return duration, max(1, math.ceil(steps * (1 - 1e-12)))
 
-        parts = self.parts(ranges)
-        maps = self.maps(tuple(spec.vary), tuple(spec.outputs.metrics))
+    def dask(self) -> tuple[str | None, float | None]:
+        """[dask]'s scheduler address (checked) and timeout (s), if given."""
+        spec = self.spec
         scheduler = spec.dask.scheduler
         if scheduler is not None and spec.dask.workers is not None:
             raise self.fail(
@@ -183,31 +219,7 @@ class PlanBuilder:
             timeout = self.si(spec.dask.timeout, "time", ("dask", "timeout"))
             if not (math.isfinite(timeout) and timeout > 0):
                 raise self.fail(("dask", "timeout"), f"Expected `timeout` > 0 s, got {timeout!r}.")
-        plan = Plan(
-            name=spec.sweep.name,
-            description=spec.sweep.description,
-            fixed=fixed,
-            grid=tuple(grid),
-            random=tuple(random),
-            samples=spec.sweep.samples,
-            seed=spec.sweep.seed,
-            chunk_size=spec.sweep.chunk_size,
-            duration=duration,
-            dt=duration / n_steps,
-            n_steps=n_steps,
-            method=base.method,
-            metrics=tuple(dict.fromkeys(spec.outputs.metrics)),
-            final_state=spec.outputs.final_state,
-            initial_state=spec.outputs.initial_state,
-            maps=maps,
-            scheduler=scheduler,
-            workers=spec.dask.workers,
-            timeout=timeout,
-            text=self.text,
-            parts=parts,
-        )
-        self.check_limits(plan)
-        return plan
+        return scheduler, timeout
 
     def check_grid_size(self) -> None:
         """Refuse, from the file alone, a grid whose values sweep.json could not
@@ -303,26 +315,35 @@ class PlanBuilder:
                 path, f"Expected `values` for `{name}` (a list of axes 1, 2, 3), got {given[0]!r}."
             )
         if form == "range":
-            for key in ("start", "stop", "num"):
-                if getattr(vary, key) is None:
-                    raise self.fail(
-                        (*path, key),
-                        f"Expected `{key}` with `start`, `stop`, `num`, which is missing.",
-                    )
-            assert vary.num is not None
-            start = self.si(vary.start, kind, (*path, "start"), vary.unit)
-            stop = self.si(vary.stop, kind, (*path, "stop"), vary.unit)
-            if vary.scale == "log":
-                if not (start > 0 and stop > 0):
-                    raise self.fail(
-                        (*path, "start"),
-                        f"Expected `start` and `stop` > 0 for a log scale, got {start!r} and "
-                        f"{stop!r}.",
-                    )
-                values = np.geomspace(start, stop, vary.num)
-            else:
-                values = np.linspace(start, stop, vary.num)
-            return GridAxis(name, values)
+            return self.range_axis(name, vary)
+        return self.random_axis(name, vary)
+
+    def range_axis(self, name: str, vary: Vary) -> GridAxis:
+        """A grid from `start` to `stop` in `num` values, evenly or on a log scale."""
+        kind = PARAMETERS[name][0]
+        path = ("vary", name)
+        for key in ("start", "stop", "num"):
+            if getattr(vary, key) is None:
+                raise self.fail(
+                    (*path, key),
+                    f"Expected `{key}` with `start`, `stop`, `num`, which is missing.",
+                )
+        assert vary.num is not None
+        start = self.si(vary.start, kind, (*path, "start"), vary.unit)
+        stop = self.si(vary.stop, kind, (*path, "stop"), vary.unit)
+        if vary.scale == "log":
+            if not (start > 0 and stop > 0):
+                raise self.fail(
+                    (*path, "start"),
+                    f"Expected `start` and `stop` > 0 for a log scale, got {start!r} and {stop!r}.",
+                )
+            return GridAxis(name, np.geomspace(start, stop, vary.num))
+        return GridAxis(name, np.linspace(start, stop, vary.num))
+
+    def random_axis(self, name: str, vary: Vary) -> RandomAxis:
+        """A parameter drawn at random between `min` and `max` by `distribution`."""
+        kind = PARAMETERS[name][0]
+        path = ("vary", name)
         for key in ("distribution", "min", "max"):
             if getattr(vary, key) is None:
                 raise self.fail(
