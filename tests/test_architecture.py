@@ -234,7 +234,6 @@ LONG_FUNCTIONS = {
     "core/lagrange.py:top_motion",
     "core/parts.py:measuring_kernel",
     "core/adaptive.py:adaptive_loop",
-    "conformance/engines/pybullet_engine.py:build",
 }
 
 

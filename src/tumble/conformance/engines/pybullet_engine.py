@@ -143,56 +143,9 @@ class PyBulletEngine(Engine):
             whole["angularDamping"] = 0.0
         p.changeDynamics(self._body_id, -1, physicsClientId=client, **whole)
         if self._maximal:
-            p.setCollisionFilterGroupMask(self._body_id, -1, 0, 0, physicsClientId=client)
-            self.notes.append(
-                f"a collision sphere of radius {SPHERE_RADIUS} m with collisions filtered off "
-                "(PyBullet needs a shape for a maximal-coordinates body); inertia given explicitly"
-            )
-            if self._pivot is not None:
-                # PyBullet joins a maximal-coordinates body only to another body: a static
-                # one (mass 0) at the origin.
-                anchor = p.createMultiBody(
-                    baseMass=0.0,
-                    baseCollisionShapeIndex=shape,
-                    baseVisualShapeIndex=-1,
-                    useMaximalCoordinates=True,
-                    physicsClientId=client,
-                )
-                p.setCollisionFilterGroupMask(anchor, -1, 0, 0, physicsClientId=client)
-                p.createConstraint(
-                    self._body_id,
-                    -1,
-                    anchor,
-                    -1,
-                    p.JOINT_POINT2POINT,
-                    [0.0, 0.0, 0.0],
-                    [float(r) for r in self._pivot],
-                    [0.0, 0.0, 0.0],
-                    physicsClientId=client,
-                )
-                self.notes.append(
-                    "the pivot is a JOINT_POINT2POINT constraint to a static anchor, held by "
-                    "the constraint solver (it drifts by ~1e-5 m at dt = 1e-3 s)"
-                )
+            self._hold_maximal(shape)
         else:
-            if self._pivot is not None:
-                # PyBullet puts a motor (max impulse 1000 N·m·s a step) on every spherical
-                # joint; no gains and no force turn it off.
-                p.setJointMotorControlMultiDof(
-                    self._body_id,
-                    0,
-                    p.POSITION_CONTROL,
-                    targetPosition=[0.0, 0.0, 0.0, 1.0],
-                    targetVelocity=[0.0, 0.0, 0.0],
-                    positionGain=0.0,
-                    velocityGain=0.0,
-                    force=[0.0, 0.0, 0.0],
-                    physicsClientId=client,
-                )
-                self.notes.append("the spherical joint's default motor turned off (force 0)")
-            self.notes.append(
-                f"velocity clamp maxJointVelocity raised from 100 rad/s to {VELOCITY_CLAMP:g}"
-            )
+            self._hold_reduced()
         self.notes.append("sleeping turned off (ACTIVATION_STATE_DISABLE_SLEEPING)")
         if self._damped and not self._maximal:
             self.notes.append("PyBullet's default damping 0.04 kept: torque −Iω(0.04 + 0.04|ω|)")
@@ -200,6 +153,65 @@ class PyBulletEngine(Engine):
             self.notes.append("PyBullet's defaults: a maximal-coordinates body has no damping")
         if not self._damped:
             self.notes.append("linear and angular damping set to 0")
+
+    def _hold_maximal(self, shape: int) -> None:
+        """A maximal-coordinates body: its collision sphere filtered off, and its pivot
+        (if any) a point-to-point constraint to a static anchor."""
+        p, client = self._pybullet, self._client
+        p.setCollisionFilterGroupMask(self._body_id, -1, 0, 0, physicsClientId=client)
+        self.notes.append(
+            f"a collision sphere of radius {SPHERE_RADIUS} m with collisions filtered off "
+            "(PyBullet needs a shape for a maximal-coordinates body); inertia given explicitly"
+        )
+        if self._pivot is None:
+            return
+        # PyBullet joins a maximal-coordinates body only to another body: a static
+        # one (mass 0) at the origin.
+        anchor = p.createMultiBody(
+            baseMass=0.0,
+            baseCollisionShapeIndex=shape,
+            baseVisualShapeIndex=-1,
+            useMaximalCoordinates=True,
+            physicsClientId=client,
+        )
+        p.setCollisionFilterGroupMask(anchor, -1, 0, 0, physicsClientId=client)
+        p.createConstraint(
+            self._body_id,
+            -1,
+            anchor,
+            -1,
+            p.JOINT_POINT2POINT,
+            [0.0, 0.0, 0.0],
+            [float(r) for r in self._pivot],
+            [0.0, 0.0, 0.0],
+            physicsClientId=client,
+        )
+        self.notes.append(
+            "the pivot is a JOINT_POINT2POINT constraint to a static anchor, held by "
+            "the constraint solver (it drifts by ~1e-5 m at dt = 1e-3 s)"
+        )
+
+    def _hold_reduced(self) -> None:
+        """A multibody: its spherical joint's motor (if pivoted) turned off."""
+        p = self._pybullet
+        if self._pivot is not None:
+            # PyBullet puts a motor (max impulse 1000 N·m·s a step) on every spherical
+            # joint; no gains and no force turn it off.
+            p.setJointMotorControlMultiDof(
+                self._body_id,
+                0,
+                p.POSITION_CONTROL,
+                targetPosition=[0.0, 0.0, 0.0, 1.0],
+                targetVelocity=[0.0, 0.0, 0.0],
+                positionGain=0.0,
+                velocityGain=0.0,
+                force=[0.0, 0.0, 0.0],
+                physicsClientId=self._client,
+            )
+            self.notes.append("the spherical joint's default motor turned off (force 0)")
+        self.notes.append(
+            f"velocity clamp maxJointVelocity raised from 100 rad/s to {VELOCITY_CLAMP:g}"
+        )
 
     def _build_pivot_multibody(self, body: EngineBody, pivot: Array) -> int:
         """A fixed massless base at the origin and the body as one link on a spherical
