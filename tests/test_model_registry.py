@@ -38,7 +38,7 @@ from tumble.config import StrictModel
 from tumble.core._jit import njit
 from tumble.report import write_run
 from tumble.scenario.bodies import Angle, scalar_field
-from tumble.scenario.model_kinds import MODEL_KINDS, ModelKind, ModelRuns, register_model_kind
+from tumble.scenario.model_kinds import MODEL_KINDS, ModelKind, ModelRuns, Span, register_model_kind
 from tumble.trajectory import Trajectory
 
 
@@ -67,27 +67,19 @@ class TorsionPendulum(ModelKind):
     check = "test-torsion-pendulum"
     notes = ("The wire's damping takes the energy away.",)
 
-    def run(
-        self,
-        body: tb.MassProperties,
-        settings: Any,
-        duration: float,
-        dt: float | None,
-        samples: int,
-        progress: Any,
-    ) -> ModelRuns:
+    def run(self, body: tb.MassProperties, settings: Any, span: Span, progress: Any) -> ModelRuns:
         wire = tb.torques.UserTorque(wire_torque, [settings.stiffness, settings.damping])
         start = Rotation.from_rotvec([0.0, 0.0, settings.amplitude]).as_quat(scalar_first=True)
-        step = dt if dt is not None else 1e-3
+        step = span.dt if span.dt is not None else 1e-3
         trajectory = tb.simulate(
             body,
             [0.0, 0.0, 0.0],
             attitude0=start,
             torque=wire,
-            duration=duration,
+            duration=span.duration,
             dt=step,
             method="rk4",
-            record_every=max(1, round(duration / step / samples)),
+            record_every=max(1, round(span.duration / step / span.samples)),
             progress=progress,
         )
         options = {"stiffness": settings.stiffness, "damping": settings.damping}

@@ -166,14 +166,12 @@ def _model(
     """The runs of the model kind of the file's ``table``, compared by the theory check
     the kind names."""
     from tumble.checks import THEORY_CHECKS
+    from tumble.scenario.model_kinds import Span
 
     spec = loaded.spec
-    simulation = spec.simulation
-    settings = getattr(spec, table)
+    span = Span(spec.simulation.duration, spec.simulation.dt, spec.output.samples)
     with at_key(loaded, table):
-        done = kind.run(
-            mp, settings, simulation.duration, simulation.dt, spec.output.samples, progress
-        )
+        done = kind.run(mp, getattr(spec, table), span, progress)
     check = THEORY_CHECKS[kind.check]
     comparison = check.compare_runs(done.case, done.trajectories, done.results)
     notes = [*kind.notes, *comparison.notes]

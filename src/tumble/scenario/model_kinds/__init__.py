@@ -16,6 +16,7 @@ from tumble.scenario.model_kinds.base import (
     MODEL_KINDS,
     ModelKind,
     ModelRuns,
+    Span,
     register_model_kind,
 )
 from tumble.scenario.model_kinds.gyrocompass import Gyrocompass
@@ -27,5 +28,6 @@ __all__ = [
     "ModelKind",
     "ModelRuns",
     "Rotordynamics",
+    "Span",
     "register_model_kind",
 ]

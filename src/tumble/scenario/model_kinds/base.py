@@ -32,9 +32,20 @@ if TYPE_CHECKING:
     from tumble.massprops import MassProperties
     from tumble.trajectory import Trajectory
 
-__all__ = ["MODEL_KINDS", "ModelKind", "ModelRuns", "register_model_kind"]
+__all__ = ["MODEL_KINDS", "ModelKind", "ModelRuns", "Span", "register_model_kind"]
 
 Progress = Callable[[int, int], object] | None
+
+
+@dataclass(frozen=True)
+class Span:
+    """How long a model runs and what it keeps: ``[simulation] duration`` (s) and
+    ``dt`` (s; None: the model's own step), and about ``[output] samples`` samples
+    of each run."""
+
+    duration: float
+    dt: float | None
+    samples: int
 
 
 @dataclass(frozen=True)
@@ -68,18 +79,9 @@ class ModelKind:
     #: Sentences for the report: what the model conserves and what it does not.
     notes: ClassVar[tuple[str, ...]] = ()
 
-    def run(
-        self,
-        body: MassProperties,
-        settings: Any,
-        duration: float,
-        dt: float | None,
-        samples: int,
-        progress: Progress,
-    ) -> ModelRuns:
-        """Run the model of ``body`` with the table's ``settings`` (SI) over
-        ``duration`` (s) with step ``dt`` (s, None: the model's own), keeping about
-        ``samples`` samples of each run; ``progress`` is None or ``(done, total)``.
+    def run(self, body: MassProperties, settings: Any, span: Span, progress: Progress) -> ModelRuns:
+        """Run the model of ``body`` with the table's ``settings`` (SI) over ``span``;
+        ``progress`` is None or ``(done, total)``.
 
         Raises
         ------

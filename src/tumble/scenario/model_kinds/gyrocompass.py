@@ -17,7 +17,13 @@ from pydantic import Field, model_validator
 
 from tumble.config import StrictModel
 from tumble.scenario.bodies import Angle, AngularVelocity
-from tumble.scenario.model_kinds.base import ModelKind, ModelRuns, Progress, register_model_kind
+from tumble.scenario.model_kinds.base import (
+    ModelKind,
+    ModelRuns,
+    Progress,
+    Span,
+    register_model_kind,
+)
 from tumble.scenario.sampling import decimate, kept
 
 if TYPE_CHECKING:
@@ -67,15 +73,7 @@ class Gyrocompass(ModelKind):
         "the Jacobi integral T − Ω·L is.",
     )
 
-    def run(
-        self,
-        body: MassProperties,
-        settings: Any,
-        duration: float,
-        dt: float | None,
-        samples: int,
-        progress: Progress,
-    ) -> ModelRuns:
+    def run(self, body: MassProperties, settings: Any, span: Span, progress: Progress) -> ModelRuns:
         from tumble import models, theory
         from tumble.checks import Case
 
@@ -97,15 +95,15 @@ class Gyrocompass(ModelKind):
                 settings.platform_rate,
                 0.0,
                 angle_rate0=beta * amplitude,
-                duration=duration,
-                dt=dt,
-                samples=samples,
+                duration=span.duration,
+                dt=span.dt,
+                samples=span.samples,
                 progress=report,
             )
-            index = kept(len(run.trajectory.t), samples)
+            index = kept(len(run.trajectory.t), span.samples)
             results[label] = dataclasses.replace(
                 run,
-                trajectory=decimate(run.trajectory, samples),
+                trajectory=decimate(run.trajectory, span.samples),
                 angle=run.angle[index],
                 angle_rate=run.angle_rate[index],
                 jacobi_integral=run.jacobi_integral[index],

@@ -20,7 +20,13 @@ from pydantic import BeforeValidator, ValidationInfo, model_validator
 from tumble.config import StrictModel, key_error
 from tumble.resources import DEFAULT_MAX_STEPS
 from tumble.scenario.bodies import Vector, scalar_field, vector_field
-from tumble.scenario.model_kinds.base import ModelKind, ModelRuns, Progress, register_model_kind
+from tumble.scenario.model_kinds.base import (
+    ModelKind,
+    ModelRuns,
+    Progress,
+    Span,
+    register_model_kind,
+)
 
 if TYPE_CHECKING:
     from tumble.massprops import MassProperties
@@ -104,22 +110,14 @@ class Rotordynamics(ModelKind):
         "tumble.theory.RigidRotor's.",
     )
 
-    def run(
-        self,
-        body: MassProperties,
-        settings: Any,
-        duration: float,
-        dt: float | None,
-        samples: int,
-        progress: Progress,
-    ) -> ModelRuns:
+    def run(self, body: MassProperties, settings: Any, span: Span, progress: Progress) -> ModelRuns:
         from tumble import models, theory
         from tumble.checks import Case
 
         bearings = [theory.Bearing(b.position, b.stiffness, b.damping) for b in settings.bearings]
         rotor = theory.RigidRotor(body, bearings, axis=settings.axis)
         low, high = settings.speeds
-        planned = [("main", low, (high - low) / duration)]
+        planned = [("main", low, (high - low) / span.duration)]
         if settings.steady_speed is not None:
             planned.append(("steady", settings.steady_speed, 0.0))
         results: dict[str, RunUp] = {}
@@ -132,12 +130,12 @@ class Rotordynamics(ModelKind):
             results[label] = models.run_up(
                 rotor,
                 settings.unbalance,
-                duration=duration,
+                duration=span.duration,
                 speed=start,
                 acceleration=rate,
                 position=settings.unbalance_position,
-                dt=dt,
-                samples=samples,
+                dt=span.dt,
+                samples=span.samples,
                 progress=report,
                 max_steps=DEFAULT_MAX_STEPS,
             )
