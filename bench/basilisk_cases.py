@@ -90,7 +90,9 @@ Energy and momentum. ``totRotAngMomPntC_N`` and ``totRotEnergy`` are members of 
 step): hub ``I_Bc ω + m r_BcB × (ω × r_BcB)`` plus each effector's contribution, minus
 ``m_sc c × ċ``, rotated to N; the energy is ``½ ωᵀI ω`` plus the effector terms minus
 ``½ m_sc ċ²``, i.e. the kinetic energy relative to the centre of mass (motion of the
-centre of mass excluded). They are logged with ``scObject.logger([...], period)``.
+centre of mass excluded). They are logged with ``scObject.logger([...], period)``
+only when asked (``conserved=True``): the logger is Python-side work that a timed
+run compared with another simulator's must not do unless both do it.
 
 Integrators. ``integrator="rk4"`` (Basilisk's default ``svIntegratorRK4``: one fixed
 step of ``dt`` per task tick), ``"rkf45"``/``"rkf78"`` (``svIntegratorRKF45``/``RKF78``,
@@ -391,13 +393,14 @@ def _motor_command(torques: ArrayLike) -> tuple[Any, Any]:
 
 
 def _wheels_and_logs(
-    sim: Any, sc: Any, wheels: tuple[Any, ...], torques: ArrayLike
+    sim: Any, sc: Any, wheels: tuple[Any, ...], torques: ArrayLike, conserved: bool
 ) -> tuple[Any, Any, tuple[Any, Any, Any]]:
     """Add the wheels (``(model, axes, positions, js, jt, mass, speeds)``, see
     :func:`_add_wheels`) to the spacecraft with their motor command (``torques``,
-    N·m), the recorders of the state, the wheel speeds and the conserved quantities,
+    N·m), the recorders of the state, the wheel speeds and, with ``conserved``, the
+    conserved quantities (a Python-side logger: work a run without it does not do),
     and initialise the simulation; the command message, its payload type and the
-    three recorders."""
+    three recorders (the third None without ``conserved``)."""
     model, axes, positions, js, jt, mass, speeds = wheels
     effector, _factory = _add_wheels(sc, sim, model, axes, positions, js, jt, mass, speeds)
     cmd_msg, payload_type = _motor_command(torques)
@@ -405,12 +408,24 @@ def _wheels_and_logs(
     logs = (
         sc.scStateOutMsg.recorder(),
         effector.rwSpeedOutMsg.recorder(),
-        sc.logger(["totRotAngMomPntC_N", "totRotEnergy"]),
+        sc.logger(["totRotAngMomPntC_N", "totRotEnergy"]) if conserved else None,
     )
     for log in logs:
-        sim.AddModelToTask(_LOG_TASK, log)
+        if log is not None:
+            sim.AddModelToTask(_LOG_TASK, log)
     sim.InitializeSimulation()
     return cmd_msg, payload_type, logs
+
+
+def _conserved(log: Any) -> dict[str, Array]:
+    """``angular_momentum`` and ``energy`` from the logger of the conserved quantities,
+    none without one."""
+    if log is None:
+        return {}
+    return {
+        "angular_momentum": np.array(log.totRotAngMomPntC_N, dtype=np.float64),
+        "energy": np.array(log.totRotEnergy, dtype=np.float64),
+    }
 
 
 def reaction_wheels(
@@ -422,6 +437,7 @@ def reaction_wheels(
     abs_tolerance: float | None = None,
     wheel_model: WheelModel = "balanced",
     torque_off: float = 0.5,
+    conserved: bool = False,
 ) -> dict[str, Any]:
     """Hub with three balanced reaction wheels, torque pulse then coast.
 
@@ -445,6 +461,8 @@ def reaction_wheels(
         wheel_model: ``"balanced"`` (BalancedWheels, wheels folded into the hub) or
             ``"fully_coupled"`` (JitterFullyCoupled with zero imbalance, bare hub).
         torque_off: time at which the motor torque switches to zero [s].
+        conserved: also log H and the energy (``angular_momentum``, ``energy``), by a
+            Python-side logger that costs time of its own.
 
     Returns:
         dict with ``t`` (n,) [s], ``omega`` (n, 3) [rad/s, B], ``quaternion`` (n, 4)
@@ -488,7 +506,7 @@ def reaction_wheels(
     _set_integrator(sc, integrator, tolerance, abs_tolerance)
     wheels = (wheel_model, axes, positions, js, jt, mw, omega_wheels0)
     cmd_msg, payload_type, (state_log, speed_log, conserved_log) = _wheels_and_logs(
-        sim, sc, wheels, u_on
+        sim, sc, wheels, u_on, conserved
     )
     setup_s = time.perf_counter() - t0
 
@@ -500,8 +518,7 @@ def reaction_wheels(
 
     out: dict[str, Any] = _states(state_log)
     out["wheel_speed"] = np.array(speed_log.wheelSpeeds, dtype=np.float64)[:, :3]
-    out["angular_momentum"] = np.array(conserved_log.totRotAngMomPntC_N, dtype=np.float64)
-    out["energy"] = np.array(conserved_log.totRotEnergy, dtype=np.float64)
+    out.update(_conserved(conserved_log))
     out.update(
         wall_s=wall,
         setup_s=setup_s,
@@ -614,6 +631,7 @@ def spin_up(
     tolerance: float | None = None,
     abs_tolerance: float | None = None,
     wheel_model: WheelModel = "balanced",
+    conserved: bool = False,
 ) -> dict[str, Any]:
     """One wheel on the body z axis spun up from rest by a constant motor torque.
 
@@ -629,6 +647,7 @@ def spin_up(
         tolerance: relative tolerance of the adaptive integrators.
         abs_tolerance: absolute tolerance of the adaptive integrators.
         wheel_model: as in :func:`reaction_wheels`.
+        conserved: as in :func:`reaction_wheels`.
 
     Returns:
         dict with ``t`` (n,) [s], ``omega`` (n, 3) [rad/s, B], ``quaternion`` (n, 4)
@@ -656,15 +675,16 @@ def spin_up(
     _set_integrator(sc, integrator, tolerance, abs_tolerance)
     wheels = (wheel_model, axes, positions, js, jt, mw, [0.0])
     # The command message is held here: the effector reads it through its subscription.
-    _command, _, (state_log, speed_log, conserved_log) = _wheels_and_logs(sim, sc, wheels, [u])
+    _command, _, (state_log, speed_log, conserved_log) = _wheels_and_logs(
+        sim, sc, wheels, [u], conserved
+    )
     setup_s = time.perf_counter() - t0
 
     wall = _execute(sim, n_steps * dt)
     out: dict[str, Any] = _states(state_log)
     del out["position"], out["velocity"]
     out["wheel_speed"] = np.array(speed_log.wheelSpeeds, dtype=np.float64)[:, :1]
-    out["angular_momentum"] = np.array(conserved_log.totRotAngMomPntC_N, dtype=np.float64)
-    out["energy"] = np.array(conserved_log.totRotEnergy, dtype=np.float64)
+    out.update(_conserved(conserved_log))
     out.update(wall_s=wall, setup_s=setup_s, steps=n_steps, u=u, js=js, iz=hub_inertia[2, 2] + js)
     return out
 
@@ -803,7 +823,7 @@ def _main() -> None:
         label = f"{integ} dt={dt:g}" + (f" tol={tol:g}" if tol else "")
         label += (f" rec={rec:g}" if rec else "") + (" f.coupled" if model != "balanced" else "")
         runs[label] = res = reaction_wheels(
-            dt, record_dt=rec, integrator=integ, tolerance=tol, wheel_model=model
+            dt, record_dt=rec, integrator=integ, tolerance=tol, wheel_model=model, conserved=True
         )
         _print_wheels(res, label)
     a, b = runs["rk4 dt=0.001"], runs["rk4 dt=0.001 f.coupled"]
@@ -863,7 +883,7 @@ def _main() -> None:
         ("rkf78", 0.1, 1e-12, "balanced"),
     ]
     for integ, dt, tol, model in spin_runs:
-        sp = spin_up(dt, integrator=integ, tolerance=tol, wheel_model=model)
+        sp = spin_up(dt, integrator=integ, tolerance=tol, wheel_model=model, conserved=True)
         cf = spin_up_closed_form(sp["t"], sp["u"], sp["js"], sp["iz"])
         label = f"{integ} dt={dt:g}" + (f" tol={tol:g}" if tol else "")
         label += " f.coupled" if model != "balanced" else ""
