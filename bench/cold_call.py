@@ -1,0 +1,110 @@
+"""Benchmark: where a cold `tumble.simulate` call spends its time.
+
+The call of ``bench/spacecraft.py``'s case c (a body and one wheel spun up, RK4,
+100 steps, every state recorded) and of its case a (three wheels, the adaptive
+method at rtol 1e-13), timed hot (at once after a call of its own) and cold (after
+64 MB of other memory traffic, ``spacecraft.churn``), ``--repeat`` times each,
+medians; then the same calls under cProfile, hot and cold, with the cumulative time
+of the call's phases: ``prepare`` (the body, its parts and the method checked and
+built), ``Setup.schedule`` (the steps and samples), the integrator's run (the
+compiled kernel and its driver: the rest of the call) and the trajectory made from
+the samples (``_trajectory``). cProfile
+adds its own cost to every Python call: its times are larger than the plain ones,
+and their shares, hot against cold, are what it shows.
+
+Run from the repository root::
+
+    .venv/bin/python bench/cold_call.py [--repeat 200]
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import pstats
+import statistics
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+import tumble as tb
+from machine import describe
+from spacecraft import ROTORS, SPINNER, SPUN, WHEEL_BODY, WHEELS_OMEGA0, churn
+
+#: The phases of a call, as cProfile names their functions (all in simulation.py);
+#: the rest of the call is the integrator's run (its driver and compiled kernel).
+PHASES = ("prepare", "schedule", "_trajectory")
+
+
+def spin_up() -> Any:
+    return tb.simulate(SPUN, [0, 0, 0], duration=10.0, internal=SPINNER, method="rk4", dt=0.1)
+
+
+def wheels() -> Any:
+    return tb.simulate(
+        WHEEL_BODY, WHEELS_OMEGA0, duration=20.0, internal=ROTORS, method="adaptive",
+        dt=0.1, rtol=1e-13, atol=1e-16,
+    )  # fmt: skip
+
+
+def plain(call: Callable[[], Any], cold: bool, repeat: int) -> float:
+    """The median time of ``repeat`` calls, each after :func:`churn` when ``cold``."""
+    times = []
+    for _ in range(repeat):
+        if cold:
+            churn()
+        else:
+            call()
+        start = time.perf_counter()
+        call()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def profiled(call: Callable[[], Any], cold: bool, repeat: int) -> dict[str, float]:
+    """The cumulative time a call (ms, cProfile's) spends in each phase of PHASES."""
+    profile = cProfile.Profile()
+    for _ in range(repeat):
+        if cold:
+            churn()
+        else:
+            call()
+        profile.enable()
+        call()
+        profile.disable()
+    stats = pstats.Stats(profile).stats  # type: ignore[attr-defined]
+    found = {"whole": 0.0}
+    for (path, _, name), (_, _, _, cumulative, _) in stats.items():
+        if name in PHASES and path.endswith("simulation.py"):
+            found[name] = found.get(name, 0.0) + cumulative / repeat * 1e3
+        if name in ("spin_up", "wheels") and path.endswith("cold_call.py"):
+            found["whole"] += cumulative / repeat * 1e3
+    found["the run (the rest)"] = found["whole"] - sum(found.get(name, 0.0) for name in PHASES)
+    return found
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=200)
+    args = parser.parse_args()
+    print(describe({}))
+    for name, call in (
+        ("c. one wheel, RK4 dt 0.1 s", spin_up),
+        ("a. three wheels, adaptive", wheels),
+    ):
+        call()  # compile
+        hot, cold = plain(call, False, args.repeat), plain(call, True, args.repeat)
+        print(f"\n{name}: {1e3 * hot:.3f} ms hot, {1e3 * cold:.3f} ms cold ({cold / hot:.1f}×)")
+        shares = {
+            setting: profiled(call, setting == "cold", args.repeat) for setting in ("hot", "cold")
+        }
+        print(f"  {'phase (cProfile, ms a call)':30s} {'hot':>8s} {'cold':>8s} {'cold − hot':>10s}")
+        for phase in ("whole", *PHASES, "the run (the rest)"):
+            h, c = shares["hot"].get(phase, np.nan), shares["cold"].get(phase, np.nan)
+            print(f"  {phase:30s} {h:8.3f} {c:8.3f} {c - h:10.3f}")
+
+
+if __name__ == "__main__":
+    main()
