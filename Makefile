@@ -118,6 +118,7 @@ bench: setup
 	$(BIN)/python bench/accuracy.py
 	$(BIN)/python bench/end_to_end.py
 	$(BIN)/python bench/spacecraft.py
+	$(BIN)/python bench/cold_call.py
 	$(BIN)/python bench/refusals.py
 	$(BIN)/python bench/hostile.py
 	$(BIN)/python bench/identify.py
