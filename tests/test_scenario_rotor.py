@@ -177,3 +177,27 @@ def test_a_steady_run_too_short_for_its_transient_says_so() -> None:
     )
     notes = run(parse(text)).notes
     assert any("has decayed only to" in note for note in notes), notes
+
+
+def test_the_rigid_rotor_check_compares_run_ups_only(result) -> None:  # type: ignore[no-untyped-def]
+    from tumble.checks import THEORY_CHECKS, Case
+    from tumble.errors import InputError
+
+    traj = result.trajectory
+    case = Case(traj.mass_properties, traj.omega[0], traj.quaternion[0])
+    with pytest.raises(
+        InputError,
+        match=r"Expected the runs of tumble.models.run_up \(their bearing orbits\) for the "
+        r"rigid-rotor check, got a trajectory alone: run the rotor from a \[rotordynamics\] table\.",
+    ):
+        THEORY_CHECKS["rigid-rotor"].compare(case, traj)
+    # A free body's scenario cannot ask for it.
+    text = builtin_text("tennis-racket")
+    assert 'model = "flip-period"' in text
+    text = text.replace('model = "flip-period"', 'model = "rigid-rotor"')
+    with pytest.raises(
+        ScenarioError,
+        match=r"Expected the rigid rotor on elastic bearings of a \[rotordynamics\] table for "
+        r"'rigid-rotor', got another setup",
+    ):
+        run(parse(text))
