@@ -110,6 +110,7 @@ def test_two_sweeps_at_once_into_one_folder_compute_each_chunk_once(tmp_path: Pa
     assert leftovers(tmp_path) == []
 
 
+@pytest.mark.slow  # two sweeps in subprocesses: 10 s and more
 def test_a_sweep_started_while_another_runs_into_its_folder_is_refused(tmp_path: Path) -> None:
     source = scenario(tmp_path, SWEEP, 6000.0, "small.toml")  # seconds of work
     args = ("sweep", source, "-o", "same", "--json")

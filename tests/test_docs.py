@@ -10,6 +10,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "docs" / "_ext"))
 
@@ -40,6 +42,7 @@ def test_the_readme_draws_the_layers_as_the_architecture_page_does() -> None:
     )
 
 
+@pytest.mark.slow  # four recipes compiled in a fresh process: 10 s and more
 def test_the_architecture_page_recipes_run(tmp_path: Path) -> None:
     # The page's extension recipes (a torque model, an integrator, a part kind, a
     # model), run in a fresh process: their registrations stay out of this one.

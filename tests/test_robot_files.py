@@ -76,6 +76,7 @@ def test_the_corpus_is_there() -> None:
     assert len(corpus()) > 1100
 
 
+@pytest.mark.slow  # every robot file of the corpus audited: 10 s and more
 def test_every_clearly_invalid_tensor_is_found_and_no_valid_one() -> None:
     # Clearly invalid: a principal moment below −1 % of the largest, or I1 + I2
     # short of I3 by more than 1 % of I3: far beyond any rounding of the written
