@@ -94,7 +94,7 @@ pytest-nojit: setup
 pytest-fast: setup
 	$(BIN)/pytest -q $(XDIST) -m "not slow and not site"
 
-# While editing: lint, types, contracts and the fast tests (3½ minutes once
+# While editing: lint, types, contracts and the fast tests (about 4 minutes once
 # numba's cache is filled; the first run compiles the kernels).
 check: setup
 	@$(MAKE) --no-print-directory lint typecheck contracts pytest-fast
