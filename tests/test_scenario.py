@@ -494,6 +494,11 @@ def test_gyrocompass_small_angle_formula_holds_then_fails() -> None:
     )
     assert small_error < 0.03 * 10  # degrees
     assert large_error > 0.2 * 100
+    # The dashed curve is the small swing from the run's own start (θ = 0, θ̇ = β θ0):
+    # θ0 sin βt, β of tumble.theory.gyrocompass for the built-in's disk and rates.
+    beta = tb.theory.gyrocompass(result.trajectory.mass_properties, 200.0, 2.0)
+    expected = 10.0 * np.sin(beta.oscillation_frequency * curves[1].t)
+    np.testing.assert_allclose(curves[1].values, expected, rtol=0, atol=1e-9)  # degrees
 
 
 def test_progress_is_reported() -> None:

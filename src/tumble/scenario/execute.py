@@ -188,8 +188,11 @@ def _rigid_body(
     torque = torque_model(spec, loaded)
     traj, dt = _simulate(loaded, mp, parts, state, torque, progress)
     env = spec.environment
-    options: dict[str, Any] = {"method": spec.simulation.method, "dt": dt}
-    options["samples"] = spec.output.samples
+    options: dict[str, Any] = {
+        "method": spec.simulation.method,
+        "dt": dt,
+        "samples": spec.output.samples,
+    }
     if spec.theory.bearings is not None:
         options["bearings"] = spec.theory.bearings
     case = Case(
