@@ -1,9 +1,10 @@
 """Benchmark: the compiled fixed-step runs of the models, this tree against another.
 
-Nanoseconds per RK4 step of the gimbal (``tumble.core.gimbal.rk4_run``, 3 states,
-its steps written out on scalars; through the shared stepper of arrays it took 72 ns
-a step against 57), the rotor's whirl (``tumble.core.whirl.rk4_run``, 8 states) and the fitted drag
-(``tumble.core.drag_model.drag_rates``, 3 states, ~5 substeps between samples), each
+Nanoseconds per RK4 step of the gimbal (``tumble.core.gimbal.rk4_run``, 3 states
+held in registers), the rotor's whirl (``tumble.core.whirl.rk4_run``, 8 states) and the fitted drag
+(``tumble.core.drag_model.drag_rates``, 3 states, ~5 substeps between samples)
+and the rigid body (``simulate`` of one body recording every 100th step, and
+``simulate_batch`` of 100 000 bodies, 1000 steps, per body-step), each
 tree in fresh processes, alternated, medians of the repeats (the harness of
 ``bench/part_kinds.py``). With ``--other SRC`` (another tree's ``src``, e.g. the
 commit before a change checked out with ``git worktree``) the two are printed side by
@@ -69,6 +70,19 @@ substeps = sum(  # as drag_model counts them: |ω| h / MOST_TURN a sample, at le
     for w in drag_model.drag_rates(moments, drag, False, omega0, times)[:-1]
 )
 out["drag, 3 states"] = seconds / substeps * 1e9
+import tumble as tb
+body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 1.5, 2.0]))
+w0 = [0.1, 0.2, 1.0]
+tb.simulate(body, w0, duration=0.1, dt=1e-3, method="rk4")
+start = time.perf_counter()
+tb.simulate(body, w0, duration=20.0, dt=1e-4, record_every=100, method="rk4")
+out["rigid body, rk4 (one body)"] = (time.perf_counter() - start) / 2e5 * 1e9
+inertia = np.tile(body.inertia, (100_000, 1, 1))
+omega = np.tile(w0, (100_000, 1))
+tb.simulate_batch(inertia, omega, duration=0.1, dt=1e-2, method="rk4")
+start = time.perf_counter()
+tb.simulate_batch(inertia, omega, duration=10.0, dt=1e-2, method="rk4")
+out["rigid body, rk4 (batch)"] = (time.perf_counter() - start) / 1e8 * 1e9
 print(json.dumps(out))
 """
 

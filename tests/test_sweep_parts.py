@@ -24,7 +24,7 @@ from tumble.core.metrics import (
     MOMENTUM_DEVIATION,
     N_METRICS,
 )
-from tumble.core.parts import measuring_kernel, parts_rk4_step
+from tumble.core.parts import make_rk4_step, measuring_kernel
 from tumble.core.torques import combine
 from tumble.integrators import get_integrator
 from tumble.report import write_sweep_report
@@ -189,7 +189,7 @@ def test_the_spring_energy_share_matches_the_parts_own_energy() -> None:
     body = RigidBody(traj.mass_properties, None, tuple(traj.internal))
     y = body.kernel_state(omega0, np.array([1.0, 0, 0, 0]))[:, None].copy()
     free = combine(())
-    kernel = measuring_kernel(parts_rk4_step, free, free, body.layout, "test")
+    kernel = measuring_kernel(make_rk4_step, free, free, body.layout, "test")
     out = np.empty((N_METRICS, 1))
     twice = np.empty(1)
     status = np.empty(1, dtype=np.int64)

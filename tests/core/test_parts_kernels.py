@@ -9,9 +9,17 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from tumble.core import parts
+from tumble.core import part_blocks, parts
 from tumble.core._jit import FINITE, file_stamp, njit
 from tumble.core.dampers import DAMPER_EQUATIONS
+from tumble.core.metrics import (
+    ENERGY_DEVIATION,
+    FIRST_FLIP,
+    FLIPS,
+    MIN_COS,
+    MOMENTUM_DEVIATION,
+    N_METRICS,
+)
 from tumble.core.parts import part_model
 from tumble.core.rotor import ROTOR_EQUATIONS
 from tumble.core.torques import combine, constant_body_torque
@@ -121,7 +129,7 @@ def test_rk4_and_the_splitting_spin_a_rotor_up_exactly() -> None:
     moments = np.array([2.0, 3.0, 4.0])
     packed = np.array(rotor_rows((0, 0, 1), 0.5, torques=(0.1,)))[:, None]
     for step, tolerance in (
-        (parts.parts_rk4_step, 1e-10), (parts.strang_step, 1e-14), (parts.yoshida_step, 1e-14)
+        (parts.make_rk4_step, 1e-10), (parts.make_strang_step, 1e-14), (parts.make_yoshida_step, 1e-14)
     ):  # fmt: skip
         y = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
         status, out = run_steps(step, layout, y, moments, packed, 0.1, 50)
@@ -140,7 +148,7 @@ def test_the_splitting_turns_h_about_the_rotor_axis_and_keeps_its_length() -> No
     axis = np.array([0.6, 0.0, 0.8])
     packed = np.array(rotor_rows(axis, 0.3))[:, None]
     y = np.array([0.5, -1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 3.0])
-    status, out = run_steps(parts.yoshida_step, layout, y, moments, packed, 0.05, 2000)
+    status, out = run_steps(parts.make_yoshida_step, layout, y, moments, packed, 0.05, 2000)
     assert status == FINITE
     size = np.linalg.norm(out[:, :3], axis=1)
     assert np.max(np.abs(size - size[0])) < 1e-13
@@ -153,7 +161,7 @@ def test_a_state_that_blows_up_is_reported_with_its_step() -> None:
     moments = np.array([1.0, 1.0, 1.0])
     packed = np.array(rotor_rows((0, 0, 1), 0.5, torques=(math.inf,)))[:, None]
     y = np.array([0.1, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
-    status, _ = run_steps(parts.parts_rk4_step, layout, y, moments, packed, 0.1, 5)
+    status, _ = run_steps(parts.make_rk4_step, layout, y, moments, packed, 0.1, 5)
     assert status == 1
     assert_allclose(y, [0.1, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0])  # left as before the step
 
@@ -177,3 +185,101 @@ def test_kinds_that_share_their_rates_compile_apart() -> None:
     packed = np.array(rotor_rows((0, 0, 1), 0.5))[:, None]
     assert parts.velocities(rotor_layout)(states, moments, packed)[0, 2] == 1.0
     assert parts.velocities(doubled_layout)(states, moments, packed)[0, 2] == 0.5
+
+
+def _batch_states(kernel, y, moments, packed, params, dt, n):
+    y = y.copy()
+    status = np.full(y.shape[1], FINITE, dtype=np.int64)
+    kernel(y, moments, packed, params, 0.0, 0.0, dt, n, status)
+    return y, status
+
+
+def _bodies(n, shared, rng):  # type: ignore[no-untyped-def]
+    """States (11, n) of bodies carrying a rotor with a motor schedule and a Kane
+    damper, their platform moments (3, n) and their parts (shared or one column
+    each); body 70 thrown at 1e154 rad/s."""
+    y = np.zeros((11, n))
+    y[:3] = rng.normal(size=(3, n))
+    y[3:7] = rng.normal(size=(4, n))
+    y[3:7] /= np.linalg.norm(y[3:7], axis=0)
+    y[7] = rng.uniform(-1.0, 1.0, n)
+    y[:3, 70] = 1e154
+    moments = rng.uniform(1.0, 3.0, (3, n))
+    columns = 1 if shared else n
+    packed = np.empty((15, columns))  # the rotor 9 + 2·2 rows, the damper 2
+    for c in range(columns):
+        torques = (0.2, -0.1) if shared else (rng.uniform(-0.2, 0.2), 0.05)
+        rotor_part = rotor_rows((0.6, 0.0, 0.8), 0.5, times=(0.0, 0.35), torques=torques)
+        packed[:, c] = [*rotor_part, 0.2, rng.uniform(0.1, 0.5)]
+    return y, moments, packed
+
+
+@pytest.mark.filterwarnings("ignore:invalid value:RuntimeWarning")  # NaN, as plain Python
+@pytest.mark.filterwarnings("ignore:overflow:RuntimeWarning")
+@pytest.mark.parametrize("shared", [True, False])
+def test_the_blocked_rk4_batch_steps_each_body_as_its_own_kernel(shared) -> None:
+    # 150 bodies (two whole blocks and a part of one) carrying a rotor with a motor
+    # schedule and a Kane damper, under a body torque with one column per body;
+    # their parts shared or one column each. The blocked kernel against the kernel
+    # that steps one body per thread (the step of simulate()): the same operations,
+    # with the compiler free to contract and reorder them across the block, so
+    # equal to round-off after 100 steps (states of order 1: 1e-14). Body 70 is
+    # thrown at 1e154 rad/s with an unbounded motor: its first step is not finite,
+    # in both kernels, at the same step, and it keeps its state before it.
+    layout = (rotor(2), DAMPER)
+    n = 150
+    rng = np.random.default_rng(7)
+    y, moments, packed = _bodies(n, shared, rng)
+    params = rng.normal(scale=0.1, size=(3, n))
+    identity = f"{file_stamp(test_the_blocked_rk4_batch_steps_each_body_as_its_own_kernel)}|push"
+    blocked = part_blocks.rk4_block_kernel(PUSH, FREE, layout, identity)
+    one_by_one = parts.batch_kernel(parts.make_rk4_step, PUSH, FREE, layout, identity)
+    got, got_status = _batch_states(blocked, y, moments, packed, params, 0.01, 100)
+    want, want_status = _batch_states(one_by_one, y, moments, packed, params, 0.01, 100)
+    assert got_status[70] == want_status[70] == 1
+    assert np.all(np.delete(got_status, 70) == FINITE)
+    assert_allclose(got[:, 70], y[:, 70], rtol=0)  # kept as before the step
+    assert_allclose(got, want, rtol=0, atol=1e-14)
+    assert np.abs(got - y).max() > 0.1  # the bodies moved
+
+
+@pytest.mark.filterwarnings("ignore:invalid value:RuntimeWarning")  # NaN, as plain Python
+@pytest.mark.filterwarnings("ignore:overflow:RuntimeWarning")
+def test_the_blocked_rk4_measures_are_each_bodys_own() -> None:
+    # The measures of a sweep (tumble.core.metrics) taken after every step by the
+    # blocked kernel against the kernel that steps and measures one body per
+    # thread, on the bodies above about random nominal axes over 400 steps, enough
+    # for flips: the same counts, the rest to round-off (the times of the first
+    # flips, interpolated between two steps of 0.01 s from values of order 1, to
+    # 1e-12 s; the others, sums and extremes of values of order 1, to 1e-13). Body
+    # 70 fails at its first step in both, its measures those of its start.
+    layout = (rotor(2), DAMPER)
+    n = 150
+    rng = np.random.default_rng(8)
+    y, moments, packed = _bodies(n, False, rng)
+    axis = rng.normal(size=(3, n))
+    axis /= np.linalg.norm(axis, axis=0)
+    params = np.zeros((3, 1))
+    identity = f"{file_stamp(test_the_blocked_rk4_measures_are_each_bodys_own)}|free"
+    results = []
+    for kernel in (
+        part_blocks.rk4_block_measuring_kernel(FREE, FREE, layout, identity),
+        parts.measuring_kernel(parts.make_rk4_step, FREE, FREE, layout, identity),
+    ):
+        state = y.copy()
+        out = np.empty((N_METRICS, n))
+        twice = np.empty(n)
+        status = np.full(n, FINITE, dtype=np.int64)
+        kernel(state, moments, packed, params, 0.0, axis, 0.0, 0.01, 400, out, twice, status)
+        results.append((state, out, twice, status))
+    (got, got_out, got_twice, got_status), (want, want_out, want_twice, want_status) = results
+    assert_allclose(got_status, want_status, rtol=0)
+    assert got_status[70] == 1
+    assert_allclose(got, want, rtol=0, atol=1e-13)
+    assert np.array_equal(got_out[FLIPS], want_out[FLIPS])
+    assert got_out[FLIPS].max() >= 2  # some bodies flip
+    assert_allclose(got_out[FIRST_FLIP], want_out[FIRST_FLIP], rtol=0, atol=1e-12)
+    rest = [MIN_COS, ENERGY_DEVIATION, MOMENTUM_DEVIATION]
+    assert_allclose(got_out[rest], want_out[rest], rtol=0, atol=1e-13)
+    # Twice the starting energy: body 70's is 1e308, the others of order 1.
+    assert_allclose(got_twice, want_twice, rtol=1e-15, atol=1e-13)

@@ -7,7 +7,8 @@
   as it steps (:mod:`tumble.core.metrics`); both :func:`simulate_batch` and the
   sweep engine (:mod:`tumble.sweep`) run on them;
 * :mod:`tumble.batch.simulate`: :func:`simulate_batch`;
-* :mod:`tumble.batch.parts`: bodies carrying parts, one compiled body per thread;
+* :mod:`tumble.batch.parts`: bodies carrying parts (RK4 in blocks of bodies, the
+  splittings one compiled body per thread);
 * :mod:`tumble.batch.memory`: the memory a batch takes, checked before any work;
 * :mod:`tumble.batch.result`: what a batch run returns.
 """

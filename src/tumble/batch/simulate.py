@@ -1,6 +1,6 @@
 """Many free bodies at once: :func:`simulate_batch`, validated and run on the
-batch driver (:mod:`tumble.batch.driver`), or one compiled body per thread for
-bodies carrying parts (:mod:`tumble.batch.parts`)."""
+batch driver (:mod:`tumble.batch.driver`), or by the kernels of bodies carrying
+parts (:mod:`tumble.batch.parts`)."""
 
 from __future__ import annotations
 
@@ -70,8 +70,8 @@ def simulate_batch(
     progress : None or ``progress(done, total)`` in steps.
     internal : Rotor and KaneDamper parts (:mod:`tumble.parts`) that every body
         carries, as in :func:`tumble.simulate`: ``inertia`` holds them as if
-        locked. Methods ``"rk4"``, and ``"splitting"``/``"strang"`` for rotors;
-        one compiled body per thread.
+        locked. Methods ``"rk4"`` (in blocks of bodies), and
+        ``"splitting"``/``"strang"`` for rotors (one compiled body per thread).
     rotor_speed : None (each Rotor's own ``speed``) or (N, k) the k Rotors'
         initial speeds relative to each body, rad/s (a map over the rotors'
         momentum, as for the dual-spin condition).
@@ -219,8 +219,8 @@ def _run_with_parts(
     record_every: int | None,
     progress: Progress,
 ) -> BatchResult:
-    """Bodies carrying parts: one compiled body per thread (:mod:`tumble.batch.parts`),
-    after the check that the step keeps the parts' own motion stable."""
+    """Bodies carrying parts (:mod:`tumble.batch.parts`), after the check that the
+    step keeps the parts' own motion stable."""
     with_parts = PartsBatch.build(values, omega, q0, parts, rotor_speed, integrator.name)
     # The dampers' rates are fastest on the body of the smallest platform moment.
     lightest = with_parts.bodies.moments[int(np.argmin(with_parts.bodies.moments[:, 0]))]

@@ -57,7 +57,9 @@ and its parts and leave H alone.
 :func:`part_model` composes the equations of one *layout* (the parts' kinds
 in order, with their state sizes and packed rows) into the four functions the
 steps close over (``velocity``, ``momentum``, ``rates``, ``kick``); the
-kernels are built for one layout and cached under its identity.
+kernels are built for one layout and cached under its identity. A batch steps
+one body per thread (:func:`batch_kernel`, :func:`measuring_kernel`: the
+splittings), or, with RK4, blocks of bodies (:mod:`tumble.core.part_blocks`).
 """
 
 from __future__ import annotations
@@ -68,7 +70,14 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from tumble.core._jit import FINITE, file_stamp, njit, njit_parallel, prange, specialise
+from tumble.core._jit import (
+    FINITE,
+    file_stamp,
+    njit,
+    njit_parallel,
+    prange,
+    specialise,
+)
 from tumble.core.adaptive import adaptive_loop
 from tumble.core.dynamics import quaternion_rates
 from tumble.core.metrics import (
@@ -82,6 +91,7 @@ from tumble.core.metrics import (
     nutation_start,
     observe,
 )
+from tumble.core.rk4 import rk4_array_step
 from tumble.core.splitting import decay_integral, free_flow_one_body, sub_steps, turn
 
 __all__ = [
@@ -90,17 +100,17 @@ __all__ = [
     "adaptive_kernel",
     "batch_kernel",
     "layout_identity",
+    "make_rk4_step",
+    "make_strang_step",
+    "make_yoshida_step",
     "measuring_kernel",
     "part_energy",
     "part_model",
     "part_rates",
-    "parts_rk4_step",
     "single_kernel",
     "solve3",
     "splitting_step",
-    "strang_step",
     "velocities",
-    "yoshida_step",
 ]
 
 
@@ -356,34 +366,29 @@ def _finite(y):  # type: ignore[no-untyped-def]
     return math.isfinite(total) and math.isfinite(norm) and norm > 0.0
 
 
-# Every step below has the signature ``step(torque, drive, velocity, momentum,
-# rates, kick, t, dt, y, work, system)``: the layout's four functions
-# (:func:`part_model`) passed one by one, so the compiler inlines them.
-@njit(inline="always")
-def parts_rk4_step(torque, drive, velocity, momentum, rates, kick, t, dt, y, work, system):  # type: ignore[no-untyped-def]
-    """One classical Runge–Kutta step of ``dt`` s from time ``t``, in place on ``y``
-    (``work`` (5, len(y)) scratch); the quaternion renormalised."""
-    n = y.shape[0]
-    hold = t + 0.5 * dt
-    k1 = work[0]
-    k2 = work[1]
-    k3 = work[2]
-    k4 = work[3]
-    stage = work[4]
-    part_rates(torque, drive, velocity, rates, t, hold, y, k1, system)
-    for i in range(n):
-        stage[i] = y[i] + 0.5 * dt * k1[i]
-    part_rates(torque, drive, velocity, rates, hold, hold, stage, k2, system)
-    for i in range(n):
-        stage[i] = y[i] + 0.5 * dt * k2[i]
-    part_rates(torque, drive, velocity, rates, hold, hold, stage, k3, system)
-    for i in range(n):
-        stage[i] = y[i] + dt * k3[i]
-    part_rates(torque, drive, velocity, rates, t + dt, hold, stage, k4, system)
-    sixth = dt / 6.0
-    for i in range(n):
-        y[i] += sixth * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i])
-    _normalise(y)
+# Every step below is made for one layout and torque by a function of the
+# layout's four functions (:func:`part_model`) and the torques:
+# ``make(torque, drive, velocity, momentum, rates, kick)`` returns
+# ``step(t, dt, y, work, system)``, which advances ``y`` in place. The functions
+# are the step's closure constants, so the compiler inlines them (held in a tuple,
+# numba would pass them as pointers).
+def make_rk4_step(torque, drive, velocity, momentum, rates, kick):  # type: ignore[no-untyped-def]
+    """The classical Runge–Kutta step of ``dt`` s from time ``t``, by the shared
+    stepper (:func:`tumble.core.rk4.rk4_array_step`; ``work`` (5, len(y)) its
+    scratch): the parts' inputs read at the step's middle, the quaternion
+    renormalised after it."""
+
+    @njit(inline="always", cache=False)
+    def derivatives(t, y, dy, model):  # type: ignore[no-untyped-def]
+        hold, system = model
+        part_rates(torque, drive, velocity, rates, t, hold, y, dy, system)
+
+    @njit(inline="always", cache=False)
+    def step(t, dt, y, work, system):  # type: ignore[no-untyped-def]
+        rk4_array_step(derivatives, t, dt, y, work, (t + 0.5 * dt, system))
+        _normalise(y)
+
+    return step
 
 
 # ------------------------------------------------------------------ the gyrostat splitting
@@ -476,36 +481,29 @@ def splitting_step(torque, drive, momentum, kick, t, dt, y, system, order):  # t
     _normalise(y)
 
 
-@njit(inline="always")
-def strang_step(torque, drive, velocity, momentum, rates, kick, t, dt, y, work, system):  # type: ignore[no-untyped-def]
+def make_strang_step(torque, drive, velocity, momentum, rates, kick):  # type: ignore[no-untyped-def]
     """:func:`splitting_step` of order 2 (Strang); ``work`` is not used."""
-    splitting_step(torque, drive, momentum, kick, t, dt, y, system, 2)
+
+    @njit(inline="always", cache=False)
+    def step(t, dt, y, work, system):  # type: ignore[no-untyped-def]
+        splitting_step(torque, drive, momentum, kick, t, dt, y, system, 2)
+
+    return step
 
 
-@njit(inline="always")
-def yoshida_step(torque, drive, velocity, momentum, rates, kick, t, dt, y, work, system):  # type: ignore[no-untyped-def]
+def make_yoshida_step(torque, drive, velocity, momentum, rates, kick):  # type: ignore[no-untyped-def]
     """:func:`splitting_step` of order 4 (Yoshida's triple jump of Strang)."""
-    splitting_step(torque, drive, momentum, kick, t, dt, y, system, 4)
+
+    @njit(inline="always", cache=False)
+    def step(t, dt, y, work, system):  # type: ignore[no-untyped-def]
+        splitting_step(torque, drive, momentum, kick, t, dt, y, system, 4)
+
+    return step
 
 
 # ------------------------------------------------------------------ loops
 @njit(inline="always")
-def _steps(  # type: ignore[no-untyped-def]
-    step,
-    torque,
-    drive,
-    velocity,
-    momentum,
-    rates,
-    kick,
-    y,
-    system,
-    dt,
-    n_steps,
-    first_step,
-    record_every,
-    out,
-):
+def _steps(step, y, system, dt, n_steps, first_step, record_every, out):  # type: ignore[no-untyped-def]
     """``n_steps`` steps of one body in place; its status (see :func:`single_kernel`)."""
     n = y.shape[0]
     work = np.empty((5, n))
@@ -515,7 +513,7 @@ def _steps(  # type: ignore[no-untyped-def]
         number = first_step + k
         for i in range(n):
             saved[i] = y[i]
-        step(torque, drive, velocity, momentum, rates, kick, number * dt, dt, y, work, system)
+        step(number * dt, dt, y, work, system)
         if not _finite(y):
             for i in range(n):
                 y[i] = saved[i]
@@ -528,11 +526,12 @@ def _steps(  # type: ignore[no-untyped-def]
     return status
 
 
-def single_kernel(step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
+def single_kernel(make_step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
     """``run(y, moments, parts, params, context, dt, n_steps, first_step, record_every,
     out) -> status``: advance one body's state ``y`` (7 + m,) in place by
-    ``n_steps`` steps of ``dt`` s with ``step`` (:func:`parts_rk4_step`,
-    :func:`strang_step` or :func:`yoshida_step`), for ``layout``.
+    ``n_steps`` steps of ``dt`` s with the step ``make_step`` makes
+    (:func:`make_rk4_step`, :func:`make_strang_step` or :func:`make_yoshida_step`),
+    for ``layout``.
 
     After global step ``first_step + k + 1``, if that number is a multiple of
     ``record_every``, the state is written to row ``number // record_every`` of
@@ -541,67 +540,41 @@ def single_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unt
     left as it was before it).
     """
     velocity, momentum, rates, kick = part_model(layout)
+    step = make_step(torque, drive, velocity, momentum, rates, kick)
     key = layout_identity(layout)
 
-    @specialise(njit, f"parts.single|{file_stamp(step)}|{key}|{identity}")
+    @specialise(njit, f"parts.single|{file_stamp(make_step)}|{key}|{identity}")
     def run(y, moments, parts, params, context, dt, n_steps, first_step, record_every, out):  # type: ignore[no-untyped-def]
         inverse = 1.0 / moments
         system = (moments, inverse, parts, 0, params, 0, context)
-        return _steps(
-            step,
-            torque,
-            drive,
-            velocity,
-            momentum,
-            rates,
-            kick,
-            y,
-            system,
-            dt,
-            n_steps,
-            first_step,
-            record_every,
-            out,
-        )
+        return _steps(step, y, system, dt, n_steps, first_step, record_every, out)
 
     return run
 
 
-def batch_kernel(step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
+def batch_kernel(make_step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
     """``batch(y, moments, parts, params, context, t0, dt, n_steps, status)``: N bodies
     (``y`` (7 + m, N), ``moments`` (3, N); ``parts`` and ``params`` shared or one
-    column per body) advanced in place, one body per thread at a time; ``status``
+    column per body) advanced in place, one body per thread at a time (the
+    splittings'; RK4's steps blocks of bodies:
+    :func:`tumble.core.part_blocks.rk4_block_kernel`); ``status``
     (N,) receives each body's status (a body keeps its last finite state)."""
     velocity, momentum, rates, kick = part_model(layout)
+    step = make_step(torque, drive, velocity, momentum, rates, kick)
     key = layout_identity(layout)
 
     # One body per call of a compiled function of its own, as in
     # tumble.core.splitting: inlined into the parallel loop, the stepping
     # defeats numba's parfor analysis.
-    @specialise(njit, f"parts.body|{file_stamp(step)}|{key}|{identity}")
+    @specialise(njit, f"parts.body|{file_stamp(make_step)}|{key}|{identity}")
     def one_body(y, moments, parts, pc, params, column, context, t0, dt, n_steps):  # type: ignore[no-untyped-def]
         inverse = 1.0 / moments
         system = (moments, inverse, parts, pc, params, column, context)
         never = np.iinfo(np.int64).max
         first = int(t0 / dt + 0.5) if dt > 0.0 else 0
-        return _steps(
-            step,
-            torque,
-            drive,
-            velocity,
-            momentum,
-            rates,
-            kick,
-            y,
-            system,
-            dt,
-            n_steps,
-            first,
-            never,
-            np.zeros((1, 1)),
-        )
+        return _steps(step, y, system, dt, n_steps, first, never, np.zeros((1, 1)))
 
-    @specialise(njit_parallel, f"parts.batch|{file_stamp(step)}|{key}|{identity}")
+    @specialise(njit_parallel, f"parts.batch|{file_stamp(make_step)}|{key}|{identity}")
     def batch(y, moments, parts, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
         part_stride = 0 if parts.shape[1] == 1 else 1
         param_stride = 0 if params.shape[1] == 1 else 1
@@ -624,7 +597,7 @@ def batch_kernel(step, torque, drive, layout, identity):  # type: ignore[no-unty
     return batch
 
 
-def measuring_kernel(step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
+def measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
     """``measure(y, moments, parts, params, context, axis, t0, dt, n_steps, out,
     energy0, status)``: as :func:`batch_kernel`, each body measured after every
     step about its nominal axis (``axis`` (3, N), principal-platform axes) into
@@ -634,10 +607,11 @@ def measuring_kernel(step, torque, drive, layout, identity):  # type: ignore[no-
     when a part lacks its energy), for ``ω · I ω``; ``energy0`` (N,) receives its
     value at the start."""
     velocity, momentum, rates, kick = part_model(layout)
+    step = make_step(torque, drive, velocity, momentum, rates, kick)
     shares = part_energy(layout) or _no_energy
     key = layout_identity(layout)
 
-    @specialise(njit, f"parts.measured|{file_stamp(step)}|{key}|{identity}")
+    @specialise(njit, f"parts.measured|{file_stamp(make_step)}|{key}|{identity}")
     def one_body(  # type: ignore[no-untyped-def]
         y, moments, parts, pc, params, column, context, axis, t0, dt, n_steps, out, energy0, body
     ):
@@ -665,7 +639,7 @@ def measuring_kernel(step, torque, drive, layout, identity):  # type: ignore[no-
             number = first_step + k
             for i in range(n):
                 saved[i] = y[i]
-            step(torque, drive, velocity, momentum, rates, kick, number * dt, dt, y, work, system)
+            step(number * dt, dt, y, work, system)
             if not _finite(y):
                 for i in range(n):
                     y[i] = saved[i]
@@ -713,7 +687,7 @@ def measuring_kernel(step, torque, drive, layout, identity):  # type: ignore[no-
         energy0[body] = twice0
         return status
 
-    @specialise(njit_parallel, f"parts.measure|{file_stamp(step)}|{key}|{identity}")
+    @specialise(njit_parallel, f"parts.measure|{file_stamp(make_step)}|{key}|{identity}")
     def measure(y, moments, parts, params, context, axis, t0, dt, n_steps, out, energy0, status):  # type: ignore[no-untyped-def]
         part_stride = 0 if parts.shape[1] == 1 else 1
         param_stride = 0 if params.shape[1] == 1 else 1

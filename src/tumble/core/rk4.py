@@ -1,63 +1,107 @@
-"""Classical Runge–Kutta: the step of a rigid body, and the step of a model's state
-held in an array.
+"""Classical Runge–Kutta, written once for each way a state is held.
 
-:func:`rk4_step` steps a rigid body's state held as a tuple (the equations of
-:mod:`tumble.core.dynamics`; the quaternion renormalised after every step); the
-loops that run it over one body or a batch are :mod:`tumble.core.stepping`'s.
+:func:`rk4_tuple_step` makes the step of a small state held as a tuple, in registers: the rigid
+body (:func:`rk4_step`, the equations of :mod:`tumble.core.dynamics`, the quaternion
+renormalised after every step; the loops that run it over one body or a batch are
+:mod:`tumble.core.stepping`'s) and the gimbal (:mod:`tumble.core.gimbal`).
 :func:`rk4_array_step` steps a state held in an array, its rates given by a compiled
-function of the model's (the rotor's whirl, the fitted drag); :func:`fixed_step_run`
-makes a model's compiled run of many steps from its rates alone. (The bodies carrying
-parts and the gimbal keep steps of their own, measured faster: see
-``bench/model_steppers.py``.)
+function of the model's: the bodies carrying parts (:mod:`tumble.core.parts`), the
+rotor's whirl, the fitted drag; :func:`fixed_step_run` makes a model's compiled run of
+many steps from its rates alone. Each is inlined where it is called, with the model's
+rates, so a model pays nothing for sharing it (``bench/model_steppers.py``).
 """
 
 from __future__ import annotations
 
 import math
+from functools import cache
 from typing import Any
 
 import numpy as np
+from numba.core.extending import overload
 
 from tumble.core._jit import FINITE, file_stamp, njit, specialise
 from tumble.core.dynamics import normalised, rates
 
-__all__ = ["fixed_step_run", "rk4_array_step", "rk4_step"]
+__all__ = ["fixed_step_run", "rk4_array_step", "rk4_step", "rk4_tuple_step"]
+
+
+def rk4_tuple_step(derivatives: Any) -> Any:
+    """The classical Runge–Kutta step of a state held as a tuple (n,), kept in
+    registers, whose rates are ``derivatives(torque, t, state, coefficients, params,
+    column, context)`` (a compiled function returning a tuple (n,)), with the
+    arguments of a rigid body's rates (:func:`tumble.core.dynamics.rates`: the
+    torque function, the Euler coefficients, the torque's parameters, their column
+    and context; a model of its own passes its parameters as ``coefficients`` and
+    None for what it does not use): ``step(torque, t, dt, state, coefficients,
+    params, column, context)``, the new state after ``dt`` s from time ``t``.
+
+    Made once per model, at import: ``derivatives`` is the step's closure constant,
+    so the compiler inlines it where the step is inlined, as it inlines a function
+    it calls by name (a function passed as an argument is called, not inlined).
+    The arguments go one by one, not held in one tuple, as the rigid body's kernels
+    always passed them."""
+
+    @njit(inline="always", cache=False)
+    def step(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+        h = 0.5 * dt
+        a = derivatives(torque, t, state, coefficients, params, column, context)
+        b = derivatives(torque, t + h, _plus(state, h, a), coefficients, params, column, context)
+        c = derivatives(torque, t + h, _plus(state, h, b), coefficients, params, column, context)
+        d = derivatives(torque, t + dt, _plus(state, dt, c), coefficients, params, column, context)
+        return _combined(state, dt / 6.0, a, b, c, d)
+
+    return step
+
+
+def _plus(state: tuple[float, ...], h: float, slope: tuple[float, ...]) -> tuple[float, ...]:
+    """``state + h slope``, entry by entry, of tuples (n,)."""
+    return tuple(s + h * k for s, k in zip(state, slope, strict=True))
+
+
+def _combined(state: Any, sixth: float, a: Any, b: Any, c: Any, d: Any) -> tuple[float, ...]:
+    """The RK4 update ``state + (dt/6)(a + 2(b + c) + d)``, entry by entry."""
+    return tuple(
+        s + sixth * (ka + 2.0 * (kb + kc) + kd)
+        for s, ka, kb, kc, kd in zip(state, a, b, c, d, strict=True)
+    )
+
+
+# Compiled, the two above are each tuple's entries written out one by one, for its
+# count of entries (a constant of its type): the code the compiler sees is that of
+# the rigid body's step as it was written by hand for seven entries, whose batch
+# loops it vectorises across bodies (the same results, bit for bit).
+@cache
+def _entry_by_entry(name: str, arguments: str, entry: str, count: int) -> Any:
+    """The Python function ``name(arguments)`` that returns the tuple of ``entry``
+    (an expression of ``{i}``, the entry's index) for i = 0 … count − 1."""
+    entries = ", ".join(entry.format(i=i) for i in range(count))
+    namespace: dict[str, Any] = {}
+    exec(f"def {name}({arguments}):\n    return ({entries},)\n", namespace)
+    return namespace[name]
+
+
+@overload(_plus, inline="always")
+def _compiled_plus(state, h, slope):  # type: ignore[no-untyped-def]
+    return _entry_by_entry("plus", "state, h, slope", "state[{i}] + h * slope[{i}]", len(state))
+
+
+@overload(_combined, inline="always")
+def _compiled_combined(state, sixth, a, b, c, d):  # type: ignore[no-untyped-def]
+    entry = "state[{i}] + sixth * (a[{i}] + 2.0 * (b[{i}] + c[{i}]) + d[{i}])"
+    return _entry_by_entry("combined", "state, sixth, a, b, c, d", entry, len(state))
+
+
+_rigid_body_step = rk4_tuple_step(rates)
 
 
 @njit(inline="always")
 def rk4_step(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
-    """One RK4 step of ``dt`` s from ``state`` at time ``t``; the new state, its
-    quaternion renormalised (see :func:`tumble.core.dynamics.rates`)."""
-    h = 0.5 * dt
-    a = rates(torque, t, state, coefficients, params, column, context)
-    b = rates(torque, t + h, _plus(state, h, a), coefficients, params, column, context)
-    c = rates(torque, t + h, _plus(state, h, b), coefficients, params, column, context)
-    d = rates(torque, t + dt, _plus(state, dt, c), coefficients, params, column, context)
-    sixth = dt / 6.0
-    return normalised(
-        (
-            state[0] + sixth * (a[0] + 2.0 * (b[0] + c[0]) + d[0]),
-            state[1] + sixth * (a[1] + 2.0 * (b[1] + c[1]) + d[1]),
-            state[2] + sixth * (a[2] + 2.0 * (b[2] + c[2]) + d[2]),
-            state[3] + sixth * (a[3] + 2.0 * (b[3] + c[3]) + d[3]),
-            state[4] + sixth * (a[4] + 2.0 * (b[4] + c[4]) + d[4]),
-            state[5] + sixth * (a[5] + 2.0 * (b[5] + c[5]) + d[5]),
-            state[6] + sixth * (a[6] + 2.0 * (b[6] + c[6]) + d[6]),
-        )
-    )
-
-
-@njit(inline="always")
-def _plus(state, h, slope):  # type: ignore[no-untyped-def]
-    return (
-        state[0] + h * slope[0],
-        state[1] + h * slope[1],
-        state[2] + h * slope[2],
-        state[3] + h * slope[3],
-        state[4] + h * slope[4],
-        state[5] + h * slope[5],
-        state[6] + h * slope[6],
-    )
+    """One RK4 step of ``dt`` s of a rigid body from ``state`` at time ``t``
+    (:func:`rk4_tuple_step` of :func:`tumble.core.dynamics.rates`); the new state,
+    its quaternion renormalised."""
+    new = _rigid_body_step(torque, t, dt, state, coefficients, params, column, context)
+    return normalised(new)
 
 
 @njit(inline="always")

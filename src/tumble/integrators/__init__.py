@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from functools import partial
 from typing import Any, Literal
 
-from tumble.core import adaptive, freebody, splitting, stepping
+from tumble.core import adaptive, freebody, part_blocks, splitting, stepping
 from tumble.core import parts as part_kernels
 from tumble.core.rk4 import rk4_step
 from tumble.errors import InputError, unknown_choice
@@ -431,7 +431,7 @@ def _splitting(
             exact_free_motion=True,
             **common,
         )
-    part_step = part_kernels.strang_step if order == 2 else part_kernels.yoshida_step
+    part_step = part_kernels.make_strang_step if order == 2 else part_kernels.make_yoshida_step
     return Integrator(
         preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
         "a symmetric body's free motion exactly; with rotors, L to round-off",
@@ -494,9 +494,9 @@ register_integrator(
         metrics=partial(stepping.metrics_kernel, rk4_step),
         measures_without_attitude=True,
         takes_part=any_part,
-        parts_single=partial(part_kernels.single_kernel, part_kernels.parts_rk4_step),
-        parts_batch=partial(part_kernels.batch_kernel, part_kernels.parts_rk4_step),
-        parts_metrics=partial(part_kernels.measuring_kernel, part_kernels.parts_rk4_step),
+        parts_single=partial(part_kernels.single_kernel, part_kernels.make_rk4_step),
+        parts_batch=part_blocks.rk4_block_kernel,
+        parts_metrics=part_blocks.rk4_block_measuring_kernel,
     )
 )
 register_integrator(
