@@ -35,7 +35,7 @@ from tumble.core.metrics import (
     nutation_start,
     observe,
 )
-from tumble.core.parts import layout_identity, part_energy, part_model, part_rates
+from tumble.core.parts import layout_identity, measured_energy, part_model, part_rates
 from tumble.core.rk4 import rk4_array_step
 
 __all__ = ["BLOCK", "RUNNING", "rk4_block_kernel", "rk4_block_measuring_kernel"]
@@ -97,12 +97,6 @@ def _keep_finite(state, saved, total, alive, status, start, count, number):  # t
         if not alive[j]:
             for i in range(state.shape[0]):
                 state[i, j] = saved[i, j]
-
-
-@njit(inline="always")
-def _no_shares(y, parts, pc, w):  # type: ignore[no-untyped-def]
-    """The parts' shares of the energy where a part has none (the body's alone)."""
-    return 0.0
 
 
 @njit(inline="always")
@@ -237,7 +231,7 @@ def _body_measures(layout):  # type: ignore[no-untyped-def]
     parts, pc, m, time)`` after a step that ends at ``time`` (s). As
     :func:`tumble.core.parts.measuring_kernel` measures."""
     velocity, _, _, _ = part_model(layout)
-    shares = part_energy(layout) or _no_shares
+    shares = measured_energy(layout)
 
     @njit(inline="always", cache=False)
     def twice_energy(y, inverse, parts, pc):  # type: ignore[no-untyped-def]

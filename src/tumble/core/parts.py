@@ -103,6 +103,7 @@ __all__ = [
     "make_rk4_step",
     "make_strang_step",
     "make_yoshida_step",
+    "measured_energy",
     "measuring_kernel",
     "part_energy",
     "part_model",
@@ -314,6 +315,13 @@ def part_energy(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def
         k += size
         row += rows
     return shares
+
+
+def measured_energy(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
+    """The shares the measuring kernels add to ``ω · H`` for twice the energy:
+    :func:`part_energy`'s, or none (``ω · H`` alone) when a part of ``layout`` has
+    no ``energy``."""
+    return part_energy(layout) or _no_energy
 
 
 # ------------------------------------------------------------------ the rates
@@ -608,7 +616,7 @@ def measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignor
     value at the start."""
     velocity, momentum, rates, kick = part_model(layout)
     step = make_step(torque, drive, velocity, momentum, rates, kick)
-    shares = part_energy(layout) or _no_energy
+    shares = measured_energy(layout)
     key = layout_identity(layout)
 
     @specialise(njit, f"parts.measured|{file_stamp(make_step)}|{key}|{identity}")

@@ -318,16 +318,19 @@ class PlanBuilder:
             return self.range_axis(name, vary)
         return self.random_axis(name, vary)
 
+    def require(self, vary: Vary, path: tuple[str, ...], keys: tuple[str, ...]) -> None:
+        """Refuse an axis that lacks one of the ``keys`` its form needs."""
+        together = ", ".join(f"`{k}`" for k in keys)
+        for key in keys:
+            if getattr(vary, key) is None:
+                message = f"Expected `{key}` with {together}, which is missing."
+                raise self.fail((*path, key), message)
+
     def range_axis(self, name: str, vary: Vary) -> GridAxis:
         """A grid from `start` to `stop` in `num` values, evenly or on a log scale."""
         kind = PARAMETERS[name][0]
         path = ("vary", name)
-        for key in ("start", "stop", "num"):
-            if getattr(vary, key) is None:
-                raise self.fail(
-                    (*path, key),
-                    f"Expected `{key}` with `start`, `stop`, `num`, which is missing.",
-                )
+        self.require(vary, path, ("start", "stop", "num"))
         assert vary.num is not None
         start = self.si(vary.start, kind, (*path, "start"), vary.unit)
         stop = self.si(vary.stop, kind, (*path, "stop"), vary.unit)
@@ -344,12 +347,7 @@ class PlanBuilder:
         """A parameter drawn at random between `min` and `max` by `distribution`."""
         kind = PARAMETERS[name][0]
         path = ("vary", name)
-        for key in ("distribution", "min", "max"):
-            if getattr(vary, key) is None:
-                raise self.fail(
-                    (*path, key),
-                    f"Expected `{key}` with `distribution`, `min`, `max`, which is missing.",
-                )
+        self.require(vary, path, ("distribution", "min", "max"))
         assert vary.distribution in DISTRIBUTIONS
         low = self.si(vary.min, kind, (*path, "min"), vary.unit)
         high = self.si(vary.max, kind, (*path, "max"), vary.unit)
