@@ -644,6 +644,11 @@ def test_unknown_builtin_is_refused() -> None:
             r"`vary.damping.num`: Expected `num` with `start`, `stop`, `num`, which is missing.",
         ),
         (
+            {"min = -0.05\n": ""},
+            r"`vary.body_torque_1.min`: Expected `min` with `distribution`, `min`, `max`, which "
+            r"is missing.",
+        ),
+        (
             {"values = [1.2, 1.5, 1.8]": 'values = [1.2, "1.5 kg"]'},
             r"line 17, `vary.ratio_2.values\[1\]`: Expected `ratio_2` to be a dimensionless number, got 1.5 kg",
         ),
