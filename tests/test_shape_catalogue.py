@@ -92,6 +92,45 @@ def test_the_volume_and_box_are_the_meshed_solids(name: str) -> None:
     assert_allclose(high, mesh.bounds[1], rtol=0, atol=TOLERANCE * scale)
 
 
+# Every kind's dimensions for the drawn surfaces, the solids of MESHES and the rest.
+SURFACES = {name: dimensions for name, (dimensions, _) in MESHES.items()} | {
+    "spherical-shell": {"radius": 0.3},
+    "hollow-sphere": {"inner_radius": 0.2, "outer_radius": 0.3},
+    "thin-rod": {"length": 0.8},
+    "thin-disk": {"radius": 0.4},
+    "thin-ring": {"radius": 0.4},
+}
+
+
+def test_every_kind_has_a_surface_checked_below() -> None:
+    assert set(SURFACES) == set(SHAPE_KINDS)
+
+
+@pytest.mark.parametrize("name", sorted(SURFACES))
+def test_the_surface_is_closed_centred_and_fills_the_box(name: str) -> None:
+    shape = Shape.of(name, **SURFACES[name])
+    mesh = trimesh.Trimesh(*shape.surface(), process=True)
+    assert mesh.is_watertight
+    assert mesh.volume > 0  # outward faces
+    low, high = shape.bounding_box
+    size = float(np.max(high - low))
+    if shape.kind.volume is None:
+        # An idealised thin body is drawn with a thickness of at most 1/40 of its size
+        # (a rod of radius length/80, a disk of thickness radius/40, a ring's tube of
+        # radius/30): the drawing stays within that of the box.
+        assert np.all(mesh.bounds[0] >= low - size / 30) and np.all(
+            mesh.bounds[1] <= high + size / 30
+        )
+        return
+    # Polygons of 16 to 48 sides inscribed in circles lose < 3 % of the volume and
+    # move the centre of mass by < 1 % of the size.
+    assert mesh.volume == pytest.approx(shape.volume, rel=0.03)
+    assert_allclose(mesh.center_mass, 0, atol=0.01 * size)
+    # Inscribed polygons keep within the box and reach its faces to 2 % (cos(π/16)).
+    assert np.all(mesh.bounds[0] >= low - 1e-12) and np.all(mesh.bounds[1] <= high + 1e-12)
+    assert_allclose(mesh.bounds, [low, high], rtol=0, atol=0.02 * size)
+
+
 def test_the_hollow_sphere_is_the_difference_of_two_spheres() -> None:
     shape = Shape.of("hollow-sphere", inner_radius=0.2, outer_radius=0.3)
     spheres = [Shape.of("solid-sphere", radius=r).volume for r in (0.3, 0.2)]

@@ -1,10 +1,10 @@
 """Meshes to draw bodies with in the 3D viewer, in body coordinates.
 
-Surfaces of revolution, spheres, boxes, tori, and the uniform ellipsoid of
-equal inertia that stands in for a body known only by its mass properties.
-Drawn meshes only: made with numpy here, so drawing a solid does not pay for
-importing trimesh's mesh generators; nothing here enters a computation. The
-bodies of scenario files are drawn by :mod:`tumble.report.scenario_geometry`.
+The uniform ellipsoid of equal inertia that stands in for a body known only by
+its mass properties, and the turning discs of parts; the solids' surfaces
+(surfaces of revolution, spheres, boxes, tori) are
+:mod:`tumble.shapes.surfaces`'. The bodies of scenario files are drawn by
+:mod:`tumble.report.scenario_geometry`.
 """
 
 from __future__ import annotations
@@ -16,18 +16,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.massprops import MassProperties
+from tumble.shapes.surfaces import box, cylinder, sphere
 
 __all__ = [
     "DiscDrawing",
     "Geometry",
-    "Mesh",
-    "box",
-    "cylinder",
     "disc_mesh",
     "equal_inertia_ellipsoid",
-    "revolve",
-    "sphere",
-    "torus",
 ]
 
 Array = NDArray[np.float64]
@@ -42,85 +37,6 @@ class Geometry:
     vertices: Array
     faces: NDArray[np.int64]
     exact: bool = True
-
-
-Mesh = tuple[Array, NDArray[np.int64]]
-
-
-def revolve(profile: Any, sections: int = 48, closed: bool = False) -> Mesh:
-    """The surface swept by a profile ``[(r, z), ...]`` turned about the z axis.
-
-    Points with ``r = 0`` become single vertices on the axis (the poles of a
-    sphere, the apex of a cone); ``closed`` joins the last point to the first
-    (a torus, a tube's cross-section). Drawn meshes only: made with numpy here,
-    so drawing a solid does not pay for importing trimesh's mesh generators.
-    """
-    points = np.asarray(profile, dtype=float)
-    angles = np.linspace(0.0, 2.0 * np.pi, sections, endpoint=False)
-    circle = np.column_stack((np.cos(angles), np.sin(angles)))
-    vertices: list[Array] = []
-    rings: list[NDArray[np.int64]] = []
-    count = 0
-    for r, z in points:
-        if r == 0.0:
-            vertices.append(np.array([[0.0, 0.0, z]]))
-            rings.append(np.full(sections, count, dtype=np.int64))
-            count += 1
-        else:
-            vertices.append(np.column_stack((r * circle, np.full(sections, z))))
-            rings.append(np.arange(count, count + sections, dtype=np.int64))
-            count += sections
-    faces: list[NDArray[np.int64]] = []
-    pairs = list(zip(range(len(rings) - 1), range(1, len(rings)), strict=True))
-    if closed:
-        pairs.append((len(rings) - 1, 0))
-    for i, j in pairs:
-        a, b = rings[i], rings[j]
-        a1, b1 = np.roll(a, -1), np.roll(b, -1)
-        for triangle in (np.column_stack((a, a1, b1)), np.column_stack((a, b1, b))):
-            keep = (triangle[:, 0] != triangle[:, 1]) & (triangle[:, 1] != triangle[:, 2])
-            keep &= triangle[:, 0] != triangle[:, 2]
-            faces.append(triangle[keep])
-    return np.vstack(vertices), np.vstack(faces)
-
-
-def sphere(radius: float = 1.0, rings: int = 16, sections: int = 32) -> Mesh:
-    theta = np.linspace(0.0, np.pi, rings + 1)
-    profile = np.column_stack((radius * np.sin(theta), -radius * np.cos(theta)))
-    profile[0, 0] = profile[-1, 0] = 0.0
-    return revolve(profile, sections)
-
-
-def cylinder(radius: float, height: float, sections: int = 48) -> Mesh:
-    h = 0.5 * height
-    return revolve([(0.0, -h), (radius, -h), (radius, h), (0.0, h)], sections)
-
-
-def torus(major: float, minor: float, sections: int = 48, tube: int = 16) -> Mesh:
-    a = np.linspace(0.0, 2.0 * np.pi, tube, endpoint=False)
-    return revolve(np.column_stack((major + minor * np.cos(a), minor * np.sin(a))), sections, True)
-
-
-def box(size: Any) -> Mesh:
-    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
-    faces = np.array(
-        [
-            [0, 1, 3],
-            [0, 3, 2],
-            [4, 6, 7],
-            [4, 7, 5],
-            [0, 4, 5],
-            [0, 5, 1],
-            [2, 3, 7],
-            [2, 7, 6],
-            [0, 2, 6],
-            [0, 6, 4],
-            [1, 5, 7],
-            [1, 7, 3],
-        ],
-        dtype=np.int64,
-    )
-    return corners * (0.5 * np.asarray(size, dtype=float)), faces
 
 
 def equal_inertia_ellipsoid(mp: MassProperties) -> Geometry:

@@ -29,7 +29,7 @@ def poinsot_data(traj: Trajectory, index: Any) -> dict[str, Any] | None:
     (body axes), the herpolhode its path on the plane (space axes)."""
     from tumble.analysis import herpolhode
     from tumble.errors import InputError
-    from tumble.report.geometry import sphere
+    from tumble.shapes.surfaces import sphere
 
     try:
         plane = herpolhode(traj)

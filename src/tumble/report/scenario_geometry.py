@@ -18,17 +18,13 @@ from tumble.massprops import MassProperties
 from tumble.report.geometry import (
     DiscDrawing,
     Geometry,
-    Mesh,
-    box,
-    cylinder,
     disc_drawing,
     equal_inertia_ellipsoid,
-    revolve,
-    sphere,
-    torus,
 )
 from tumble.scenario.bodies import InertiaBody, MeshBody, PartsBody, PointsBody, ShapeBody
 from tumble.scenario.build import mesh_path, rotation
+from tumble.shapes import SHAPE_KINDS
+from tumble.shapes.surfaces import Mesh, sphere
 
 __all__ = ["body_geometry", "part_drawings", "shape_mesh"]
 
@@ -36,48 +32,9 @@ Array = NDArray[np.float64]
 
 
 def shape_mesh(spec: ShapeBody) -> Mesh:
-    """A drawing of a solid of :mod:`tumble.shapes`, centred like it (on its centre of mass)."""
-    d = spec.dimensions()
-    name = spec.shape
-    if name == "box":
-        return box(d["size"])
-    if name == "solid-cylinder":
-        return cylinder(d["radius"], d["height"])
-    if name == "hollow-cylinder":
-        h = 0.5 * d["height"]
-        inner, outer = d["inner_radius"], d["outer_radius"]
-        return revolve([(inner, -h), (outer, -h), (outer, h), (inner, h)], closed=True)
-    if name in ("solid-sphere", "spherical-shell"):
-        return sphere(d["radius"])
-    if name == "hollow-sphere":
-        return sphere(d["outer_radius"])
-    if name == "solid-cone":
-        # Apex at +z, centre of mass (a quarter of the height above the base) at the origin.
-        h = d["height"]
-        return revolve([(0.0, -0.25 * h), (d["radius"], -0.25 * h), (0.0, 0.75 * h)])
-    if name == "thin-rod":
-        return cylinder(d["length"] / 80.0, d["length"], sections=12)
-    if name == "thin-disk":
-        return cylinder(d["radius"], d["radius"] / 40.0)
-    if name == "thin-ring":
-        return torus(d["radius"], d["radius"] / 30.0, tube=8)
-    if name == "ellipsoid":
-        vertices, faces = sphere()
-        return vertices * np.asarray(d["semi_axes"]), faces
-    if name == "torus":
-        return torus(d["major_radius"], d["minor_radius"])
-    if name == "capsule":
-        r, h = d["radius"], 0.5 * d["cylinder_height"]
-        theta = np.linspace(0.0, 0.5 * np.pi, 9)
-        bottom = [(r * np.sin(t), -h - r * np.cos(t)) for t in theta]
-        top = [(r * np.cos(t), h + r * np.sin(t)) for t in theta]
-        profile = np.array(bottom + top)
-        profile[0, 0] = profile[-1, 0] = 0.0
-        return revolve(profile)
-    # A regular tetrahedron: vertices (a / √8)(±1, ±1, ±1) with an even number of minus signs.
-    a = d["edge"] / np.sqrt(8.0)
-    vertices = a * np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float)
-    return vertices, np.array([[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]], dtype=np.int64)
+    """A drawing of a solid of :mod:`tumble.shapes`, centred like it (on its centre of
+    mass): its kind's surface (:attr:`tumble.shapes.ShapeKind.surface`)."""
+    return SHAPE_KINDS[spec.shape].surface(**spec.dimensions())
 
 
 def body_geometry(spec: Any, folder: Path) -> Geometry:
