@@ -232,7 +232,6 @@ def test_every_closed_form_a_kind_declares_is_a_registered_check() -> None:
 LONG_FUNCTIONS = {
     "core/lagrange.py:top_constants",
     "core/lagrange.py:top_motion",
-    "core/parts.py:measuring_kernel",
     "core/adaptive.py:adaptive_loop",
 }
 

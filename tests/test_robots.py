@@ -525,16 +525,16 @@ def test_a_collada_mesh_in_centimetres_is_read_in_metres(tmp_path: Path) -> None
 
 
 def test_refusals_of_shapes_and_readers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from tumble.robots.model import Shape
+    from tumble.robots.model import LinkShape
 
     with pytest.raises(
         tb.InputError, match=r"^Expected a mesh shape to name its file, got none\.$"
     ):
-        Shape("mesh").unit_density()
+        LinkShape("mesh").unit_density()
     with pytest.raises(
         tb.InputError, match=r"^Expected a shape's kind to be one of box, .*got 'cone'\."
     ):
-        Shape("cone").unit_density()
+        LinkShape("cone").unit_density()
     with pytest.raises(
         tb.InputError, match=r"^Expected `kind` to be one of collision, visual, got 'inertial'\."
     ):
@@ -543,7 +543,7 @@ def test_refusals_of_shapes_and_readers(tmp_path: Path, monkeypatch: pytest.Monk
     with pytest.raises(
         tb.InputError, match=r"^Expected a readable mesh file, got '.*garbage\.glb': "
     ):
-        Shape("mesh", mesh=tmp_path / "garbage.glb").unit_density()
+        LinkShape("mesh", mesh=tmp_path / "garbage.glb").unit_density()
     with pytest.raises(
         tb.InputError, match=r"^Expected a robot with links in '.*empty\.urdf', got none\.$"
     ):
@@ -575,3 +575,16 @@ def test_refusals_of_mjcf_models(tmp_path: Path) -> None:
         tb.InputError, match=r"^Expected an MJCF model MuJoCo compiles, got broken\.xml: "
     ):
         tb.robots.load(broken)
+
+
+def test_the_old_name_of_a_link_s_shape_still_works_with_a_warning() -> None:
+    import tumble.robots
+
+    with pytest.warns(
+        DeprecationWarning,
+        match=r"tumble\.robots\.Shape is deprecated: use tumble\.robots\.LinkShape",
+    ):
+        old = tumble.robots.Shape
+    assert old is tumble.robots.LinkShape
+    with pytest.raises(AttributeError, match="has no attribute 'Shap'"):
+        tumble.robots.Shap  # noqa: B018

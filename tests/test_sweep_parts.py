@@ -24,7 +24,8 @@ from tumble.core.metrics import (
     MOMENTUM_DEVIATION,
     N_METRICS,
 )
-from tumble.core.parts import make_rk4_step, measuring_kernel
+from tumble.core.part_measures import measuring_kernel
+from tumble.core.parts import make_rk4_step
 from tumble.core.torques import combine
 from tumble.integrators import get_integrator
 from tumble.report import write_sweep_report

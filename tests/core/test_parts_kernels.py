@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from tumble.core import part_blocks, parts
+from tumble.core import part_blocks, part_measures, parts
 from tumble.core._jit import FINITE, file_stamp, njit
 from tumble.core.dampers import DAMPER_EQUATIONS
 from tumble.core.metrics import (
@@ -264,7 +264,7 @@ def test_the_blocked_rk4_measures_are_each_bodys_own() -> None:
     results = []
     for kernel in (
         part_blocks.rk4_block_measuring_kernel(FREE, FREE, layout, identity),
-        parts.measuring_kernel(parts.make_rk4_step, FREE, FREE, layout, identity),
+        part_measures.measuring_kernel(parts.make_rk4_step, FREE, FREE, layout, identity),
     ):
         state = y.copy()
         out = np.empty((N_METRICS, n))

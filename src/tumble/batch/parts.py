@@ -143,7 +143,7 @@ class PartsBatch:
         after every step about its nominal axis ``axis`` (3, N; unit vectors, body
         axes): the measures (``N_METRICS``, N) of :mod:`tumble.core.metrics` with
         the total angular momentum H for L and the energy of the body and its parts
-        (:func:`tumble.core.parts.measuring_kernel`), and twice each body's energy
+        (:func:`tumble.core.part_measures.measuring_kernel`), and twice each body's energy
         at the start (N,), J. ``energy=False`` for measures without the energy
         (its rows then hold that of the body alone, ``ω · H``: the parts may
         lack its equation). ``first_body`` and ``where`` name the bodies in

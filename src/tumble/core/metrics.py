@@ -21,7 +21,7 @@ the kernels update the rows of ``out`` (5, N):
    cosine of the largest angle between the nominal axis and L (the nutation);
 3. the largest ``|2 E − 2 E₀|``, with ``2 E = ω · I ω`` (J, times two; for a
    body carrying parts, ``ω · H`` plus each part's share:
-   :func:`tumble.core.parts.measuring_kernel`);
+   :func:`tumble.core.part_measures.measuring_kernel`);
 4. the largest ``| |L| − |L₀| |`` (kg·m²/s).
 """
 

@@ -24,21 +24,11 @@ import math
 import numpy as np
 
 from tumble.core._jit import njit, njit_block, njit_parallel, own_name, prange, specialise
-from tumble.core.metrics import (
-    ENERGY_DEVIATION,
-    FIRST_FLIP,
-    FLIPS,
-    MIN_COS,
-    MOMENTUM_DEVIATION,
-    finish,
-    initial,
-    nutation_start,
-    observe,
-)
-from tumble.core.parts import layout_identity, measured_energy, part_model, part_rates
+from tumble.core.part_measures import RUNNING, body_measures, finish_measures
+from tumble.core.parts import layout_identity, part_model, part_rates
 from tumble.core.rk4 import rk4_array_step
 
-__all__ = ["BLOCK", "RUNNING", "rk4_block_kernel", "rk4_block_measuring_kernel"]
+__all__ = ["BLOCK", "rk4_block_kernel", "rk4_block_measuring_kernel"]
 
 
 #: Bodies a thread steps together in :func:`rk4_block_kernel`.
@@ -184,147 +174,21 @@ def rk4_block_kernel(torque, drive, layout, identity):  # type: ignore[no-untype
     return batch
 
 
-#: The rows of a block's running measures in :func:`rk4_block_measuring_kernel`:
-#: the axis b of :func:`tumble.core.metrics.initial`, then the measures of
-#: :func:`tumble.core.metrics.observe`, the first flip's time and its two values of
-#: c, twice the energy at the start.
-RUNNING = (
-    "b1",
-    "b2",
-    "b3",
-    "reference",
-    "squared0",
-    "numerator",
-    "denominator",
-    "flips",
-    "deviation",
-    "smallest",
-    "largest",
-    "crossed_at",
-    "before",
-    "after",
-    "twice0",
-)
-(
-    _B1,
-    _B2,
-    _B3,
-    _REFERENCE,
-    _SQUARED0,
-    _NUMERATOR,
-    _DENOMINATOR,
-    _FLIPS,
-    _DEVIATION,
-    _SMALLEST,
-    _LARGEST,
-    _CROSSED_AT,
-    _BEFORE,
-    _AFTER,
-    _TWICE0,
-) = range(len(RUNNING))
-
-
-def _body_measures(layout):  # type: ignore[no-untyped-def]
-    """``(start, after)``: the measures of one body of a block, ``m`` its column of
-    the running measures (:data:`RUNNING`): ``start(y, inverse, parts, pc, a1, a2,
-    a3, m)`` before the first step, about the nominal axis a; ``after(y, inverse,
-    parts, pc, m, time)`` after a step that ends at ``time`` (s). As
-    :func:`tumble.core.parts.measuring_kernel` measures."""
-    velocity, _, _, _ = part_model(layout)
-    shares = measured_energy(layout)
-
-    @njit(inline="always", cache=False)
-    def twice_energy(y, inverse, parts, pc):  # type: ignore[no-untyped-def]
-        w1, w2, w3 = velocity(y, inverse, parts, pc)
-        return y[0] * w1 + y[1] * w2 + y[2] * w3 + shares(y, parts, pc, (w1, w2, w3)), w1, w2, w3
-
-    @njit(inline="always", cache=False)
-    def start(y, inverse, parts, pc, a1, a2, a3, m):  # type: ignore[no-untyped-def]
-        twice0, w1, w2, w3 = twice_energy(y, inverse, parts, pc)
-        m[_B1], m[_B2], m[_B3], _ = initial(y[0], y[1], y[2], w1, w2, w3, a1, a2, a3)
-        reference = m[_B1] * y[0] + m[_B2] * y[1] + m[_B3] * y[2]
-        squared0 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2]
-        m[_NUMERATOR], m[_DENOMINATOR] = nutation_start(reference * abs(reference), squared0)
-        m[_REFERENCE], m[_SQUARED0], m[_SMALLEST], m[_LARGEST] = (
-            reference,
-            squared0,
-            squared0,
-            squared0,
-        )
-        m[_FLIPS], m[_DEVIATION], m[_CROSSED_AT], m[_BEFORE], m[_AFTER] = 0.0, 0.0, 0.0, 0.0, 0.0
-        m[_TWICE0] = twice0
-
-    @njit(inline="always", cache=False)
-    def after(y, inverse, parts, pc, m, time):  # type: ignore[no-untyped-def]
-        twice, _, _, _ = twice_energy(y, inverse, parts, pc)
-        c = m[_B1] * y[0] + m[_B2] * y[1] + m[_B3] * y[2]
-        last = m[_REFERENCE]
-        (
-            first,
-            m[_REFERENCE],
-            m[_FLIPS],
-            m[_NUMERATOR],
-            m[_DENOMINATOR],
-            m[_DEVIATION],
-            m[_SMALLEST],
-            m[_LARGEST],
-        ) = observe(
-            twice,
-            c,
-            c * abs(c),
-            y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
-            last,
-            m[_FLIPS],
-            m[_NUMERATOR],
-            m[_DENOMINATOR],
-            m[_TWICE0],
-            m[_DEVIATION],
-            m[_SMALLEST],
-            m[_LARGEST],
-        )
-        if first:
-            m[_CROSSED_AT], m[_BEFORE], m[_AFTER] = time, last, c
-
-    return start, after
-
-
 @njit(inline="always")
 def _finish_block(running, out, energy0, start, count, dt):  # type: ignore[no-untyped-def]
-    """The measures of the first ``count`` bodies of a block (:data:`RUNNING`) into
-    columns ``start …`` of ``out`` and ``energy0``, as
-    :func:`tumble.core.parts.measuring_kernel` writes them."""
+    """The measures of the first ``count`` bodies of a block (their columns of
+    ``running``) into columns ``start …`` of ``out`` and ``energy0``."""
     for j in range(count):
-        m = running[:, j]
-        body = start + j
-        (
-            out[FLIPS, body],
-            out[FIRST_FLIP, body],
-            out[MIN_COS, body],
-            out[ENERGY_DEVIATION, body],
-            out[MOMENTUM_DEVIATION, body],
-        ) = finish(
-            dt,
-            m[_FLIPS],
-            m[_CROSSED_AT],
-            m[_BEFORE],
-            m[_AFTER],
-            m[_NUMERATOR],
-            m[_DENOMINATOR],
-            m[_DEVIATION],
-            m[_SQUARED0],
-            m[_SMALLEST],
-            m[_LARGEST],
-        )
-        energy0[body] = m[_TWICE0]
+        finish_measures(running[:, j], out, energy0, start + j, dt)
 
 
 def rk4_block_measuring_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped-def]
-    """:func:`tumble.core.parts.measuring_kernel` of RK4 (the same arguments, measures
+    """:func:`tumble.core.part_measures.measuring_kernel` of RK4 (the same arguments, measures
     and statuses),
     stepping ``BLOCK`` bodies together as :func:`rk4_block_kernel` does and
     measuring each after every step, as there, to round-off."""
     advance = _block_advance(torque, drive, layout)
-    start_body, after_body = _body_measures(layout)
+    start_body, after_body = body_measures(layout)
     key = layout_identity(layout)
 
     @njit(inline="always", cache=False)

@@ -58,8 +58,9 @@ and its parts and leave H alone.
 in order, with their state sizes and packed rows) into the four functions the
 steps close over (``velocity``, ``momentum``, ``rates``, ``kick``); the
 kernels are built for one layout and cached under its identity. A batch steps
-one body per thread (:func:`batch_kernel`, :func:`measuring_kernel`: the
-splittings), or, with RK4, blocks of bodies (:mod:`tumble.core.part_blocks`).
+one body per thread (:func:`batch_kernel`,
+:func:`tumble.core.part_measures.measuring_kernel`: the splittings), or, with
+RK4, blocks of bodies (:mod:`tumble.core.part_blocks`).
 """
 
 from __future__ import annotations
@@ -80,17 +81,6 @@ from tumble.core._jit import (
 )
 from tumble.core.adaptive import adaptive_loop
 from tumble.core.dynamics import quaternion_rates
-from tumble.core.metrics import (
-    ENERGY_DEVIATION,
-    FIRST_FLIP,
-    FLIPS,
-    MIN_COS,
-    MOMENTUM_DEVIATION,
-    finish,
-    initial,
-    nutation_start,
-    observe,
-)
 from tumble.core.rk4 import rk4_array_step
 from tumble.core.splitting import decay_integral, free_flow_one_body, sub_steps, turn
 
@@ -99,12 +89,12 @@ __all__ = [
     "PartModel",
     "adaptive_kernel",
     "batch_kernel",
+    "finite_state",
     "layout_identity",
     "make_rk4_step",
     "make_strang_step",
     "make_yoshida_step",
     "measured_energy",
-    "measuring_kernel",
     "part_energy",
     "part_model",
     "part_rates",
@@ -366,7 +356,9 @@ def _normalise(y):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _finite(y):  # type: ignore[no-untyped-def]
+def finite_state(y):  # type: ignore[no-untyped-def]
+    """Whether a body's state ``y`` is finite: the sum of its entries and its
+    quaternion's norm finite, that norm above zero."""
     total = 0.0
     for i in range(y.shape[0]):
         total += y[i]
@@ -522,7 +514,7 @@ def _steps(step, y, system, dt, n_steps, first_step, record_every, out):  # type
         for i in range(n):
             saved[i] = y[i]
         step(number * dt, dt, y, work, system)
-        if not _finite(y):
+        if not finite_state(y):
             for i in range(n):
                 y[i] = saved[i]
             status = number + 1
@@ -603,123 +595,6 @@ def batch_kernel(make_step, torque, drive, layout, identity):  # type: ignore[no
             y[:, body] = state
 
     return batch
-
-
-def measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
-    """``measure(y, moments, parts, params, context, axis, t0, dt, n_steps, out,
-    energy0, status)``: as :func:`batch_kernel`, each body measured after every
-    step about its nominal axis (``axis`` (3, N), principal-platform axes) into
-    ``out`` (``N_METRICS``, N), as :mod:`tumble.core.metrics` says of a rigid
-    body, with H, the total angular momentum, for L, and twice the energy of the
-    body and its parts, ``ω · H + Σ ε`` (:func:`part_energy`; ``ω · H`` alone
-    when a part lacks its energy), for ``ω · I ω``; ``energy0`` (N,) receives its
-    value at the start."""
-    velocity, momentum, rates, kick = part_model(layout)
-    step = make_step(torque, drive, velocity, momentum, rates, kick)
-    shares = measured_energy(layout)
-    key = layout_identity(layout)
-
-    @specialise(njit, f"parts.measured|{file_stamp(make_step)}|{key}|{identity}")
-    def one_body(  # type: ignore[no-untyped-def]
-        y, moments, parts, pc, params, column, context, axis, t0, dt, n_steps, out, energy0, body
-    ):
-        inverse = 1.0 / moments
-        system = (moments, inverse, parts, pc, params, column, context)
-        n = y.shape[0]
-        work = np.empty((5, n))
-        saved = np.empty(n)
-        w1, w2, w3 = velocity(y, inverse, parts, pc)
-        twice0 = y[0] * w1 + y[1] * w2 + y[2] * w3 + shares(y, parts, pc, (w1, w2, w3))
-        b1, b2, b3, _ = initial(
-            y[0], y[1], y[2], w1, w2, w3, axis[0, body], axis[1, body], axis[2, body]
-        )
-        reference = b1 * y[0] + b2 * y[1] + b3 * y[2]
-        squared0 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2]
-        numerator, denominator = nutation_start(reference * abs(reference), squared0)
-        flips, deviation, smallest, largest = 0.0, 0.0, squared0, squared0
-        crossed_at, before, after = 0.0, 0.0, 0.0
-        status = FINITE
-        first_step = int(t0 / dt + 0.5) if dt > 0.0 else 0
-        # The step and its check written out as in _steps: behind a function that
-        # returns whether the step was kept, the loop ran 20 % slower
-        # (bench/batch_parts.py).
-        for k in range(n_steps):
-            number = first_step + k
-            for i in range(n):
-                saved[i] = y[i]
-            step(number * dt, dt, y, work, system)
-            if not _finite(y):
-                for i in range(n):
-                    y[i] = saved[i]
-                status = number + 1
-                break
-            w1, w2, w3 = velocity(y, inverse, parts, pc)
-            twice = y[0] * w1 + y[1] * w2 + y[2] * w3 + shares(y, parts, pc, (w1, w2, w3))
-            c = b1 * y[0] + b2 * y[1] + b3 * y[2]
-            last = reference
-            first, reference, flips, numerator, denominator, deviation, smallest, largest = observe(
-                twice,
-                c,
-                c * abs(c),
-                y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
-                reference,
-                flips,
-                numerator,
-                denominator,
-                twice0,
-                deviation,
-                smallest,
-                largest,
-            )
-            if first:
-                crossed_at, before, after = (number + 1) * dt, last, c
-        (
-            out[FLIPS, body],
-            out[FIRST_FLIP, body],
-            out[MIN_COS, body],
-            out[ENERGY_DEVIATION, body],
-            out[MOMENTUM_DEVIATION, body],
-        ) = finish(
-            dt,
-            flips,
-            crossed_at,
-            before,
-            after,
-            numerator,
-            denominator,
-            deviation,
-            squared0,
-            smallest,
-            largest,
-        )
-        energy0[body] = twice0
-        return status
-
-    @specialise(njit_parallel, f"parts.measure|{file_stamp(make_step)}|{key}|{identity}")
-    def measure(y, moments, parts, params, context, axis, t0, dt, n_steps, out, energy0, status):  # type: ignore[no-untyped-def]
-        part_stride = 0 if parts.shape[1] == 1 else 1
-        param_stride = 0 if params.shape[1] == 1 else 1
-        for body in prange(y.shape[1]):
-            state = y[:, body].copy()
-            status[body] = one_body(
-                state,
-                moments[:, body].copy(),
-                parts,
-                body * part_stride,
-                params,
-                body * param_stride,
-                context,
-                axis,
-                t0,
-                dt,
-                n_steps,
-                out,
-                energy0,
-                body,
-            )
-            y[:, body] = state
-
-    return measure
 
 
 def adaptive_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped-def]

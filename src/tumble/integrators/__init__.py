@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from functools import partial
 from typing import Any, Literal
 
-from tumble.core import adaptive, freebody, part_blocks, splitting, stepping
+from tumble.core import adaptive, freebody, part_blocks, part_measures, splitting, stepping
 from tumble.core import parts as part_kernels
 from tumble.core.rk4 import rk4_step
 from tumble.errors import InputError, unknown_choice
@@ -438,7 +438,7 @@ def _splitting(
         takes_part=splittable_part,
         parts_single=partial(part_kernels.single_kernel, part_step),
         parts_batch=partial(part_kernels.batch_kernel, part_step),
-        parts_metrics=partial(part_kernels.measuring_kernel, part_step),
+        parts_metrics=partial(part_measures.measuring_kernel, part_step),
         **common,
     )
 

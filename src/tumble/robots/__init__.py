@@ -11,6 +11,7 @@ inertias no body has.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -19,7 +20,7 @@ from tumble.errors import JointLimitWarning
 from tumble.robots.findings import CODES, Audit, Finding, LinkSummary
 from tumble.robots.fix import write_corrected
 from tumble.robots.load import load, robot_files
-from tumble.robots.model import Joint, Link, Notice, Robot, Shape
+from tumble.robots.model import Joint, Link, LinkShape, Notice, Robot
 from tumble.robots.ros import NotARobot
 
 __all__ = [
@@ -29,17 +30,31 @@ __all__ = [
     "Joint",
     "JointLimitWarning",
     "Link",
+    "LinkShape",
     "LinkSummary",
     "NotARobot",
     "Notice",
     "Robot",
-    "Shape",
     "audit",
     "example_path",
     "load",
     "robot_files",
     "write_corrected",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    # `Shape` was the name of a link's shape until it was told apart from the
+    # catalogue's solids (`tumble.shapes.Shape`): kept for one release, with a warning.
+    if name == "Shape":
+        warnings.warn(
+            "tumble.robots.Shape is deprecated: use tumble.robots.LinkShape (a link's "
+            "collision or visual shape; tumble.shapes.Shape is a solid of the catalogue).",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return LinkShape
+    raise AttributeError(f"module 'tumble.robots' has no attribute {name!r}")
 
 
 def audit(

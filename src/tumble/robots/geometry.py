@@ -18,7 +18,7 @@ from tumble import shapes as primitives
 from tumble.errors import QUOTED_PATH_LENGTH, InputError, quoted, unknown_choice
 from tumble.massprops import MassProperties
 
-__all__ = ["GEOMETRY_KINDS", "Shape", "at_own_mass", "scaled", "shown"]
+__all__ = ["GEOMETRY_KINDS", "LinkShape", "at_own_mass", "scaled", "shown"]
 
 Array = NDArray[np.float64]
 
@@ -27,7 +27,7 @@ GEOMETRY_KINDS = ("collision", "visual")
 
 
 @dataclass(frozen=True)
-class Shape:
+class LinkShape:
     """One collision or visual shape of a link, in the link's coordinates.
 
     ``kind`` is ``"box"`` (``size`` its three edges, m), ``"cylinder"`` (radius,
@@ -107,14 +107,14 @@ PRIMITIVES: dict[str, tuple[str, Callable[[tuple[float, ...]], dict[str, Any]]]]
 }
 
 
-def _primitive(shape: Shape) -> primitives.Shape:
+def _primitive(shape: LinkShape) -> primitives.Shape:
     """A primitive shape as the catalogue's :class:`tumble.shapes.Shape` (its sizes
     not checked: its closed form checks them when it is used)."""
     name, dimensions = PRIMITIVES[shape.kind]
     return primitives.Shape(primitives.SHAPE_KINDS[name], dimensions(shape.size))
 
 
-def _unit_density(shape: Shape) -> MassProperties:
+def _unit_density(shape: LinkShape) -> MassProperties:
     kind = shape.kind
     if kind in PRIMITIVES:
         return _primitive(shape).at_density(1.0)
@@ -127,7 +127,7 @@ def _unit_density(shape: Shape) -> MassProperties:
     raise unknown_choice(kind, (*PRIMITIVES, "mesh"), "a shape's kind")
 
 
-def _half_extents(shape: Shape) -> Array:
+def _half_extents(shape: LinkShape) -> Array:
     """Half the edges of the box around a primitive shape, in its own frame (the
     primitives of robot files are centred on their origin)."""
     if shape.kind not in PRIMITIVES:
@@ -138,7 +138,7 @@ def _half_extents(shape: Shape) -> Array:
 _MESHES: dict[tuple[str, int, tuple[float, ...]], tuple[MassProperties, Array, Array]] = {}
 
 
-def _inline_mesh(shape: Shape) -> tuple[MassProperties, Array, Array]:
+def _inline_mesh(shape: LinkShape) -> tuple[MassProperties, Array, Array]:
     """A mesh given by its arrays (MJCF's compiled meshes) at density 1, and its box."""
     from tumble.mesh import mesh_mass_properties
 
@@ -202,7 +202,7 @@ def scaled(solid: MassProperties, factor: float) -> MassProperties:
     return MassProperties(solid.mass * factor, solid.center_of_mass, solid.inertia * factor)
 
 
-def at_own_mass(shape: Shape) -> MassProperties | None:
+def at_own_mass(shape: LinkShape) -> MassProperties | None:
     """A shape at its own mass, or its density times its volume (MJCF's geoms);
     None for a massless one."""
     solid = shape.unit_density()

@@ -45,7 +45,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from tumble.errors import InputError, cut
-from tumble.robots.geometry import Shape, at_own_mass, shown
+from tumble.robots.geometry import LinkShape, at_own_mass, shown
 from tumble.robots.mjcf_files import FULL_TO_URDF, MAX_BODIES, MAX_GEOMS, WrittenModel
 from tumble.robots.model import Inertial, Joint, Link, Robot
 from tumble.robots.ros import read_regular
@@ -324,7 +324,7 @@ def _check_finite(inertial: Inertial, name: str, path: Path) -> None:
         )
 
 
-def _scaled_to(mass: float, shapes: list[Shape]) -> list[Shape]:
+def _scaled_to(mass: float, shapes: list[LinkShape]) -> list[LinkShape]:
     """A body's shapes with their masses scaled to sum to ``mass`` kg, as MuJoCo's
     compiler scales a body computed from its geoms for ``settotalmass``."""
     solids = [at_own_mass(shape) for shape in shapes]
@@ -346,8 +346,8 @@ _JOINT_KINDS = {
 }
 
 
-def _shape(mujoco: Any, model: Any, g: int, geom: Any) -> Shape | None:
-    """Geom ``g`` as a :class:`Shape` in its body's frame, with its own mass or
+def _shape(mujoco: Any, model: Any, g: int, geom: Any) -> LinkShape | None:
+    """Geom ``g`` as a :class:`LinkShape` in its body's frame, with its own mass or
     density (``geom``: its element of the spec); None for one without volume."""
     kind = mujoco.mjtGeom(int(model.geom_type[g]))
     size = [float(v) for v in model.geom_size[g]]
@@ -357,8 +357,8 @@ def _shape(mujoco: Any, model: Any, g: int, geom: Any) -> Shape | None:
     density = None if mass is not None else 1000.0 if geom is None else float(geom.density)
     types = mujoco.mjtGeom
 
-    def shape(name: str, dimensions: tuple[float, ...]) -> Shape:
-        return Shape(name, dimensions, rotation, translation, mass=mass, density=density)
+    def shape(name: str, dimensions: tuple[float, ...]) -> LinkShape:
+        return LinkShape(name, dimensions, rotation, translation, mass=mass, density=density)
 
     if kind == types.mjGEOM_SPHERE:
         return shape("sphere", (size[0],))
@@ -373,7 +373,7 @@ def _shape(mujoco: Any, model: Any, g: int, geom: Any) -> Shape | None:
         mesh = int(model.geom_dataid[g])
         start, count = model.mesh_vertadr[mesh], model.mesh_vertnum[mesh]
         first, faces = model.mesh_faceadr[mesh], model.mesh_facenum[mesh]
-        return Shape(
+        return LinkShape(
             "mesh",
             (),
             rotation,

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from tumble.errors import InputError, quoted, unknown_choice
 from tumble.massprops import MassProperties
-from tumble.robots.geometry import GEOMETRY_KINDS, Shape, at_own_mass, scaled, shown
+from tumble.robots.geometry import GEOMETRY_KINDS, LinkShape, at_own_mass, scaled, shown
 
 __all__ = [
     "GEOMETRY_KINDS",
@@ -31,9 +31,9 @@ __all__ = [
     "Inertial",
     "Joint",
     "Link",
+    "LinkShape",
     "Notice",
     "Robot",
-    "Shape",
     "at_own_mass",
     "mimic_order",
     "rotation_about",
@@ -93,7 +93,7 @@ class Link:
 
     name: str
     inertial: Inertial | None
-    shapes: Mapping[str, tuple[Shape, ...]]
+    shapes: Mapping[str, tuple[LinkShape, ...]]
     line: int = 0
     unreadable: str = ""
     compiled: Inertial | None = None
@@ -164,7 +164,7 @@ class Link:
         """The summed volume of the link's ``kind`` shapes, m³."""
         return float(sum(shape.unit_density().mass for shape in self._shapes(kind)))
 
-    def _shapes(self, kind: str) -> tuple[Shape, ...]:
+    def _shapes(self, kind: str) -> tuple[LinkShape, ...]:
         if kind not in GEOMETRY_KINDS:
             raise unknown_choice(kind, GEOMETRY_KINDS, "`kind`")
         shapes = self.shapes.get(kind, ())

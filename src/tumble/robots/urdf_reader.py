@@ -16,7 +16,7 @@ import numpy as np
 
 from tumble.errors import InputError, quoted
 from tumble.robots.elements import Element
-from tumble.robots.model import INERTIA_ATTRIBUTES, Inertial, Notice, Shape, rotation_from_rpy
+from tumble.robots.model import INERTIA_ATTRIBUTES, Inertial, LinkShape, Notice, rotation_from_rpy
 from tumble.robots.ros import find_package
 from tumble.robots.urdf_numbers import atof, pybullet_numbers, shown_numbers, urdf_numbers
 
@@ -218,7 +218,7 @@ class Reader:
             "",
         )
 
-    def shapes(self, link: Element, kind: str, owner: Owner) -> tuple[Shape, ...]:
+    def shapes(self, link: Element, kind: str, owner: Owner) -> tuple[LinkShape, ...]:
         found = []
         for element in link.all(kind):
             geometry = element.child("geometry")
@@ -247,11 +247,11 @@ class Reader:
                 size += values
             else:
                 if shape.name != "mesh":
-                    found.append(Shape(shape.name, size, rotation, translation))
+                    found.append(LinkShape(shape.name, size, rotation, translation))
                     continue
                 scale, _ = self.lenient(shape, "scale", 3, owner, (1.0, 1.0, 1.0))
                 mesh = resolve_mesh(shape.attributes.get("filename", ""), self.path, self.packages)
-                found.append(Shape("mesh", (), rotation, translation, mesh, scale))  # type: ignore[arg-type]
+                found.append(LinkShape("mesh", (), rotation, translation, mesh, scale))  # type: ignore[arg-type]
         return tuple(found)
 
 
