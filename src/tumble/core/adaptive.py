@@ -161,6 +161,38 @@ def _error_norm(y, y_new, err, rtol, atol):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
+def _dense_sample(y, stage, k, step, theta, work, row):  # type: ignore[no-untyped-def]
+    """The state at ``t + θ step`` of the step from ``y`` (at t) to ``stage``, by
+    Dormand–Prince's continuous extension of order 4 (HNW §II.6) from the stage
+    derivatives ``k``, its quaternion scaled to unit length, into ``row``
+    (``work`` (n,) scratch)."""
+    n = y.shape[0]
+    theta1 = 1.0 - theta
+    for i in range(n):
+        difference = stage[i] - y[i]
+        slope = step * k[0, i] - difference
+        curve = difference - step * k[6, i] - slope
+        total = 0.0
+        for j in range(7):
+            total += WEIGHTS_DENSE[j] * k[j, i]
+        work[i] = y[i] + theta * (
+            difference + theta1 * (slope + theta * (curve + theta1 * step * total))
+        )
+    _normalised_into(row, work)
+
+
+@njit(inline="always")
+def _normalised_into(target, source):  # type: ignore[no-untyped-def]
+    """``source`` copied into ``target``, entries 3 … 6 (a quaternion) scaled to
+    unit length."""
+    scale = 1.0 / math.sqrt(source[3] ** 2 + source[4] ** 2 + source[5] ** 2 + source[6] ** 2)
+    for i in range(source.shape[0]):
+        target[i] = source[i]
+    for i in range(3, 7):
+        target[i] = source[i] * scale
+
+
+@njit(inline="always")
 def adaptive_loop(f, args, y, t_start, t_stop, control, sample_times, out):  # type: ignore[no-untyped-def]
     """Dormand–Prince 5(4) for any state ``y`` (n,) whose entries 3 … 6 are a unit
     quaternion, in place from ``t_start`` to ``t_stop``: ``f(t, y, dy, args)``
@@ -225,30 +257,11 @@ def adaptive_loop(f, args, y, t_start, t_stop, control, sample_times, out):  # t
         t_new = t_stop if clipped else t + step
         while next_sample < n_samples and sample_times[next_sample] <= t_new:
             theta = (sample_times[next_sample] - t) / step
-            theta1 = 1.0 - theta
-            for i in range(n):
-                difference = stage[i] - y[i]
-                slope = step * k[0, i] - difference
-                curve = difference - step * k[6, i] - slope
-                total = 0.0
-                for j in range(7):
-                    total += WEIGHTS_DENSE[j] * k[j, i]
-                err[i] = y[i] + theta * (
-                    difference + theta1 * (slope + theta * (curve + theta1 * step * total))
-                )
-            scale = 1.0 / math.sqrt(err[3] ** 2 + err[4] ** 2 + err[5] ** 2 + err[6] ** 2)
-            for i in range(n):
-                out[next_sample, i] = err[i]
-            for i in range(3, 7):
-                out[next_sample, i] = err[i] * scale
+            _dense_sample(y, stage, k, step, theta, err, out[next_sample])
             next_sample += 1
         control[ACCEPTED] += 1
         t = t_new
-        scale = 1.0 / math.sqrt(stage[3] ** 2 + stage[4] ** 2 + stage[5] ** 2 + stage[6] ** 2)
-        for i in range(n):
-            y[i] = stage[i]
-        for i in range(3, 7):
-            y[i] = stage[i] * scale
+        _normalised_into(y, stage)
         # First same as last: k[6] was taken at the unnormalised new state,
         # which differs from y by the local error only.
         k[0, :] = k[6, :]

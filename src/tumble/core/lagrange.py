@@ -151,6 +151,83 @@ def _lowest(z, e_bottom, g_bottom, a, beta):  # type: ignore[no-untyped-def]
     return z
 
 
+@njit(inline="always")
+def _pair_about_start(d, f1, f2, beta, w0, z0, e_bottom):  # type: ignore[no-untyped-def]
+    """The pair of roots x1 ≤ 0 ≤ x2 of the cubic about u0 (x = u − u0), the
+    amplitude u2 − u1 and q = β x3 (:func:`top_constants`' notation), deflating the
+    isolated root x3 ≥ 1 − u0: Q x² − B x − d = 0 with Q = β x3, B = f1 + d / x3;
+    B² + 4 Q d ≥ 0. The large root enters only as q (it may itself exceed the
+    float range)."""
+    q = _largest_root_scaled(d, f1, f2, beta, max(beta * w0, beta * z0 - f2))
+    big_b = f1 + (d * (beta / q) if q > 0.0 else 0.0)
+    root = math.hypot(big_b, 2.0 * math.sqrt(q * d))  # no underflow of B² when the weight is tiny
+    if big_b >= 0.0:
+        x2 = (big_b + root) / (2.0 * q)
+        x1 = -2.0 * d / (big_b + root) if big_b + root > 0.0 else 0.0
+    else:
+        x1 = (big_b - root) / (2.0 * q)
+        x2 = -2.0 * d / (big_b - root)
+    amplitude = root / q  # u2 − u1
+    if e_bottom == 0.0:
+        x1 = -z0  # the axis passes through the lowest point: u1 = −1 exactly
+    return x1, x2, amplitude, q
+
+
+@njit(inline="always")
+def _pair_about_pole(far, e_top, g, a, beta):  # type: ignore[no-untyped-def]
+    """``(1 − u2, β (u3 − u2))``: the pair of roots about u = 1 in w = 1 − u,
+    deflating ``far`` = w1 = 1 − u1, times β: β w² + s1 w + s0 = 0, s0 = −(b −
+    a)²/w1 ≤ 0, so s1² − 4 β s0 ≥ 0; its roots 1 − u2 ≥ 0 and 1 − u3 ≤ 0 differ
+    by root_w / β."""
+    s0 = -e_top * e_top / far
+    s1 = (2.0 * (g - a * e_top) - e_top * e_top / far) / far
+    root_w = math.hypot(s1, 2.0 * math.sqrt(-beta * s0))
+    if s1 <= 0.0:
+        w_2 = (root_w - s1) / (2.0 * beta)
+        top = 0.0 if w_2 <= 0.0 else w_2
+    else:
+        top = -2.0 * s0 / (s1 + root_w)  # the product of the roots over 1 − u3
+        top = 0.0 if top <= 0.0 else top
+    return top, root_w
+
+
+@njit(inline="always")
+def _start_argument(below, above, amplitude, beta, scaled31, scaled32):  # type: ignore[no-untyped-def]
+    """|τ0|, the argument at t = 0, from u0 − u1 (``below``) and u2 − u0
+    (``above``): sn² = (u0 − u1)/D, cn² = (u2 − u0)/D, dn² = (u3 − u0)/(u3 − u1);
+    zero when the tilt is constant (D = 0)."""
+    if amplitude <= 0.0:
+        return 0.0
+    sn2 = min(below / amplitude, 1.0)
+    cn2 = min(above / amplitude, 1.0)
+    dn2 = (beta * above + scaled32) / scaled31
+    return math.sqrt(sn2) * elliprf(cn2, dn2, 1.0)
+
+
+@njit(inline="always")
+def _periods(c):  # type: ignore[no-untyped-def]
+    """Into ``c``: K and 1 / 4K in double-double (infinite K at mc = 0, the
+    separatrix), and the integrals p J∓ over a half period 2K of the argument."""
+    mc, p, amplitude, top, bottom = c[_MC], c[_P], c[_D], c[_TOP], c[_BOT]
+    if mc <= 0.0:
+        c[_K] = math.inf
+        return
+    big_k = ellipk_mc(mc)
+    fh, fl = inverse_period(mc, 0.0)  # 1 / 4K
+    c[_K], c[_INV_HI], c[_INV_LO] = big_k, 2.0 * fh, 2.0 * fl
+    if c[_E] != 0.0:
+        far_u = top + amplitude  # 1 − u1
+        n_top = amplitude / far_u
+        whole = big_k + n_top / 3.0 * elliprj(0.0, mc, 1.0, top / far_u)
+        c[_DJM] = 2.0 * whole / (far_u * p)
+    if c[_EP] != 0.0:
+        inverse31 = c[_INV31]
+        reach = 1.0 + bottom * inverse31  # (u3 + 1) / (u3 − u1)
+        whole = 0.5 * math.pi / math.sqrt(bottom * (bottom + amplitude) * reach)
+        whole += elliprj(0.0, mc, 1.0, reach) * inverse31 / 3.0
+        c[_DJP] = 2.0 * whole / p
+
+
 @njit
 def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped-def]
     """The constants of the closed-form Lagrange top (the module docstring's
@@ -177,40 +254,14 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
     e_bottom = along + a * z0  # b + a
     g = transverse - beta * w0  # α − β
 
-    # The pair x1 ≤ 0 ≤ x2 about u0, deflating the isolated root x3 ≥ 1 − u0:
-    # Q x² − B x − d = 0 with Q = β x3, B = f1 + d / x3; B² + 4 Q d ≥ 0. The large
-    # root enters only as q = β x3 (it may itself exceed the float range).
-    q = _largest_root_scaled(d, f1, f2, beta, max(beta * w0, beta * z0 - f2))
-    big_b = f1 + (d * (beta / q) if q > 0.0 else 0.0)
-    root = math.hypot(big_b, 2.0 * math.sqrt(q * d))  # no underflow of B² when the weight is tiny
-    if big_b >= 0.0:
-        x2 = (big_b + root) / (2.0 * q)
-        x1 = -2.0 * d / (big_b + root) if big_b + root > 0.0 else 0.0
-    else:
-        x1 = (big_b - root) / (2.0 * q)
-        x2 = -2.0 * d / (big_b - root)
-    amplitude = root / q  # u2 − u1
-    if e_bottom == 0.0:
-        x1 = -z0  # the axis passes through the lowest point: u1 = −1 exactly
+    x1, x2, amplitude, q = _pair_about_start(d, f1, f2, beta, w0, z0, e_bottom)
     # Near the separatrix (u2, u3 → 1) the pair about the pole is the closer one:
     # x3 − x2 < x2 − x1, times β.
     near_pole = e_top == 0.0 or (q - beta * x2) < beta * (x2 - x1)
     if near_pole and e_bottom != 0.0:
         x1 = min(_polish(x1, d, f1, f2, beta), 0.0)
-    # The pair about u = 1 in w = 1 − u, deflating w1 = 1 − u1, times β:
-    # β w² + s1 w + s0 = 0, s0 = −(b − a)²/w1 ≤ 0, so s1² − 4 β s0 ≥ 0; its
-    # roots 1 − u2 ≥ 0 and 1 − u3 ≤ 0 differ by root_w / β.
     far = w0 - x1
-    s0 = -e_top * e_top / far
-    s1 = (2.0 * (g - a * e_top) - e_top * e_top / far) / far
-    root_w = math.hypot(s1, 2.0 * math.sqrt(-beta * s0))
-    if s1 <= 0.0:
-        w_2 = (root_w - s1) / (2.0 * beta)
-        top = 0.0 if w_2 <= 0.0 else w_2
-    else:
-        top = -2.0 * s0 / (s1 + root_w)  # the product of the roots over 1 − u3
-        top = 0.0 if top <= 0.0 else top
-    scaled32 = root_w  # β (u3 − u2)
+    top, scaled32 = _pair_about_pole(far, e_top, g, a, beta)
     if near_pole:
         amplitude = far - top
         below, above = -x1, w0 - top  # u0 − u1, u2 − u0
@@ -236,15 +287,9 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
     inverse31 = beta / scaled31  # 1 / (u3 − u1): may underflow to 0 harmlessly
 
     upper = e_top == 0.0 and top == 0.0
-    # τ0: sn² = (u0 − u1)/D, cn² = (u2 − u0)/D, dn² = (u3 − u0)/(u3 − u1).
-    tau0 = 0.0
-    if amplitude > 0.0:
-        sn2 = min(below / amplitude, 1.0)
-        cn2 = min(above / amplitude, 1.0)
-        dn2 = (beta * above + scaled32) / scaled31
-        tau0 = math.sqrt(sn2) * elliprf(cn2, dn2, 1.0)
-        if rate < 0.0 or (rate == 0.0 and upper and s2 == 0.0):
-            tau0 = -tau0
+    tau0 = _start_argument(below, above, amplitude, beta, scaled31, scaled32)
+    if amplitude > 0.0 and (rate < 0.0 or (rate == 0.0 and upper and s2 == 0.0)):
+        tau0 = -tau0
     if s2 == 0.0:  # on the vertical: θ̇0 = |ω⊥| ≥ 0 along the node line ψ0
         psi0 = math.atan2(-w2, w1)
         theta0 = 0.0 if u0 > 0.0 else math.pi
@@ -259,23 +304,7 @@ def top_constants(beta, a, spin, k1, k2, k3, w1, w2):  # type: ignore[no-untyped
     c[_TOP], c[_BOT], c[_INV31] = top, bottom, inverse31
     c[_E], c[_EP], c[_A], c[_N], c[_PSI0] = e_top, e_bottom, a, spin, psi0
     c[_UPPER], c[_LOWER], c[_THETA0] = 1.0 if upper else 0.0, lower, theta0
-    if mc > 0.0:
-        big_k = ellipk_mc(mc)
-        fh, fl = inverse_period(mc, 0.0)  # 1 / 4K
-        c[_K], c[_INV_HI], c[_INV_LO] = big_k, 2.0 * fh, 2.0 * fl
-        # The integrals over a half period 2K of the argument.
-        if e_top != 0.0:
-            far_u = top + amplitude  # 1 − u1
-            n_top = amplitude / far_u
-            whole = big_k + n_top / 3.0 * elliprj(0.0, mc, 1.0, top / far_u)
-            c[_DJM] = 2.0 * whole / (far_u * p)
-        if e_bottom != 0.0:
-            reach = 1.0 + bottom * inverse31  # (u3 + 1) / (u3 − u1)
-            whole = 0.5 * math.pi / math.sqrt(bottom * (bottom + amplitude) * reach)
-            whole += elliprj(0.0, mc, 1.0, reach) * inverse31 / 3.0
-            c[_DJP] = 2.0 * whole / p
-    else:
-        c[_K] = math.inf
+    _periods(c)
     if amplitude > 0.0:
         sn, cn, dn = _jacobi(tau0, c)
         c[_JM0], c[_JP0] = _integrals(sn, cn, dn, tau0, c)
@@ -316,6 +345,45 @@ def _integrals(sn, cn, dn, r, c):  # type: ignore[no-untyped-def]
     return minus, plus
 
 
+@njit(inline="always")
+def _reduced(v_hi, v_lo, mc, inv_hi, inv_lo, two_k):  # type: ignore[no-untyped-def]
+    """``(k, r)``: the argument v = v_hi + v_lo (double-double) as v = 2K k + r with
+    r in [−K, K] (``inv_hi + inv_lo`` = 1 / 2K, ``two_k`` = 2K); at mc = 0 (no
+    period) k = 0 and r = v."""
+    if mc <= 0.0:
+        return 0.0, v_hi + v_lo
+    x_hi, x_lo = two_prod(v_hi, inv_hi)
+    x_lo += v_hi * inv_lo + v_lo * inv_hi
+    turns = math.floor(x_hi + 0.5)
+    fraction = (x_hi - turns) + x_lo
+    if fraction > 0.5:
+        turns += 1.0
+        fraction -= 1.0
+    elif fraction < -0.5:
+        turns -= 1.0
+        fraction += 1.0
+    return turns, fraction * two_k
+
+
+@njit(inline="always")
+def _tilt_rate(s, h, sn_v, cn_v, dn, half, p, amplitude, upper, lower):  # type: ignore[no-untyped-def]
+    """θ̇ = 2 (d/dt sin θ/2) / cos θ/2 = −2 (d/dt cos θ/2) / sin θ/2 (rad/s), from
+    the half-angle the axis is farther from its pole: ``s`` = sin θ/2, ``h`` =
+    cos θ/2 and the Jacobi functions of the unreduced argument
+    (:func:`top_motion`'s notation)."""
+    if abs(h) >= abs(s):
+        if upper or s == 0.0:
+            ds = -half * p * sn_v * dn
+        else:
+            ds = -amplitude * p * cn_v * sn_v * dn / (2.0 * s)
+        return 2.0 * ds / h
+    if lower != 0.0 or h == 0.0:
+        dh = lower * half * p * cn_v * dn
+    else:
+        dh = amplitude * p * sn_v * cn_v * dn / (2.0 * h)
+    return -2.0 * dh / s
+
+
 @njit
 def top_motion(c, times, table, left, right, out_w, out_q):  # type: ignore[no-untyped-def]
     """ω (n, 3), body frame with the symmetry axis third, rad/s, and the attitude
@@ -335,22 +403,10 @@ def top_motion(c, times, table, left, right, out_w, out_q):  # type: ignore[no-u
         # v = p t + τ0 in double-double, reduced to r in [−K, K] with v = 2K k + r.
         v_hi, v_lo = two_prod(p, t)
         v_hi, v_lo = dd_add(v_hi, v_lo, tau0, 0.0)
-        turns = 0.0
+        turns, r = _reduced(v_hi, v_lo, mc, inv_hi, inv_lo, two_k)
         if mc > 0.0:
-            x_hi, x_lo = two_prod(v_hi, inv_hi)
-            x_lo += v_hi * inv_lo + v_lo * inv_hi
-            turns = math.floor(x_hi + 0.5)
-            fraction = (x_hi - turns) + x_lo
-            if fraction > 0.5:
-                turns += 1.0
-                fraction -= 1.0
-            elif fraction < -0.5:
-                turns -= 1.0
-                fraction += 1.0
-            r = fraction * two_k
             sn, cn, dn = jacobi_from_table(r, table)
         else:
-            r = v_hi + v_lo
             sn, cn, dn = math.tanh(r), 1.0 / math.cosh(r), 1.0 / math.cosh(r)
         if amplitude > 0.0:
             minus, plus = _integrals(sn, cn, dn, r, c)
@@ -364,19 +420,7 @@ def top_motion(c, times, table, left, right, out_w, out_q):  # type: ignore[no-u
         norm = math.sqrt(s * s + h * h)
         s /= norm
         h /= norm
-        # Tilt rate θ̇ = 2 (d/dt sin θ/2) / cos θ/2 = −2 (d/dt cos θ/2) / sin θ/2.
-        if abs(h) >= abs(s):
-            if upper or s == 0.0:
-                ds = -half * p * sn_v * dn
-            else:
-                ds = -amplitude * p * cn_v * sn_v * dn / (2.0 * s)
-            tilt_rate = 2.0 * ds / h
-        else:
-            if lower != 0.0 or h == 0.0:
-                dh = lower * half * p * cn_v * dn
-            else:
-                dh = amplitude * p * sn_v * cn_v * dn / (2.0 * h)
-            tilt_rate = -2.0 * dh / s
+        tilt_rate = _tilt_rate(s, h, sn_v, cn_v, dn, half, p, amplitude, upper, lower)
         # φ̇ sin θ = (b − a u) / sin θ, from the pole the axis is nearer.
         if abs(h) >= abs(s):
             across = a * s / h
