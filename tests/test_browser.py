@@ -38,6 +38,7 @@ def _not_blank(png: bytes) -> float:
     return float(ImageStat.Stat(image).stddev[0])
 
 
+@pytest.mark.slow  # a browser plays the viewer: 6 s
 def test_viewer_plays(browser: Any, folder: Path) -> None:
     page, errors = _open(browser, folder / "viewer.html")
     page.wait_for_function(
@@ -79,6 +80,7 @@ def racket(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_run(run("tennis-racket"), tmp_path_factory.mktemp("browser") / "racket")
 
 
+@pytest.mark.slow  # a browser plays the viewer: 5 s
 def test_poinsot_panel_rolls_the_ellipsoid_on_the_plane(browser: Any, racket: Path) -> None:
     page, errors = _open(browser, racket / "viewer.html")
     page.wait_for_function(

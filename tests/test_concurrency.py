@@ -70,6 +70,7 @@ def test_two_runs_at_once_into_their_default_folders_keep_both(tmp_path: Path) -
     assert leftovers(tmp_path) == []
 
 
+@pytest.mark.slow  # two commands in processes of their own: 4 s
 def test_a_run_started_while_another_writes_its_folder_is_refused_naming_it(
     tmp_path: Path,
 ) -> None:
@@ -100,6 +101,7 @@ def sweep_results(results: list[tuple[int, str, str]], chunks: int) -> None:
     assert computed == chunks
 
 
+@pytest.mark.slow  # two sweeps in processes of their own: 3.5 s
 def test_two_sweeps_at_once_into_one_folder_compute_each_chunk_once(tmp_path: Path) -> None:
     source = scenario(tmp_path, SWEEP, 300.0, "small.toml")
     args = ("sweep", source, "-o", "same", "--json")

@@ -65,3 +65,13 @@ def test_an_unknown_method_has_one_message_wherever_it_is_named() -> None:
     with pytest.raises(InputError) as from_batch:
         tb.simulate_batch([1.0, 2.0, 3.0], [[0.1, 1.0, 0.1]], duration=1.0, dt=0.1, method="rk5")
     assert str(from_batch.value) == batch
+
+
+def test_a_quoted_message_of_another_tool_loses_its_terminal_colours() -> None:
+    from tumble.errors import uncoloured
+    from tumble.torques.user import _first_line
+
+    # numba writes its typing errors in bold when it believes it writes to a terminal.
+    bold = "Failed in nopython mode pipeline\n\x1b[1m\x1b[1;31mUnknown attribute 'x'\x1b[0m\n..."
+    assert uncoloured("\x1b[1mbold\x1b[0m and \x1b[1;38;5;208mcolour\x1b[0m") == "bold and colour"
+    assert _first_line(TypeError(bold)) == "TypeError: Unknown attribute 'x'"

@@ -357,6 +357,7 @@ STEP = Path(__file__).parent / "data" / "bracket_with_hole.step"
 # Each example reads the file in a child process (0.5 to 1 s): few of them.
 @settings(max_examples=examples(0.03, fuzz_share=0.05))
 @given(data=st.data())
+@pytest.mark.slow  # STEP files damaged and read many times: 6 s
 def test_corrupted_step_files_load_or_are_refused(folder: Path, data: st.DataObject) -> None:
     """A STEP file with bytes inserted, dropped or truncated either loads or is refused;
     OpenCASCADE crashing on it is refused too, and this process lives on."""

@@ -54,6 +54,7 @@ def test_a_tumbling_body_in_orbit_follows_an_independent_integration() -> None:
 
 
 @pytest.mark.parametrize("method", ["splitting-exact", "strang-exact"])
+@pytest.mark.slow  # long runs against a reference integration: 3.5 s a case
 def test_the_splitting_around_the_exact_free_motion_errs_only_through_the_torque(
     method: str,
 ) -> None:

@@ -165,6 +165,7 @@ def test_a_symmetric_body_with_a_bias_is_refused() -> None:
         tb.identify(t, w, window=(t[0], t[-1]))
 
 
+@pytest.mark.slow  # the fits tried before the refusal: 6 s
 def test_ratios_with_large_errors_are_refused() -> None:
     # Nearly exchangeable with the bias (a symmetric body, noisy): errors of ~0.5.
     t, w = recording((0.6, 1.0, 1.0), (1.0, 0.5, 2.0), sigma=0.05)

@@ -107,6 +107,7 @@ def test_auto_tells_quadratic_from_linear_drag() -> None:
     assert np.all(errors < 3.0)
 
 
+@pytest.mark.slow  # a throw fitted and forecast: 6.5 s
 def test_the_forecast_of_the_last_40_percent_from_the_first_60() -> None:
     # Fitted on the first 60 % of each of ten throws (48 samples), the drag model's
     # forecast of the rest: measured median of the largest relative errors 0.10 (0.008

@@ -26,6 +26,7 @@ def cubic_drag(t, omega, quaternion, params, out):  # type: ignore[no-untyped-de
         out[i] = -params[i] * omega[i] ** 3
 
 
+@pytest.mark.slow  # a fit with a user's torque compiled: 5 s
 def test_a_users_torque_is_fitted_with_the_body() -> None:
     # p_i / I3 = (0.002, 0.001, 0.003) s: at 10 rad/s a torque of ~1 % of dL/dt, as the
     # racquet's drag. Measured: the parameters within 1.7σ, the ratios within 0.6σ.
@@ -47,6 +48,7 @@ def test_a_users_torque_is_fitted_with_the_body() -> None:
     assert np.sqrt(np.mean((fit.forecast(later) - more[80:]) ** 2)) < 3.0 * 0.0035
 
 
+@pytest.mark.slow  # a fit of a torque model: 4 s
 def test_a_registry_model_of_omega_is_fitted_from_its_given_values() -> None:
     # Linear damping, equal about every axis: c / I3 = 0.1 1/s.
     t, measured, _ = throw(5, tb.torques.LinearDamping(0.1 * MOMENTS[2]))

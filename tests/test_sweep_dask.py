@@ -33,6 +33,7 @@ def in_process(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str
     return source, stored(folder / "out")
 
 
+@pytest.mark.slow  # a dask cluster started: 5 s
 def test_local_cluster_gives_the_same_bits(
     tmp_path: Path, in_process: tuple[Path, dict[str, np.ndarray]]
 ) -> None:
@@ -142,6 +143,7 @@ def scheduler_and_worker(tmp_path: Path) -> Iterator[str]:
         log.close()
 
 
+@pytest.mark.slow  # a dask scheduler and worker started: 4 s
 def test_external_scheduler_and_worker_give_the_same_bits(
     tmp_path: Path, scheduler_and_worker: str, in_process: tuple[Path, dict[str, np.ndarray]]
 ) -> None:

@@ -714,6 +714,7 @@ def tilt_of(y: np.ndarray) -> np.ndarray:
     return np.arccos(np.clip(y[3 + 8], -1.0, 1.0))  # R[2, 2] = cos θ
 
 
+@pytest.mark.slow  # a symbolic derivation: 3 s
 def test_heavy_top_equations_from_the_lagrangian_with_sympy() -> None:
     """θ equation of the Lagrange top, derived from R = Rz(φ) Rx(θ) Rz(ψ)."""
     t = sp.Symbol("t")
@@ -883,6 +884,7 @@ def test_fast_top_approximations_improve_as_the_spin_grows() -> None:
     assert errors_array[-1].max() < 1e-3
 
 
+@pytest.mark.slow  # long integrations: 3 s
 def test_small_nutation_about_steady_precession_measured_by_integration() -> None:
     disk, pivot = top_body()
     tilt, spin = math.radians(45), 200.0
@@ -975,6 +977,7 @@ def sympy_gyrocompass():
     return t, (i_ab, i_s, big_omega), theta, psi, accelerations
 
 
+@pytest.mark.slow  # a symbolic derivation: 3 s
 def test_gyrocompass_equation_from_the_lagrangian_with_sympy() -> None:
     t, (i_ab, i_s, big_omega), theta, psi, acc = sympy_gyrocompass()
     w_s = sp.Symbol("omega_s", positive=True)

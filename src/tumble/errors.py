@@ -7,6 +7,7 @@ show what was received, e.g. ``Expected `mass` > 0 kg, got -1.0.``
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterable
 
 __all__ = [
@@ -23,6 +24,7 @@ __all__ = [
     "cut",
     "nearest",
     "quoted",
+    "uncoloured",
     "unknown_choice",
 ]
 
@@ -103,6 +105,13 @@ def cut(text: str, limit: int = QUOTED_LENGTH) -> str:
     """``text`` as a message shows it, unquoted: cut after ``limit`` characters
     with ``...``."""
     return text if len(text) <= limit else f"{text[:limit]}..."
+
+
+def uncoloured(text: str) -> str:
+    """``text`` without the terminal's colour codes (ANSI SGR sequences), which
+    other tools' messages carry when they believe they write to a terminal (numba's
+    typing errors in bold), so that a message quoting them reads as plain text."""
+    return re.sub(r"\x1b\[[0-9;]*m", "", text)
 
 
 def quoted(value: object, limit: int = QUOTED_LENGTH) -> str:

@@ -49,6 +49,7 @@ def cases():
     return out
 
 
+@pytest.mark.slow  # reference integrations of every normal form: 9 s
 def test_the_closed_form_follows_an_independent_integration_in_every_normal_form() -> None:
     # 60 bodies over 20 s: the closed form against DOP853 (good to ~1e-12 of
     # |H|): 1e-11 of |H|. Every normal form of the module docstring is met: four

@@ -34,6 +34,7 @@ print(sum(kernel.stats.cache_hits.values()), sum(kernel.stats.cache_misses.value
 
 
 @pytest.mark.skipif(numba.config.DISABLE_JIT, reason="nothing is compiled without the JIT")
+@pytest.mark.slow  # a kernel compiled from nothing in a process of its own: 7 s
 def test_a_second_process_loads_the_specialised_kernel_from_the_cache(tmp_path: Path) -> None:
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), TUMBLE_NUMBA_CACHE="1")
 

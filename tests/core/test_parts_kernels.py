@@ -48,7 +48,17 @@ def rates(layout, y, moments, packed, torque=FREE, drive=FREE, params=None, t=0.
     system = (moments, 1.0 / moments, packed, 0, params, 0, 0.0)
     dy = np.empty_like(y)
     model = part_model(layout)
-    parts.part_rates(torque, drive, model.velocity, model.rates, t, t, y, dy, system)
+    velocity, layout_rates = model.velocity, model.rates
+
+    # Through a function of its own, not cached, where part_rates is inlined as in
+    # the kernels: called from Python, numba would compile part_rates on its own and
+    # add it to its cache's index, whose earlier keys name functions (the layouts')
+    # that may have been collected since, and it could not write the index.
+    @njit(cache=False)
+    def evaluate(t, y, dy, system):  # type: ignore[no-untyped-def]
+        parts.part_rates(torque, drive, velocity, layout_rates, t, t, y, dy, system)
+
+    evaluate(t, y, dy, system)
     return dy
 
 

@@ -22,7 +22,6 @@ import ctypes
 import importlib.util
 import math
 import os
-import re
 import sys
 import tempfile
 import time
@@ -34,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from tumble.errors import InputError, unknown_choice
+from tumble.errors import InputError, uncoloured, unknown_choice
 
 __all__ = [
     "ENGINES",
@@ -307,7 +306,7 @@ def _flush_native() -> None:
 
 def _plain(line: str) -> str:
     """A printed line without terminal colour codes."""
-    return re.sub(r"\x1b\[[0-9;]*m", "", line).strip()
+    return uncoloured(line).strip()
 
 
 def rotation(quaternion: Array) -> Rotation:

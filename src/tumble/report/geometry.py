@@ -3,7 +3,7 @@
 The uniform ellipsoid of equal inertia that stands in for a body known only by
 its mass properties, and the turning discs of parts; the solids' surfaces
 (surfaces of revolution, spheres, boxes, tori) are
-:mod:`tumble.shapes.surfaces`'. The bodies of scenario files are drawn by
+``tumble.shapes.surfaces``'. The bodies of scenario files are drawn by
 :mod:`tumble.report.scenario_geometry`.
 """
 

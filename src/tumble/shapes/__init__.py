@@ -1,9 +1,9 @@
 """The catalogue of primitive solids: closed-form mass properties, volumes, boxes
 and surfaces.
 
-The closed forms are in :mod:`tumble.shapes.closed_forms` (re-exported here:
+The closed forms are in ``tumble.shapes.closed_forms`` (re-exported here:
 ``tumble.shapes.box(mass, size)``), the surfaces to draw them with in
-:mod:`tumble.shapes.surfaces`. :data:`SHAPE_KINDS` is the catalogue of them, each a
+``tumble.shapes.surfaces``. :data:`SHAPE_KINDS` is the catalogue of them, each a
 :class:`ShapeKind` (its name in files, its dimensions, its volume, the box around
 it and its surface), and a :class:`Shape` one of them of given dimensions, at a
 mass or a density: the scenario files' ``[body] shape``, the robot files'
@@ -73,7 +73,7 @@ class ShapeKind:
     dimensions; None for an idealised thin body, which has none) and the
     ``box`` around it in its own frame (the lowest and highest corners, m, from
     its centre of mass) and its ``surface``, a triangle mesh to draw it with
-    (:mod:`tumble.shapes.surfaces`), placed like the closed form."""
+    (``tumble.shapes.surfaces``), placed like the closed form."""
 
     name: str
     function: Callable[..., MassProperties]

@@ -1,6 +1,6 @@
 """Triangle meshes of the surfaces of the catalogue's solids, to draw them with.
 
-Each is centred like its closed form in :mod:`tumble.shapes.closed_forms` (on its
+Each is centred like its closed form in ``tumble.shapes.closed_forms`` (on its
 centre of mass, its symmetry axis along z), in metres. An idealised thin body (a
 rod, a disk, a ring) is given a small thickness so it can be seen. Made with numpy
 here, so drawing a solid does not pay for importing trimesh's mesh generators;

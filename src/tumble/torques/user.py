@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from tumble.core import torques as kernels
-from tumble.errors import InputError
+from tumble.errors import InputError, uncoloured
 from tumble.torques.model import TorqueModel
 
 __all__ = ["UserTorque"]
@@ -234,7 +234,7 @@ def _first_line(exc: Exception) -> str:
     """``Kind: first line of the message``: numba's typing errors run to pages, and
     their first line only names the compiler's stage ("Failed in nopython mode
     pipeline"), so the line after it says what failed."""
-    lines = [line.strip() for line in str(exc).strip().splitlines() if line.strip()]
+    lines = [line.strip() for line in uncoloured(str(exc)).strip().splitlines() if line.strip()]
     if len(lines) > 1 and lines[0].startswith("Failed in "):
         lines = lines[1:]
     return f"{type(exc).__name__}: {lines[0]}" if lines else type(exc).__name__
