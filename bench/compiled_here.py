@@ -1,0 +1,98 @@
+"""Benchmark: a batch kernel compiled in the process that runs it, against the same
+kernel loaded from numba's cache.
+
+A batch of bodies under a torque (``ConstantBodyTorque``, ``RotorMomentum`` with a
+momentum per body) steps through a kernel specialised for that torque
+(``tumble.core._jit.specialise``), compiled on first use and cached on disk. Each
+case runs in two fresh processes that share an empty cache folder
+(``NUMBA_CACHE_DIR``): the first compiles the kernel, the second loads it. Each
+process times ``--repeat`` calls after its first (which compiles or loads), and the
+medians are compared; then a process with the cache off (``TUMBLE_NUMBA_CACHE=0``),
+as on a read-only install, which compiles every time.
+
+Run from the repository root::
+
+    .venv/bin/python bench/compiled_here.py [--bodies 20000] [--steps 500] [--repeat 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+from machine import describe
+
+#: One process: the case's batch timed ``repeat`` times after a first call; prints
+#: the median and the first call's time, s, as JSON.
+CHILD = """
+import json, statistics, sys, time
+import numpy as np
+import tumble as tb
+case, n, steps, repeat = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
+rng = np.random.default_rng(1)
+platform = np.tile([4.0, 5.5, 8.0], (n, 1))
+omega = rng.normal(size=(n, 3))
+if case == "RotorMomentum":
+    momentum = np.zeros((n, 3))
+    momentum[:, 1] = rng.uniform(0.0, 1.5, n)
+    torque = tb.torques.RotorMomentum(momentum)
+else:
+    torque = tb.torques.ConstantBodyTorque([0.01, 0.0, 0.0])
+def run():
+    tb.simulate_batch(platform, omega, duration=steps * 1e-2, dt=1e-2, torque=torque)
+start = time.perf_counter()
+run()
+first = time.perf_counter() - start
+times = []
+for _ in range(repeat):
+    start = time.perf_counter()
+    run()
+    times.append(time.perf_counter() - start)
+print(json.dumps({"first": first, "median": statistics.median(times)}))
+"""
+
+
+def timed(case: str, args: argparse.Namespace, environment: dict[str, str]) -> dict[str, float]:
+    """The case's times in a fresh process with ``environment`` added."""
+    command = [sys.executable, "-c", CHILD, case, str(args.bodies), str(args.steps)]
+    finished = subprocess.run(
+        [*command, str(args.repeat)],
+        env={**os.environ, **environment},
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return dict(json.loads(finished.stdout.strip().splitlines()[-1]))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--bodies", type=int, default=20_000)
+    parser.add_argument("--steps", type=int, default=500)
+    parser.add_argument("--repeat", type=int, default=5)
+    args = parser.parse_args()
+    print(describe({}))
+    print(f"{args.bodies} bodies × {args.steps} steps, medians of {args.repeat} calls a process")
+    print(f"{'torque':18s} {'process':26s} {'first call s':>13s} {'a call ms':>10s} {'ratio':>6s}")
+    for case in ("ConstantBodyTorque", "RotorMomentum"):
+        with tempfile.TemporaryDirectory() as folder:
+            cache = {"NUMBA_CACHE_DIR": folder}
+            rows = [
+                ("compiles (empty cache)", timed(case, args, cache)),
+                ("loads (the cache filled)", timed(case, args, cache)),
+                ("cache off", timed(case, args, {"TUMBLE_NUMBA_CACHE": "0"})),
+            ]
+        loaded = rows[1][1]["median"]
+        for what, row in rows:
+            print(
+                f"{case:18s} {what:26s} {row['first']:13.2f} {row['median'] * 1e3:10.1f} "
+                f"{row['median'] / loaded:6.2f}"
+            )
+
+
+if __name__ == "__main__":
+    main()
