@@ -35,6 +35,7 @@ from tumble.core._jit import (
     file_stamp,
     njit,
     njit_block,
+    njit_block_inline,
     njit_vector,
     own_name,
     prange,
@@ -298,7 +299,7 @@ def batch_kernel(step, torque, identity, variables=VELOCITY, advance=None):  # t
     enter, leave, _ = variables
     advance, stamp = _advance(step, torque, variables, advance)
 
-    @njit_block
+    @njit_block_inline
     @own_name(f"stepping.batch.block|{stamp}|{identity}")
     def stepped_block(w, q, inertia, params, context, t0, dt, n_steps, start, stop):  # type: ignore[no-untyped-def]
         """The steps of bodies ``start:stop``."""
