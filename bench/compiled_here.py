@@ -3,7 +3,10 @@ kernel loaded from numba's cache.
 
 A batch of bodies under a torque (``ConstantBodyTorque``, ``RotorMomentum`` with a
 momentum per body) steps through a kernel specialised for that torque
-(``tumble.core._jit.specialise``), compiled on first use and cached on disk. Each
+(``tumble.core._jit.specialise``), compiled on first use and cached on disk; so do
+a batch of bodies carrying a rotor (RK4's blocks of ``tumble.core.part_blocks``)
+and a sweep chunk of bodies carrying a rotor and a Kane damper (its measuring
+kernel; ``--steps`` of 2 ms, its bodies ``bench/sweep_parts.py``'s). Each
 case runs in two fresh processes that share an empty cache folder
 (``NUMBA_CACHE_DIR``): the first compiles the kernel, the second loads it. Each
 process times ``--repeat`` calls after its first (which compiles or loads), and the
@@ -36,14 +39,27 @@ case, n, steps, repeat = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sy
 rng = np.random.default_rng(1)
 platform = np.tile([4.0, 5.5, 8.0], (n, 1))
 omega = rng.normal(size=(n, 3))
+options = {}
 if case == "RotorMomentum":
     momentum = np.zeros((n, 3))
     momentum[:, 1] = rng.uniform(0.0, 1.5, n)
-    torque = tb.torques.RotorMomentum(momentum)
+    options["torque"] = tb.torques.RotorMomentum(momentum)
+elif case == "Rotor":
+    options["internal"] = [tb.Rotor([0, 1, 0], 0.5)]
+    options["rotor_speed"] = np.linspace(-10.0, 10.0, n)[:, None]
 else:
-    torque = tb.torques.ConstantBodyTorque([0.01, 0.0, 0.0])
+    options["torque"] = tb.torques.ConstantBodyTorque([0.01, 0.0, 0.0])
 def run():
-    tb.simulate_batch(platform, omega, duration=steps * 1e-2, dt=1e-2, torque=torque)
+    tb.simulate_batch(platform, omega, duration=steps * 1e-2, dt=1e-2, **options)
+if case == "Rotor sweep":
+    sys.path.insert(0, "bench")
+    from sweep_parts import DAMPER, ROTOR, sweep
+    from tumble.sweep.build import parse_sweep
+    from tumble.sweep.metrics import compute_chunk
+    text = sweep(n, "rk4", ROTOR + DAMPER)
+    plan = parse_sweep(text.replace("duration = 0.4", f"duration = {steps * 2e-3}"))
+    def run():
+        compute_chunk(plan, 0)
 start = time.perf_counter()
 run()
 first = time.perf_counter() - start
@@ -77,8 +93,8 @@ def main() -> None:
     args = parser.parse_args()
     print(describe({}))
     print(f"{args.bodies} bodies × {args.steps} steps, medians of {args.repeat} calls a process")
-    print(f"{'torque':18s} {'process':26s} {'first call s':>13s} {'a call ms':>10s} {'ratio':>6s}")
-    for case in ("ConstantBodyTorque", "RotorMomentum"):
+    print(f"{'case':18s} {'process':26s} {'first call s':>13s} {'a call ms':>10s} {'ratio':>6s}")
+    for case in ("ConstantBodyTorque", "RotorMomentum", "Rotor", "Rotor sweep"):
         with tempfile.TemporaryDirectory() as folder:
             cache = {"NUMBA_CACHE_DIR": folder}
             rows = [

@@ -276,6 +276,23 @@ def test_principal_axes_follow_a_rotation_of_the_body() -> None:
         assert abs(axes[:, k] @ rotation.as_matrix()[:, k]) == pytest.approx(1.0, abs=1e-12)
 
 
+def test_a_stack_already_principal_gives_what_the_general_rule_gives() -> None:
+    # A stack of diagonal tensors, ascending and apart, takes a shortcut; the
+    # general rule (eigh, then the signs) must give the same bits: forced here by
+    # one tensor of the stack that is not diagonal.
+    from tumble.massprops import principal_decomposition
+
+    diagonal = np.sort(np.random.default_rng(5).uniform(0.1, 5.0, (500, 3)), axis=1)
+    tensors = np.einsum("ni,ij->nij", diagonal, np.eye(3))
+    moments, axes = principal_decomposition(tensors)
+    mixed = tensors.copy()
+    mixed[0, 0, 1] = mixed[0, 1, 0] = 1e-3
+    general_moments, general_axes = principal_decomposition(mixed)
+    assert np.array_equal(moments[1:], general_moments[1:])
+    assert np.array_equal(axes[1:], general_axes[1:])
+    assert np.array_equal(axes, np.broadcast_to(np.eye(3), axes.shape))
+
+
 def test_sphere_axes_are_the_body_axes() -> None:
     moments, axes = tb.shapes.solid_sphere(1.0, 0.5).principal()
     assert np.all(moments == moments[0])

@@ -50,9 +50,9 @@ def wheel_momentum(y, k, parts, row, rows, pc):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def wheel_rates(y, dy, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-untyped-def]
+def wheel_rates(y, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-untyped-def]
     along = parts[row, pc] * w[0] + parts[row + 1, pc] * w[1] + parts[row + 2, pc] * w[2]
-    dy[k] = -parts[row + 4, pc] * (y[k] / parts[row + 3, pc] - along)
+    return (-parts[row + 4, pc] * (y[k] / parts[row + 3, pc] - along),)
 
 
 @njit(inline="always")

@@ -348,8 +348,15 @@ def principal_decomposition(inertia: Array) -> tuple[Array, Array]:
     tensors = np.asarray(inertia, dtype=float)
     if tensors.ndim == 2:
         return _principal_one(tensors)
-    moments, vectors = np.linalg.eigh(tensors)
     scale = np.maximum(np.trace(tensors, axis1=-2, axis2=-1), np.finfo(float).tiny)
+    diagonal = np.diagonal(tensors, axis1=-2, axis2=-1)
+    if not np.any(tensors - diagonal[..., None] * np.eye(3)) and np.all(
+        np.diff(diagonal, axis=-1) > REPEATED_MOMENT_TOLERANCE * scale[..., None]
+    ):
+        # Every tensor already principal, ascending and distinct, as _principal_one
+        # finds of one: the rule below gives the body axes (eigh costs 0.4 µs a tensor).
+        return np.maximum(diagonal, 0.0), np.broadcast_to(np.eye(3), tensors.shape).copy()
+    moments, vectors = np.linalg.eigh(tensors)
     repeated = np.any(np.diff(moments, axis=-1) <= REPEATED_MOMENT_TOLERANCE * scale[..., None], -1)
     # Distinct moments (nearly every body of a batch): the rule of _principal_one
     # for every tensor at once; the rare repeated ones go through it one by one.

@@ -41,7 +41,8 @@ class BodyBatch:
             return cls(inertia)
         tensors = 0.5 * (inertia + np.swapaxes(inertia, 1, 2))
         moments, axes = principal_decomposition(tensors)
-        return cls(moments, axes)
+        # Principal axes that are every body's own axes need no turning.
+        return cls(moments, None if np.all(axes == np.eye(3)) else axes)
 
     def __len__(self) -> int:
         return len(self.moments)

@@ -62,13 +62,16 @@ class PrincipalFrame:
 
 
 def compose(quaternions: Array, rotation: Rotation) -> Array:
-    """Scalar-first quaternions of ``R(q) · rotation``: a compiled loop for one
-    rotation (the samples of a trajectory), scipy for one rotation per row."""
+    """Scalar-first quaternions of ``R(q) · rotation``, renormalised: a compiled loop
+    for one rotation (the samples of a trajectory) or one rotation per row (a batch;
+    scipy's product of two stacks of rotations took 55 ms for 1e5 rows)."""
+    turns = np.asarray(rotation.as_quat(scalar_first=True), dtype=float)
     if rotation.single:
-        return _turned(quaternions, np.asarray(rotation.as_quat(scalar_first=True), dtype=float))
-    return np.asarray(
-        (Rotation.from_quat(quaternions, scalar_first=True) * rotation).as_quat(scalar_first=True)
-    )
+        return _turned(quaternions, turns)
+    from tumble.core.quaternion import multiply_rows
+
+    stack = np.ascontiguousarray(np.broadcast_to(quaternions, turns.shape), dtype=float)
+    return np.asarray(multiply_rows(stack, np.ascontiguousarray(turns)))
 
 
 def _turned(quaternions: Array, turn: Array) -> Array:

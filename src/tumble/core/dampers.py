@@ -59,7 +59,7 @@ def damper_momentum(y, k, parts, row, rows, pc):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def damper_rates(y, dy, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-untyped-def]
+def damper_rates(y, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-untyped-def]
     """``σ̇ = D (ω − σ / J) − ω × σ``."""
     w1, w2, w3 = w
     moment = parts[row, pc]
@@ -67,9 +67,11 @@ def damper_rates(y, dy, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no
     s1 = y[k]
     s2 = y[k + 1]
     s3 = y[k + 2]
-    dy[k] = damping * (w1 - s1 / moment) - (w2 * s3 - w3 * s2)
-    dy[k + 1] = damping * (w2 - s2 / moment) - (w3 * s1 - w1 * s3)
-    dy[k + 2] = damping * (w3 - s3 / moment) - (w1 * s2 - w2 * s1)
+    return (
+        damping * (w1 - s1 / moment) - (w2 * s3 - w3 * s2),
+        damping * (w2 - s2 / moment) - (w3 * s1 - w1 * s3),
+        damping * (w3 - s3 / moment) - (w1 * s2 - w2 * s1),
+    )
 
 
 @njit(inline="always")
@@ -124,7 +126,7 @@ def spring_inertia(y, k, parts, row, rows, pc):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def spring_rates(y, dy, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-untyped-def]
+def spring_rates(y, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-untyped-def]
     """``ẋ = (p − g·ω) / μ``, ``ṗ = μ (ω × n)·(ω × d) − k x − c ẋ``."""
     w1, w2, w3 = w
     d1, d2, d3, n1, n2, n3, mu, _, _, _, g4, g5, g6 = _spring_geometry(y, k, parts, row, pc)
@@ -132,10 +134,8 @@ def spring_rates(y, dy, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no
     # ∂T/∂x = μ (ω × n)·(ω × d), then the spring and its damping.
     c1, c2, c3 = w2 * n3 - w3 * n2, w3 * n1 - w1 * n3, w1 * n2 - w2 * n1
     f1, f2, f3 = w2 * d3 - w3 * d2, w3 * d1 - w1 * d3, w1 * d2 - w2 * d1
-    dy[k] = speed
-    dy[k + 1] = (
-        mu * (c1 * f1 + c2 * f2 + c3 * f3) - parts[row + 7, pc] * y[k] - parts[row + 8, pc] * speed
-    )
+    force = mu * (c1 * f1 + c2 * f2 + c3 * f3) - parts[row + 7, pc] * y[k]
+    return speed, force - parts[row + 8, pc] * speed
 
 
 @njit(inline="always")

@@ -72,11 +72,11 @@ RUNNING = (
 
 
 def body_measures(layout):  # type: ignore[no-untyped-def]
-    """``(start, after)``: the measures of one body, ``m`` its running measures
-    (:data:`RUNNING`): ``start(y, inverse, parts, pc, a1, a2, a3, m)`` before
-    the first step, about the nominal axis a (principal-platform axes);
-    ``after(y, inverse, parts, pc, m, time)`` after a step that ends at ``time``
-    (s)."""
+    """``(start, after)``: the measures of one body (its state ``y`` an array or a
+    tuple), column ``mc`` of ``m`` its running measures (:data:`RUNNING`):
+    ``start(y, inverse, parts, pc, a1, a2, a3, m, mc)`` before the first step,
+    about the nominal axis a (principal-platform axes); ``after(y, inverse,
+    parts, pc, m, mc, time)`` after a step that ends at ``time`` (s)."""
     velocity, _, _, _ = part_model(layout)
     shares = measured_energy(layout)
 
@@ -86,60 +86,71 @@ def body_measures(layout):  # type: ignore[no-untyped-def]
         return y[0] * w1 + y[1] * w2 + y[2] * w3 + shares(y, parts, pc, (w1, w2, w3)), w1, w2, w3
 
     @njit(inline="always", cache=False)
-    def start(y, inverse, parts, pc, a1, a2, a3, m):  # type: ignore[no-untyped-def]
+    def start(y, inverse, parts, pc, a1, a2, a3, m, mc):  # type: ignore[no-untyped-def]
         twice0, w1, w2, w3 = twice_energy(y, inverse, parts, pc)
-        m[_B1], m[_B2], m[_B3], _ = initial(y[0], y[1], y[2], w1, w2, w3, a1, a2, a3)
-        reference = m[_B1] * y[0] + m[_B2] * y[1] + m[_B3] * y[2]
+        m[_B1, mc], m[_B2, mc], m[_B3, mc], _ = initial(y[0], y[1], y[2], w1, w2, w3, a1, a2, a3)
+        reference = m[_B1, mc] * y[0] + m[_B2, mc] * y[1] + m[_B3, mc] * y[2]
         squared0 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2]
-        m[_NUMERATOR], m[_DENOMINATOR] = nutation_start(reference * abs(reference), squared0)
-        m[_REFERENCE], m[_SQUARED0], m[_SMALLEST], m[_LARGEST] = (
+        m[_NUMERATOR, mc], m[_DENOMINATOR, mc] = nutation_start(
+            reference * abs(reference), squared0
+        )
+        m[_REFERENCE, mc], m[_SQUARED0, mc], m[_SMALLEST, mc], m[_LARGEST, mc] = (
             reference,
             squared0,
             squared0,
             squared0,
         )
-        m[_FLIPS], m[_DEVIATION], m[_CROSSED_AT], m[_BEFORE], m[_AFTER] = 0.0, 0.0, 0.0, 0.0, 0.0
-        m[_TWICE0] = twice0
+        m[_FLIPS, mc], m[_DEVIATION, mc], m[_CROSSED_AT, mc], m[_BEFORE, mc], m[_AFTER, mc] = (
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        )
+        m[_TWICE0, mc] = twice0
 
     @njit(inline="always", cache=False)
-    def after(y, inverse, parts, pc, m, time):  # type: ignore[no-untyped-def]
+    def after(y, inverse, parts, pc, m, mc, time):  # type: ignore[no-untyped-def]
         twice, _, _, _ = twice_energy(y, inverse, parts, pc)
-        c = m[_B1] * y[0] + m[_B2] * y[1] + m[_B3] * y[2]
-        last = m[_REFERENCE]
+        c = m[_B1, mc] * y[0] + m[_B2, mc] * y[1] + m[_B3, mc] * y[2]
+        last = m[_REFERENCE, mc]
         (
             first,
-            m[_REFERENCE],
-            m[_FLIPS],
-            m[_NUMERATOR],
-            m[_DENOMINATOR],
-            m[_DEVIATION],
-            m[_SMALLEST],
-            m[_LARGEST],
+            m[_REFERENCE, mc],
+            m[_FLIPS, mc],
+            m[_NUMERATOR, mc],
+            m[_DENOMINATOR, mc],
+            m[_DEVIATION, mc],
+            m[_SMALLEST, mc],
+            m[_LARGEST, mc],
         ) = observe(
             twice,
             c,
             c * abs(c),
             y[0] * y[0] + y[1] * y[1] + y[2] * y[2],
             last,
-            m[_FLIPS],
-            m[_NUMERATOR],
-            m[_DENOMINATOR],
-            m[_TWICE0],
-            m[_DEVIATION],
-            m[_SMALLEST],
-            m[_LARGEST],
+            m[_FLIPS, mc],
+            m[_NUMERATOR, mc],
+            m[_DENOMINATOR, mc],
+            m[_TWICE0, mc],
+            m[_DEVIATION, mc],
+            m[_SMALLEST, mc],
+            m[_LARGEST, mc],
         )
-        if first:
-            m[_CROSSED_AT], m[_BEFORE], m[_AFTER] = time, last, c
+        # Written whether or not this step flipped first, so that a block's loop
+        # over its bodies has no branch to keep it from being vectorised.
+        m[_CROSSED_AT, mc] = time if first else m[_CROSSED_AT, mc]
+        m[_BEFORE, mc] = last if first else m[_BEFORE, mc]
+        m[_AFTER, mc] = c if first else m[_AFTER, mc]
 
     return start, after
 
 
 @njit(inline="always")
-def finish_measures(m, out, energy0, body, dt):  # type: ignore[no-untyped-def]
-    """A body's running measures ``m`` (:data:`RUNNING`) as its measures, into column
-    ``body`` of ``out`` (``N_METRICS``, N), and twice its energy at the start into
-    ``energy0[body]``; ``dt`` the step (s)."""
+def finish_measures(m, mc, out, energy0, body, dt):  # type: ignore[no-untyped-def]
+    """A body's running measures, column ``mc`` of ``m`` (:data:`RUNNING`), as its
+    measures, into column ``body`` of ``out`` (``N_METRICS``, N), and twice its
+    energy at the start into ``energy0[body]``; ``dt`` the step (s)."""
     (
         out[FLIPS, body],
         out[FIRST_FLIP, body],
@@ -148,18 +159,18 @@ def finish_measures(m, out, energy0, body, dt):  # type: ignore[no-untyped-def]
         out[MOMENTUM_DEVIATION, body],
     ) = finish(
         dt,
-        m[_FLIPS],
-        m[_CROSSED_AT],
-        m[_BEFORE],
-        m[_AFTER],
-        m[_NUMERATOR],
-        m[_DENOMINATOR],
-        m[_DEVIATION],
-        m[_SQUARED0],
-        m[_SMALLEST],
-        m[_LARGEST],
+        m[_FLIPS, mc],
+        m[_CROSSED_AT, mc],
+        m[_BEFORE, mc],
+        m[_AFTER, mc],
+        m[_NUMERATOR, mc],
+        m[_DENOMINATOR, mc],
+        m[_DEVIATION, mc],
+        m[_SQUARED0, mc],
+        m[_SMALLEST, mc],
+        m[_LARGEST, mc],
     )
-    energy0[body] = m[_TWICE0]
+    energy0[body] = m[_TWICE0, mc]
 
 
 def measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
@@ -182,8 +193,8 @@ def measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignor
         n = y.shape[0]
         work = np.empty((5, n))
         saved = np.empty(n)
-        running = np.empty(len(RUNNING))
-        start(y, inverse, parts, pc, axis[0, body], axis[1, body], axis[2, body], running)
+        running = np.empty((len(RUNNING), 1))
+        start(y, inverse, parts, pc, axis[0, body], axis[1, body], axis[2, body], running, 0)
         status = FINITE
         first_step = int(t0 / dt + 0.5) if dt > 0.0 else 0
         # The step and its check written out as in tumble.core.parts' loop: behind
@@ -199,8 +210,8 @@ def measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignor
                     y[i] = saved[i]
                 status = number + 1
                 break
-            after(y, inverse, parts, pc, running, (number + 1) * dt)
-        finish_measures(running, out, energy0, body, dt)
+            after(y, inverse, parts, pc, running, 0, (number + 1) * dt)
+        finish_measures(running, 0, out, energy0, body, dt)
         return status
 
     @specialise(njit_parallel, f"parts.measure|{file_stamp(make_step)}|{key}|{identity}")

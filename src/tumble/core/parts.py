@@ -21,9 +21,10 @@ State ``y`` (``7 + m``):
   :mod:`tumble.core.dampers`).
 
 **A part kind's equations** (:class:`PartEquations`) are compiled functions of
-one signature each, reading the part's state from ``y[k], y[k + 1], …`` and
-its packed values from rows ``row … row + rows − 1`` of column ``pc`` of
-``parts``:
+one signature each, reading the part's state from ``y[k], y[k + 1], …`` (``y``
+an array, or a tuple where bodies step in blocks: the equations read it, and
+only the kicks write it) and its packed values from rows ``row … row + rows −
+1`` of column ``pc`` of ``parts``:
 
 * ``momentum(y, k, parts, row, rows, pc) -> (m1, m2, m3)`` and, for a part
   that moves mass, ``inertia(y, k, parts, row, rows, pc) -> (a11, a12, a13,
@@ -31,9 +32,10 @@ its packed values from rows ``row … row + rows − 1`` of column ``pc`` of
   ``(I_p + Σ inertia) ω = H − Σ momentum`` (for a rotor ``h a``, for a damper
   its sphere's momentum; a spring–mass damper moves the centre of mass:
   :mod:`tumble.core.dampers`);
-* ``rates(y, dy, k, parts, row, rows, pc, w, v, hold)``: the rates of its
-  state, with ``w`` = ω and ``v`` the torque the parts that act through the
-  rotors must exert on the body (a motor's share), read at time ``hold``;
+* ``rates(y, k, parts, row, rows, pc, w, v, hold) -> (ẏ_k, ẏ_k+1, …)``: the
+  rates of its state, a tuple of floats as long as its state, with ``w`` = ω
+  and ``v`` the torque the parts that act through the rotors must exert on the
+  body (a motor's share), read at time ``hold``;
 * for a part the splitting integrators take (a rotor: its momentum is fixed
   in the body between kicks), ``kick(y, k, parts, row, rows, pc, w, v, hold,
   h)``: its momenta advanced over ``h`` with the attitude held;
@@ -101,6 +103,7 @@ __all__ = [
     "single_kernel",
     "solve3",
     "splitting_step",
+    "state_rates",
     "velocities",
 ]
 
@@ -124,10 +127,11 @@ LayoutEntry = tuple[PartEquations, int, int]
 
 class PartModel(NamedTuple):
     """The compiled functions of one layout: ``velocity(y, inverse, parts, pc) ->
-    ω``, ``momentum(y, parts, pc) -> Σ momentum``, ``rates(y, dy, parts, pc, w,
-    v, hold)`` and ``kick(y, parts, pc, w, v, hold, h)`` (the kicks of the parts
-    that have one: the splitting kernels take a layout only when every part
-    kicks and none moves mass, :attr:`tumble.parts.InternalPart.splittable`)."""
+    ω``, ``momentum(y, parts, pc) -> Σ momentum``, ``rates(y, parts, pc, w, v,
+    hold) -> the parts' rates`` (a tuple, in the order of their states) and
+    ``kick(y, parts, pc, w, v, hold, h)`` (the kicks of the parts that have one:
+    the splitting kernels take a layout only when every part kicks and none
+    moves mass, :attr:`tumble.parts.InternalPart.splittable`)."""
 
     velocity: Any
     momentum: Any
@@ -179,8 +183,8 @@ def _no_inertia(y, parts, pc):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _no_rates(y, dy, parts, pc, w, v, hold):  # type: ignore[no-untyped-def]
-    return None
+def _no_rates(y, parts, pc, w, v, hold):  # type: ignore[no-untyped-def]
+    return ()
 
 
 @njit(inline="always")
@@ -223,9 +227,8 @@ def _chain_inertia(previous, inertia, k, row, rows):  # type: ignore[no-untyped-
 
 def _chain_rates(previous, rates, k, row, rows):  # type: ignore[no-untyped-def]
     @njit(inline="always", cache=False)
-    def every(y, dy, parts, pc, w, v, hold):  # type: ignore[no-untyped-def]
-        previous(y, dy, parts, pc, w, v, hold)
-        rates(y, dy, k, parts, row, rows, pc, w, v, hold)
+    def every(y, parts, pc, w, v, hold):  # type: ignore[no-untyped-def]
+        return previous(y, parts, pc, w, v, hold) + rates(y, k, parts, row, rows, pc, w, v, hold)
 
     return every
 
@@ -326,9 +329,9 @@ def _torques(torque, drive, t, w1, w2, w3, q, system):  # type: ignore[no-untype
 
 
 @njit(inline="always")
-def part_rates(torque, drive, velocity, rates, t, hold, y, dy, system):  # type: ignore[no-untyped-def]
-    """``dy = f(t, y)`` for the state of the module's docstring, the parts' inputs
-    read at time ``hold``.
+def state_rates(torque, drive, velocity, rates, t, hold, y, system):  # type: ignore[no-untyped-def]
+    """``f(t, y)`` for the state ``y`` of the module's docstring (an array, or a
+    tuple), as a tuple (7 + m), the parts' inputs read at time ``hold``.
 
     ``system`` is ``(moments, inverse, parts, pc, params, column, context)``: the
     platform moments and their inverses (3,), the packed parts and their column,
@@ -341,11 +344,25 @@ def part_rates(torque, drive, velocity, rates, t, hold, y, dy, system):  # type:
     w1, w2, w3 = velocity(y, inverse, parts, pc)
     q = (y[3], y[4], y[5], y[6])
     t1, t2, t3, c, v1, v2, v3 = _torques(torque, drive, t, w1, w2, w3, q, system)
-    dy[0] = t1 - c * w1 - (w2 * y[2] - w3 * y[1])
-    dy[1] = t2 - c * w2 - (w3 * y[0] - w1 * y[2])
-    dy[2] = t3 - c * w3 - (w1 * y[1] - w2 * y[0])
-    dy[3], dy[4], dy[5], dy[6] = quaternion_rates(q[0], q[1], q[2], q[3], w1, w2, w3)
-    rates(y, dy, parts, pc, (w1, w2, w3), (v1, v2, v3), hold)
+    d0, d1, d2, d3 = quaternion_rates(q[0], q[1], q[2], q[3], w1, w2, w3)
+    body = (
+        t1 - c * w1 - (w2 * y[2] - w3 * y[1]),
+        t2 - c * w2 - (w3 * y[0] - w1 * y[2]),
+        t3 - c * w3 - (w1 * y[1] - w2 * y[0]),
+        d0,
+        d1,
+        d2,
+        d3,
+    )
+    return body + rates(y, parts, pc, (w1, w2, w3), (v1, v2, v3), hold)
+
+
+@njit(inline="always")
+def part_rates(torque, drive, velocity, rates, t, hold, y, dy, system):  # type: ignore[no-untyped-def]
+    """``dy = f(t, y)`` for a state held in an array (:func:`state_rates`)."""
+    slopes = state_rates(torque, drive, velocity, rates, t, hold, y, system)
+    for i in range(len(slopes)):
+        dy[i] = slopes[i]
 
 
 @njit(inline="always")

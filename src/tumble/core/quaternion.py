@@ -23,6 +23,24 @@ def multiply(a0, a1, a2, a3, b0, b1, b2, b3):  # type: ignore[no-untyped-def]
     )
 
 
+@njit(inline="always")
+def _unit_product(quaternions, k, r0, r1, r2, r3, out):  # type: ignore[no-untyped-def]
+    """Row ``k`` of ``out``: row k of ``quaternions`` ⊗ r, renormalised."""
+    p = multiply(
+        quaternions[k, 0],
+        quaternions[k, 1],
+        quaternions[k, 2],
+        quaternions[k, 3],
+        r0,
+        r1,
+        r2,
+        r3,
+    )
+    scale = 1.0 / np.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3])
+    for i in range(4):
+        out[k, i] = p[i] * scale
+
+
 @njit
 def multiply_right(quaternions, r):  # type: ignore[no-untyped-def]
     """``q ⊗ r`` for each row q of ``quaternions`` (n, 4) and one unit ``r`` (4,);
@@ -30,17 +48,16 @@ def multiply_right(quaternions, r):  # type: ignore[no-untyped-def]
     n = quaternions.shape[0]
     out = np.empty((n, 4))
     for k in range(n):
-        p = multiply(
-            quaternions[k, 0],
-            quaternions[k, 1],
-            quaternions[k, 2],
-            quaternions[k, 3],
-            r[0],
-            r[1],
-            r[2],
-            r[3],
-        )
-        scale = 1.0 / np.sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3])
-        for i in range(4):
-            out[k, i] = p[i] * scale
+        _unit_product(quaternions, k, r[0], r[1], r[2], r[3], out)
+    return out
+
+
+@njit
+def multiply_rows(quaternions, turns):  # type: ignore[no-untyped-def]
+    """``q_k ⊗ r_k`` for each row q_k of ``quaternions`` and r_k of ``turns`` (n, 4),
+    unit; the rows are renormalised."""
+    n = quaternions.shape[0]
+    out = np.empty((n, 4))
+    for k in range(n):
+        _unit_product(quaternions, k, turns[k, 0], turns[k, 1], turns[k, 2], turns[k, 3], out)
     return out

@@ -23,7 +23,7 @@ from numba.core.extending import overload
 from tumble.core._jit import FINITE, file_stamp, njit, specialise
 from tumble.core.dynamics import normalised, rates
 
-__all__ = ["fixed_step_run", "rk4_array_step", "rk4_step", "rk4_tuple_step"]
+__all__ = ["entry_by_entry", "fixed_step_run", "rk4_array_step", "rk4_step", "rk4_tuple_step"]
 
 
 def rk4_tuple_step(derivatives: Any) -> Any:
@@ -72,7 +72,7 @@ def _combined(state: Any, sixth: float, a: Any, b: Any, c: Any, d: Any) -> tuple
 # the rigid body's step as it was written by hand for seven entries, whose batch
 # loops it vectorises across bodies (the same results, bit for bit).
 @cache
-def _entry_by_entry(name: str, arguments: str, entry: str, count: int) -> Any:
+def entry_by_entry(name: str, arguments: str, entry: str, count: int) -> Any:
     """The Python function ``name(arguments)`` that returns the tuple of ``entry``
     (an expression of ``{i}``, the entry's index) for i = 0 … count − 1."""
     entries = ", ".join(entry.format(i=i) for i in range(count))
@@ -83,13 +83,13 @@ def _entry_by_entry(name: str, arguments: str, entry: str, count: int) -> Any:
 
 @overload(_plus, inline="always")
 def _compiled_plus(state, h, slope):  # type: ignore[no-untyped-def]
-    return _entry_by_entry("plus", "state, h, slope", "state[{i}] + h * slope[{i}]", len(state))
+    return entry_by_entry("plus", "state, h, slope", "state[{i}] + h * slope[{i}]", len(state))
 
 
 @overload(_combined, inline="always")
 def _compiled_combined(state, sixth, a, b, c, d):  # type: ignore[no-untyped-def]
     entry = "state[{i}] + sixth * (a[{i}] + 2.0 * (b[{i}] + c[{i}]) + d[{i}])"
-    return _entry_by_entry("combined", "state, sixth, a, b, c, d", entry, len(state))
+    return entry_by_entry("combined", "state, sixth, a, b, c, d", entry, len(state))
 
 
 _rigid_body_step = rk4_tuple_step(rates)

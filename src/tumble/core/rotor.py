@@ -86,9 +86,9 @@ def rotor_momentum(y, k, parts, row, rows, pc):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def rotor_rates(y, dy, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-untyped-def]
+def rotor_rates(y, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-untyped-def]
     """``ḣ = u``, the motor torque."""
-    dy[k] = motor_torque(y, k, parts, row, rows, pc, w, v, hold)
+    return (motor_torque(y, k, parts, row, rows, pc, w, v, hold),)
 
 
 @njit(inline="always")

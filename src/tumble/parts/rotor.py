@@ -60,6 +60,20 @@ _PARAMETERS = (
 )
 
 
+def _pseudo_inverse(matrices: Array) -> Array:
+    """``np.linalg.pinv`` of a matrix or a stack (N, 3, k): computed once and shared
+    when every matrix of the stack is the first (a batch of bodies whose principal
+    frames agree; an SVD per body cost 0.09 s for 1e5 bodies)."""
+    if (
+        matrices.ndim == 3
+        and len(matrices) > 1
+        and np.array_equal(matrices, np.broadcast_to(matrices[0], matrices.shape))
+    ):
+        single = np.linalg.pinv(matrices[0])
+        return np.broadcast_to(single, (len(matrices), *single.shape))
+    return np.asarray(np.linalg.pinv(matrices))
+
+
 @register_part
 @dataclass(frozen=True, eq=False)
 class Rotor(InternalPart):
@@ -188,7 +202,7 @@ class Rotor(InternalPart):
             turned = np.stack(
                 [np.asarray(frame.to_principal(r.axis), dtype=float) for r in rotors], -2
             )
-            return turned, np.linalg.pinv(np.swapaxes(turned, -1, -2))  # (..., k, 3)
+            return turned, _pseudo_inverse(np.swapaxes(turned, -1, -2))  # (..., k, 3)
 
         if isinstance(parts, Siblings):
             turned, allocation = parts.shared("rotor allocation", axes_and_allocation)
