@@ -3,7 +3,8 @@
 :func:`rk4_tuple_step` makes the step of a small state held as a tuple, in registers: the rigid
 body (:func:`rk4_step`, the equations of :mod:`tumble.core.dynamics`, the quaternion
 renormalised after every step; the loops that run it over one body or a batch are
-:mod:`tumble.core.stepping`'s) and the gimbal (:mod:`tumble.core.gimbal`).
+:mod:`tumble.core.stepping`'s), the gimbal (:mod:`tumble.core.gimbal`) and the
+blocks of bodies carrying parts (:mod:`tumble.core.part_blocks`).
 :func:`rk4_array_step` steps a state held in an array, its rates given by a compiled
 function of the model's: the bodies carrying parts (:mod:`tumble.core.parts`), the
 rotor's whirl, the fitted drag; :func:`fixed_step_run` makes a model's compiled run of
