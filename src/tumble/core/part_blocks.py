@@ -16,7 +16,7 @@ block, one per body, so that every load is contiguous.
 
 The kernels take the arguments of the one-body-per-thread kernels and give their
 statuses and measures; with the floating-point freedoms of the free body's
-blocks (:data:`tumble.core._jit.njit_block`: FMA contraction, reassociation),
+blocks (:data:`tumble.core._jit.VECTOR_FASTMATH`: FMA contraction, reassociation),
 each body's state and measures are its own run's to round-off
 (``tests/core/test_parts_kernels.py``; ``bench/batch_parts.py`` for the speed).
 """
@@ -160,8 +160,8 @@ def rk4_block_kernel(torque, drive, layout, identity):  # type: ignore[no-untype
     """:func:`tumble.core.parts.batch_kernel` of RK4 (the same arguments and
     statuses), stepping ``BLOCK`` bodies together (:func:`_block_advance`), in
     parallel over blocks. With the floating-point freedoms of the free body's
-    blocks (:data:`njit_block`: FMA contraction, reassociation), each body's state
-    is its own run's to round-off."""
+    blocks (:data:`tumble.core._jit.VECTOR_FASTMATH`: FMA contraction,
+    reassociation), each body's state is its own run's to round-off."""
     advance, _ = _block_advance(torque, drive, layout)
     key = layout_identity(layout)
 
