@@ -8,7 +8,8 @@ medians; then the same calls under cProfile, hot and cold, with the cumulative t
 of the call's phases: ``prepare`` (the body, its parts and the method checked and
 built), ``Setup.schedule`` (the steps and samples), the integrator's run (the
 compiled kernel and its driver: the rest of the call) and the trajectory made from
-the samples (``_trajectory``). cProfile
+the samples (``_trajectory``); and the floor of such a call, case c's compiled
+steps alone (:func:`bare_steps`), hot and cold. cProfile
 adds its own cost to every Python call: its times are larger than the plain ones,
 and their shares, hot against cold, are what it shows.
 
@@ -47,6 +48,28 @@ def wheels() -> Any:
         WHEEL_BODY, WHEELS_OMEGA0, duration=20.0, internal=ROTORS, method="adaptive",
         dt=0.1, rtol=1e-13, atol=1e-16,
     )  # fmt: skip
+
+
+def bare_steps() -> Callable[[], Any]:
+    """Case c's compiled steps alone, as a call from Python at its leanest: the
+    initial state copied, the samples allocated, one kernel call (what
+    ``tumble.simulate`` adds around them is the rest of its time)."""
+    from tumble.integrators.problem import parts_start
+    from tumble.simulation import prepare
+
+    setup = prepare(SPUN, [0, 0, 0], internal=SPINNER, method="rk4")
+    schedule = setup.schedule(10.0, 0.1, 1, rtol=1e-10, atol=1e-12, max_steps=None)
+    start, torque = parts_start(setup.integrator, setup.problem), setup.torque
+
+    def call() -> Any:
+        y = start.state.copy()
+        out = np.empty((len(schedule.times), y.size))
+        out[0] = y
+        start.kernel(y, start.moments, start.parts, torque.params, torque.context,
+                     schedule.step, schedule.n_steps, 0, 1, out)  # fmt: skip
+        return out
+
+    return call
 
 
 def plain(call: Callable[[], Any], cold: bool, repeat: int) -> float:
@@ -90,6 +113,13 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=200)
     args = parser.parse_args()
     print(describe({}))
+    steps = bare_steps()
+    steps()
+    hot, cold = plain(steps, False, args.repeat), plain(steps, True, args.repeat)
+    print(
+        f"\nc's compiled steps alone (a state copied, the samples allocated, one kernel "
+        f"call): {1e3 * hot:.3f} ms hot, {1e3 * cold:.3f} ms cold ({cold / hot:.1f}×)"
+    )
     for name, call in (
         ("c. one wheel, RK4 dt 0.1 s", spin_up),
         ("a. three wheels, adaptive", wheels),

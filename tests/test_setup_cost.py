@@ -159,3 +159,146 @@ def test_the_orbit_plane_is_found_once_and_handed_out_as_copies() -> None:
         Rotation.from_rotvec([0, 0, 0.1]).apply(orbit.plane()[0]),
     )
     assert np.isclose(e1 @ e2, 0.0) and np.isclose(np.linalg.norm(e2), 1.0)
+
+
+# ------------------------------------------------------------------ a motion described again
+WHEEL = tb.Rotor([0, 1, 0], 0.05, speed=20.0)
+
+
+def test_the_same_motion_described_again_shares_its_setup() -> None:
+    from tumble.simulation import prepare
+
+    setup = prepare(BODY, [0.3, 1.0, 0.2], internal=[WHEEL], method="rk4")
+    # The same values however they are written: a list, a tuple, an array; 1 is 1.0.
+    for omega0 in ((0.3, 1.0, 0.2), np.array([0.3, 1.0, 0.2])):
+        assert prepare(BODY, omega0, internal=(WHEEL,), method="rk4") is setup
+    assert prepare(BODY, [0.3, 1, 0.2], internal=[WHEEL], method="rk4") is setup
+    others = [
+        prepare(BODY, [0.3, 1.0, 0.25], internal=[WHEEL], method="rk4"),
+        prepare(BODY, [0.3, 1.0, 0.2], internal=[WHEEL], method="adaptive"),
+        prepare(BODY, [0.3, 1.0, 0.2], internal=[WHEEL], method="rk4", attitude0=[1, 0, 0, 0]),
+        prepare(BODY, [0.3, 1.0, 0.2], internal=[tb.Rotor([0, 1, 0], 0.05, speed=20.0)]),
+        prepare(BODY, [0.3, 1.0, 0.2], method="rk4"),
+        prepare(BODY, [0.3, 1.0, 0.2], internal=[WHEEL], method="rk4", gravity=[0, 0, 0]),
+    ]
+    assert all(other is not setup for other in others)
+    # A torque model is named by no key: each call binds it anew.
+    push = tb.torques.ConstantBodyTorque([0.0, 0.0, 0.1])
+    assert prepare(BODY, [0.3, 1.0, 0.2], torque=push) is not prepare(
+        BODY, [0.3, 1.0, 0.2], torque=push
+    )
+
+
+def test_a_kept_setup_is_read_only_and_leaves_the_callers_arrays_alone() -> None:
+    from tumble.simulation import prepare
+
+    omega0 = np.array([0.1, 2.0, 0.0])
+    setup = prepare(BODY, omega0, internal=[WHEEL], method="rk4")
+    assert omega0.flags.writeable
+    omega0[0] = 5.0  # the caller's array changes; the setup kept its own copy
+    assert setup.omega0.tolist() == [0.1, 2.0, 0.0]
+    assert not any(a.flags.writeable for a in (setup.omega0, setup.attitude0, setup.gravity))
+    assert prepare(BODY, omega0, internal=[WHEEL], method="rk4") is not setup
+
+
+def test_minus_zero_is_not_zero_in_a_key() -> None:
+    from tumble.recent import UNKEYED, plain_key
+
+    assert plain_key([0.0, 1.0, 2.0]) != plain_key([-0.0, 1.0, 2.0])
+    assert plain_key([0, 1, 2]) == plain_key((0.0, 1.0, 2.0))
+    assert plain_key(1.5) != plain_key([1.5])
+    assert plain_key(None) is None and plain_key("250 g") == "250 g"
+    for value in (True, [1.0, True, 0.0], [np.float64(1.0)], np.zeros(5), [10**400], object()):
+        assert plain_key(value) is UNKEYED
+
+
+def test_a_mass_properties_changed_in_place_is_a_new_setup() -> None:
+    from tumble.simulation import prepare
+
+    body = tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0]))
+    before = prepare(body, [0.0, 1.0, 0.1], method="rk4")
+    body.inertia.flags.writeable = True
+    body.inertia[2, 2] = 2.5
+    body.__dict__.pop("_principal_cached", None)
+    after = prepare(body, [0.0, 1.0, 0.1], method="rk4")
+    assert after is not before
+    assert after.body.moments.tolist() == [1.0, 2.0, 2.5]
+
+
+def test_an_integrator_registered_since_makes_a_new_setup(monkeypatch: pytest.MonkeyPatch) -> None:
+    import dataclasses
+
+    from tumble.integrators import INTEGRATORS
+    from tumble.simulation import prepare
+
+    before = prepare(BODY, [0.0, 1.0, 0.1], method="rk4")
+    again = dataclasses.replace(INTEGRATORS["rk4"])
+    monkeypatch.setitem(INTEGRATORS, "rk4", again)
+    after = prepare(BODY, [0.0, 1.0, 0.1], method="rk4")
+    assert after is not before and after.integrator is again
+
+
+def test_the_cache_of_setups_keeps_the_latest_only() -> None:
+    from tumble.simulation import SETUP_CACHE_SIZE, prepare
+
+    first = prepare(BODY, [0.0, 1.0, 0.3], method="rk4")
+    for k in range(SETUP_CACHE_SIZE):
+        prepare(BODY, [0.0, 1.0, 1.0 + k], method="rk4")
+    assert prepare(BODY, [0.0, 1.0, 0.3], method="rk4") is not first
+
+
+def test_a_run_again_changes_nothing_of_the_last() -> None:
+    # The schedule is kept between runs of one setup: each trajectory has its own times.
+    def run(dt: float) -> tb.Trajectory:
+        return tb.simulate(BODY, [0.3, 1.0, 0.2], duration=1.0, dt=dt, internal=[WHEEL])
+
+    first = run(0.01)
+    first.t[:] = -1.0
+    second, third = run(0.01), run(0.02)
+    fresh = tb.simulate(
+        BODY,
+        [0.3, 1.0, 0.2],
+        duration=1.0,
+        dt=0.01,
+        internal=[tb.Rotor([0, 1, 0], 0.05, speed=20.0)],
+    )
+    assert np.array_equal(second.t, fresh.t) and np.array_equal(second.omega, fresh.omega)
+    assert np.array_equal(second.quaternion, fresh.quaternion)
+    assert np.array_equal(second.rotor_speed, fresh.rotor_speed)
+    assert len(third.t) == 51
+
+
+def test_a_coarse_step_warns_at_every_call_that_asks_for_it() -> None:
+    from tumble.errors import CoarseStepWarning
+
+    for _ in range(2):
+        with pytest.warns(
+            CoarseStepWarning, match=r"steps per turn of the fastest rotation"
+        ) as seen:
+            tb.simulate(BODY, [0.0, 30.0, 0.0], duration=1.0, dt=0.05, method="rk4")
+        assert seen[0].filename == __file__  # the line that called simulate
+
+
+def test_a_body_in_its_principal_axes_changes_axes_as_the_product_would() -> None:
+    body = body_model(tb.MassProperties(1.0, [0, 0, 0], np.diag([1.0, 2.0, 3.0])))
+    vectors = np.array([[0.3, -1.0, 2.5], [1e-300, 4.0, -0.0]])
+    for turned, product in ((body.to_principal(vectors), vectors @ body.axes),
+                            (body.from_principal(vectors), vectors @ body.axes.T)):  # fmt: skip
+        assert np.array_equal(turned, product) and turned is not vectors
+
+
+def test_an_integrator_registered_since_makes_a_new_automatic_choice(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import dataclasses
+
+    from tumble.integrators import INTEGRATORS
+    from tumble.simulation import prepare
+
+    wheel = [tb.Rotor([0, 1, 0], 0.05, speed=20.0)]
+    before = prepare(BODY, [0.0, 1.0, 0.1], internal=wheel)
+    assert before.integrator.name == "splitting"
+    again = dataclasses.replace(INTEGRATORS["splitting"])
+    monkeypatch.setitem(INTEGRATORS, "splitting", again)
+    after = prepare(BODY, [0.0, 1.0, 0.1], internal=wheel)
+    assert after is not before and after.integrator is again

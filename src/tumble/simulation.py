@@ -32,8 +32,9 @@ from tumble.integrators.limits import (
 from tumble.integrators.problem import Problem, Samples, Schedule
 from tumble.integrators.steps import MAX_STEPS, time_step, warn_if_coarse
 from tumble.kinematics import as_attitude
-from tumble.massprops import MassProperties, as_mass_properties
-from tumble.parts import check_parts, value_columns
+from tumble.massprops import MassProperties, as_mass_properties, readonly
+from tumble.parts import InternalPart, check_parts, value_columns
+from tumble.recent import UNKEYED, RecentCache, plain_key
 from tumble.resources import DEFAULT_MAX_STEPS
 from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
 from tumble.trajectory import Trajectory
@@ -41,7 +42,7 @@ from tumble.units import to_si, vector_to_si
 
 Array = NDArray[np.float64]
 
-__all__ = ["Setup", "prepare", "simulate"]
+__all__ = ["SETUP_CACHE_SIZE", "Setup", "prepare", "simulate"]
 
 
 def simulate(
@@ -151,6 +152,14 @@ def simulate(
         When ``dt`` gives fewer than ``MIN_STEPS_PER_TURN`` steps per turn of
         the fastest rotation.
 
+    Notes
+    -----
+    A call that describes a motion set up before (the same mass properties and
+    parts, the same values of the other arguments, no ``torque`` model) reuses
+    that setup (:func:`prepare`, the last :data:`SETUP_CACHE_SIZE`) and, for the
+    same duration and steps, its schedule: a short run repeated costs little more
+    than its steps.
+
     Examples
     --------
     The tennis-racket flip: spun near its intermediate axis, a free body
@@ -198,8 +207,7 @@ def simulate(
         total_time, dt, record_every, rtol=rtol, atol=atol, max_steps=max_steps
     )
     integrator = setup.integrator
-    problem = Problem(setup.body, setup.torque, setup.omega0, setup.attitude0)
-    samples = integrator.run(integrator, problem, schedule, progress)
+    samples = integrator.run(integrator, setup.problem, schedule, progress)
     reason = setup.reason
     if integrator.kind == "adaptive" and method == "auto":
         reason += f" (rtol {rtol:g}, atol {atol:g})"
@@ -253,7 +261,8 @@ def _trajectory(
     with the body, the integrator and why, and what the motion conserves."""
     body = setup.body
     return Trajectory(
-        t=schedule.times,
+        # A copy: the schedule is kept for the next call of the same motion.
+        t=np.array(schedule.times),
         omega=samples.omega,
         quaternion=samples.quaternion,
         mass_properties=mp,
@@ -263,7 +272,7 @@ def _trajectory(
         reason=reason,
         dt=schedule.step,
         steps=samples.steps,
-        conserved=body.conserved(setup.torque.terms),
+        conserved=setup.conserved,
         torque=setup.model,
         internal=body.parts,
         internal_values=samples.values,
@@ -273,9 +282,13 @@ def _trajectory(
 @dataclass(frozen=True, eq=False)
 class Setup:
     """What :func:`simulate` integrates and how, before any step: the body model,
-    the torque bound to it, the integrator and why, the initial state (body axes),
-    the total uniform gravity (m/s², space axes) and the torque model as given
-    (``gravity`` included), which the trajectory keeps for its energy."""
+    the torque bound to it, the integrator and why, the initial state (body axes,
+    read-only), the total uniform gravity (m/s², space axes) and the torque model
+    as given (``gravity`` included), which the trajectory keeps for its energy.
+
+    :func:`prepare` keeps the last :data:`SETUP_CACHE_SIZE` for calls that
+    describe the same motion again, and each keeps the schedule of its last run:
+    a setup is never changed once made."""
 
     body: RigidBody
     torque: BoundTorque
@@ -290,6 +303,16 @@ class Setup:
     def weight(self) -> float:
         """The body's weight under :attr:`gravity`, N (0 without gravity)."""
         return self.body.mass_properties.mass * math.hypot(*self.gravity.tolist())
+
+    @cached_property
+    def problem(self) -> Problem:
+        """What the integrator's driver takes: the body, its bound torque, the initial state."""
+        return Problem(self.body, self.torque, self.omega0, self.attitude0)
+
+    @cached_property
+    def conserved(self) -> tuple[str, ...]:
+        """What the motion conserves (:meth:`RigidBody.conserved`)."""
+        return self.body.conserved(self.torque.terms)
 
     def fastest_rate(self) -> float:
         """The fastest rate a step must resolve, rad/s (:meth:`RigidBody.fastest_rate`)."""
@@ -327,6 +350,35 @@ class Setup:
         RequestTooLargeError, IntegrationError
             As :func:`simulate`.
         """
+        # Plain values (as the checks read them, 1 is 1.0; none of them may be -0.0)
+        # name the schedule; a run given quantities is scheduled anew.
+        key = (duration, record_every, dt, rtol, atol, max_steps)
+        plain = all(type(value) in _PLAIN for value in key)
+        last = self.__dict__.get("_last_schedule") if plain else None
+        if last is not None and last[0] == key:
+            schedule, coarse = last[1], last[2]
+        else:
+            schedule, coarse = self._new_schedule(duration, dt, record_every, rtol, atol, max_steps)
+            if plain:
+                self.__dict__["_last_schedule"] = (key, schedule, coarse)
+        if coarse is not None:
+            step, rate, what = coarse
+            # The warning names the line that called simulate: four frames up.
+            warn_if_coarse(step, rate, what, stacklevel=4)
+        return schedule
+
+    def _new_schedule(
+        self,
+        duration: float,
+        dt: Any,
+        record_every: int,
+        rtol: float,
+        atol: float,
+        max_steps: int | None,
+    ) -> tuple[Schedule, tuple[float, float, str] | None]:
+        """:meth:`schedule`'s steps, checked, and what a coarse step warns of (the
+        step, s, the rate it must resolve, rad/s, and what turns at that rate; None
+        when the step is not the user's)."""
         integrator, body = self.integrator, self.body
         fastest = self.fastest_rate()
         step = time_step(dt, fastest, duration)
@@ -347,14 +399,11 @@ class Setup:
                 "larger dt or a shorter duration, or raise `max_steps=`."
             )
         check_internal_stability(internal, names, integrator.kind, schedule.step, duration, most)
-        if dt is not None and integrator.kind == "stepping":
-            # The warning names the line that called simulate: four frames up.
-            if integrator.exact_free_motion:  # only the torque needs resolving
-                rate, what = body.pendulum_rate(self.weight), "the pendulum swing"
-            else:
-                rate, what = fastest, "the fastest rotation"
-            warn_if_coarse(schedule.step, rate, what, stacklevel=4)
-        return schedule
+        if dt is None or integrator.kind != "stepping":
+            return schedule, None
+        if integrator.exact_free_motion:  # only the torque needs resolving
+            return schedule, (schedule.step, body.pendulum_rate(self.weight), "the pendulum swing")
+        return schedule, (schedule.step, fastest, "the fastest rotation")
 
 
 def prepare(
@@ -378,14 +427,21 @@ def prepare(
     InputError
         As :func:`simulate`.
     """
+    key, held = _setup_key(mp, omega0, attitude0, pivot, gravity, torque, method, internal)
+    if key is not None:
+        kept = _SETUPS.get(key, held)
+        # A method asked for by name: the one registered under it now.
+        if kept is not None and (method == "auto" or INTEGRATORS.get(method) is kept.integrator):
+            return kept
     mp = as_mass_properties(mp)
     if torque is not None and not isinstance(torque, TorqueModel):
         raise InputError(
             f"Expected `torque` to be a model from tumble.torques, got {type(torque).__name__}."
         )
     chosen = None if method == "auto" else get_integrator(method)
-    omega = vector_to_si(omega0, "angular_velocity", "omega0")
-    q0 = as_attitude(attitude0)
+    # Copies, read-only: the setup is kept, and omega0 may be the caller's own array.
+    omega = readonly(vector_to_si(omega0, "angular_velocity", "omega0"))
+    q0 = readonly(as_attitude(attitude0))
     model, gravities = _torque_model(torque, gravity)
     if pivot is not None and gravity is None and not gravities:
         raise InputError(
@@ -397,8 +453,58 @@ def prepare(
     body.check_simulable()
     bound = bind(model, body, omega)
     chosen, reason = _integrator_for(chosen, body, bound)
-    total = sum(gravities, np.zeros(3))
-    return Setup(body, bound, chosen, reason, omega, q0, total, model)
+    total = readonly(sum(gravities, np.zeros(3)))
+    setup = Setup(body, bound, chosen, reason, omega, q0, total, model)
+    if key is not None:
+        _SETUPS.put(key, held, setup)
+    return setup
+
+
+#: The types of the values that name a run's schedule (:meth:`Setup.schedule`).
+_PLAIN = frozenset({float, int, str, type(None)})
+
+#: How many setups :func:`prepare` keeps for calls that describe the same motion
+#: again: the most recently made.
+SETUP_CACHE_SIZE = 64
+
+_SETUPS: RecentCache[Setup] = RecentCache(SETUP_CACHE_SIZE)
+
+
+def _setup_key(
+    mp: Any,
+    omega0: Any,
+    attitude0: Any,
+    pivot: Any,
+    gravity: Any,
+    torque: Any,
+    method: Any,
+    internal: Any,
+) -> tuple[Any, tuple[Any, ...]]:
+    """The key of :func:`prepare`'s arguments and the objects its entry holds, or
+    (None, ()) for a motion whose setup is not kept: one under a torque model, or
+    given by anything but mass properties, parts and plain values
+    (:func:`tumble.recent.plain_key`). Mass properties and parts are immutable;
+    their identities name them, with the values of ``mp`` (as
+    :func:`tumble.body.body_model`'s key). For ``method="auto"`` the registry of
+    integrators is held as well: an integrator registered since makes a new
+    setup (a method asked for by name is looked up again, :func:`prepare`)."""
+    parts = () if internal is None else internal
+    if (
+        type(mp) is not MassProperties
+        or torque is not None
+        or type(method) is not str
+        or (type(parts) is not list and type(parts) is not tuple)
+        or not all(isinstance(part, InternalPart) for part in parts)
+    ):
+        return None, ()
+    values = tuple(map(plain_key, (omega0, attitude0, pivot, gravity)))
+    if UNKEYED in values:
+        return None, ()
+    key: tuple[Any, ...] = (id(mp), mp.mass, mp.center_of_mass.tobytes(), mp.inertia.tobytes())
+    key += (method, *values, tuple(map(id, parts)))
+    if method == "auto":
+        return key, (mp, *parts, *INTEGRATORS.values())
+    return key, (mp, *parts)
 
 
 def _torque_model(

@@ -197,6 +197,30 @@ def test_kinds_that_share_their_rates_compile_apart() -> None:
     assert parts.velocities(doubled_layout)(states, moments, packed)[0, 2] == 0.5
 
 
+def test_a_trajectory_is_read_back_in_body_axes() -> None:
+    # H = (0, 0, 3), h = 1 along principal axis 3, moments (1, 1, 2): ω = (0, 0, 1)
+    # in the principal frame (worked above), and q = (cos 0.3, 0, 0, sin 0.3).
+    layout = (rotor(),)
+    c, s = math.cos(0.3), math.sin(0.3)
+    states = np.array([[0.0, 0.0, 3.0, c, 0.0, 0.0, s, 1.0]] * 2)
+    moments = np.array([1.0, 1.0, 2.0])
+    packed = np.array(rotor_rows((0, 0, 1), 0.5))[:, None]
+    read = parts.readout(layout)
+    # Principal axes that are the body's: ω and q as they are.
+    omega, quaternion = read(states, moments, packed, np.eye(3), np.array([1.0, 0, 0, 0]), False)
+    assert omega.tolist() == [[0.0, 0.0, 1.0]] * 2
+    assert quaternion.tolist() == states[:, 3:7].tolist()
+    # Principal axis 3 along body x (axes' columns: body y, body z, body x), a turn of
+    # 120° about (1, 1, 1): ω = (1, 0, 0) in body axes, q ⊗ turn⁻¹ as the quaternion.
+    axes = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    back = np.array([0.5, -0.5, -0.5, -0.5])  # the conjugate of the principal frame's turn
+    omega, quaternion = read(states, moments, packed, axes, back, True)
+    assert omega.tolist() == [[1.0, 0.0, 0.0]] * 2
+    w, x, y, z = c * 0.5 + s * 0.5, -c * 0.5 + s * 0.5, -c * 0.5 - s * 0.5, -c * 0.5 + s * 0.5
+    # The product of unit quaternions, renormalised: to round-off, 2 ulp.
+    assert_allclose(quaternion, [[w, x, y, z]] * 2, rtol=0, atol=4e-16)
+
+
 def _batch_states(kernel, y, moments, packed, params, dt, n):
     y = y.copy()
     status = np.full(y.shape[1], FINITE, dtype=np.int64)

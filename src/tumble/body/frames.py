@@ -38,10 +38,14 @@ class PrincipalFrame:
 
     def to_principal(self: BodyModel, vectors: Any) -> Array:
         """Body-axes vectors (..., 3) in principal coordinates."""
+        if self._axes_are_body_axes:  # a copy, as the product would be
+            return np.array(vectors, dtype=float)
         return np.asarray(np.asarray(vectors, dtype=float) @ self.axes)
 
     def from_principal(self: BodyModel, vectors: Any) -> Array:
         """Principal-coordinates vectors (..., 3) in body axes."""
+        if self._axes_are_body_axes:
+            return np.array(vectors, dtype=float)
         return np.asarray(np.asarray(vectors, dtype=float) @ self.axes.T)
 
     @cached_property

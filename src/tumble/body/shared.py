@@ -4,17 +4,13 @@ once for a run of simulations."""
 
 from __future__ import annotations
 
-import operator
-import threading
-from collections import OrderedDict
-from typing import Any
-
 import numpy as np
 from numpy.typing import NDArray
 
 from tumble.body.model import RigidBody
 from tumble.massprops import MassProperties
 from tumble.parts import InternalPart
+from tumble.recent import RecentCache
 
 __all__ = ["BODY_CACHE_SIZE", "body_model"]
 
@@ -23,10 +19,7 @@ Array = NDArray[np.float64]
 #: How many body models :func:`body_model` keeps: the most recently asked for.
 BODY_CACHE_SIZE = 64
 
-_BODIES: OrderedDict[tuple[Any, ...], tuple[MassProperties, tuple[Any, ...], RigidBody]] = (
-    OrderedDict()
-)
-_BODIES_LOCK = threading.Lock()
+_BODIES: RecentCache[RigidBody] = RecentCache(BODY_CACHE_SIZE)
 
 
 def body_model(
@@ -58,17 +51,12 @@ def body_model(
         None if point is None else point.tobytes(),
         tuple(map(id, parts)),
     )
-    with _BODIES_LOCK:
-        entry = _BODIES.get(key)
-        if entry is not None:
-            _BODIES.move_to_end(key)
-    if entry is not None and entry[0] is mp and all(map(operator.is_, entry[1], parts)):
-        return entry[2]
+    held = (mp, *parts)
+    body = _BODIES.get(key, held)
+    if body is not None:
+        return body
     if point is not None:
         point.flags.writeable = False
     body = RigidBody(mp, point, tuple(parts))
-    with _BODIES_LOCK:
-        _BODIES[key] = (mp, tuple(parts), body)
-        while len(_BODIES) > BODY_CACHE_SIZE:
-            _BODIES.popitem(last=False)
+    _BODIES.put(key, held, body)
     return body

@@ -31,6 +31,18 @@ class PartsState:
         packed.flags.writeable = False
         return layout, packed
 
+    @cached_property
+    def _reading(self: BodyModel) -> tuple[Any, tuple[Array, ...], bool]:
+        """What :meth:`from_kernel_state` hands the kernels: the compiled reading of
+        the layout (:func:`tumble.core.parts.readout`), its arrays (the moments, the
+        packed parts, the principal axes and the quaternion from the principal frame
+        to the body's, contiguous), and whether the principal axes turn at all."""
+        from tumble.core.parts import readout
+
+        arrays = (self.moments, self.packed_parts, self.axes, self._principal_quaternions[1])
+        contiguous = tuple(np.array(a, dtype=float, order="C") for a in arrays)
+        return readout(self.layout), contiguous, not self._axes_are_body_axes
+
     @property
     def layout(self: BodyModel) -> Any:
         """The kernels' layout of its parts (:func:`tumble.parts.pack_parts`)."""
@@ -89,20 +101,18 @@ class PartsState:
 
     def from_kernel_state(self: BodyModel, states: Array) -> tuple[Array, Array, Array]:
         """ω (n, 3) and the attitude (n, 4), body axes, and the parts' values
-        (n, m), from kernel states (n, 7 + m): ω as the kernels solve for it
-        (:func:`tumble.core.parts.velocities`)."""
-        from tumble.core.parts import velocities
-
-        states = np.asarray(states, dtype=float)
-        moments = np.ascontiguousarray(self.moments[:, None])
-        principal = velocities(self.layout)(
-            np.ascontiguousarray(states.T), moments, np.ascontiguousarray(self.packed_parts)
-        )
-        omega = self.from_principal(principal)
+        (n, m), from kernel states (n, 7 + m): ω as the kernels solve for it, and
+        the values compiled where every part has them
+        (:func:`tumble.core.parts.readout`)."""
+        states = np.ascontiguousarray(states, dtype=float)
+        read, arrays, turned = self._reading
+        omega, quaternion, compiled = read(states, *arrays, turned)
+        if compiled.shape[1] or not self.parts:  # every part's values compiled
+            return omega, quaternion, compiled
         values, k = [], 7
         for part in self.parts:
             momenta = part.from_kernel(states[:, k : k + part.size], self)
             values.append(part.values_from(omega, momenta))
             k += part.size
         parts = np.concatenate(values, axis=1) if values else np.zeros((len(states), 0))
-        return omega, self.attitude_from_principal(states[:, 3:7]), parts
+        return omega, quaternion, parts

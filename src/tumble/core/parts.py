@@ -44,7 +44,12 @@ only the kicks write it) and its packed values from rows ``row … row + rows �
   twice its potential energy, so that twice the energy of the body and its
   parts is ``ω · H + Σ ε`` (for a quadratic kinetic energy, twice it is the
   velocities times the momenta: ω · H for the body's ω, each part's own for
-  its coordinates).
+  its coordinates);
+* for a part whose values no change of axes turns (a rotor's spin rate
+  relative to the body), ``values(y, k, parts, row, rows, pc, w) -> (value,
+  …)``: what :meth:`tumble.parts.InternalPart.values_from` gives, a tuple as
+  long as its state, so that a trajectory is read back in one compiled call
+  (:func:`readout`).
 
 Equations of the body (Hughes, *Spacecraft Attitude Dynamics*, 1986, §6.2 for
 the gyrostat; Schaub & Junkins, *Analytical Mechanics of Space Systems*,
@@ -83,6 +88,7 @@ from tumble.core._jit import (
 )
 from tumble.core.adaptive import adaptive_loop
 from tumble.core.dynamics import quaternion_rates
+from tumble.core.quaternion import multiply_right
 from tumble.core.rk4 import rk4_array_step
 from tumble.core.splitting import decay_integral, free_flow_one_body, sub_steps, turn
 
@@ -112,13 +118,15 @@ class PartEquations(NamedTuple):
     """A part kind's compiled equations (see the module's docstring): ``inertia``
     None for a part that moves no mass, ``kick`` None for a part the splitting
     integrators do not take, ``energy`` None for a part whose energy sweeps do
-    not measure."""
+    not measure, ``values`` None for a part whose values a trajectory reads back
+    in Python (:meth:`tumble.parts.InternalPart.values_from`)."""
 
     momentum: Any
     rates: Any
     inertia: Any = None
     kick: Any = None
     energy: Any = None
+    values: Any = None
 
 
 #: One part in a layout: its equations, its state size and its packed rows.
@@ -203,6 +211,19 @@ def _chain_energy(previous, energy, k, row, rows):  # type: ignore[no-untyped-de
         return previous(y, parts, pc, w) + energy(y, k, parts, row, rows, pc, w)
 
     return total
+
+
+@njit(inline="always")
+def _no_values(y, parts, pc, w):  # type: ignore[no-untyped-def]
+    return ()
+
+
+def _chain_values(previous, values, k, row, rows):  # type: ignore[no-untyped-def]
+    @njit(inline="always", cache=False)
+    def every(y, parts, pc, w):  # type: ignore[no-untyped-def]
+        return previous(y, parts, pc, w) + values(y, k, parts, row, rows, pc, w)
+
+    return every
 
 
 def _chain_momentum(previous, momentum, k, row, rows):  # type: ignore[no-untyped-def]
@@ -308,6 +329,21 @@ def part_energy(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def
         k += size
         row += rows
     return shares
+
+
+@cache
+def part_values(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
+    """``values(y, parts, pc, w) -> (value, …)``: the parts' values (a tuple, m)
+    from their state and the body's ω, in the order of their states; None when a
+    part of ``layout`` has no compiled ``values``."""
+    if any(equations.values is None for equations, _, _ in layout):
+        return None
+    values, k, row = _no_values, 7, 0
+    for equations, size, rows in layout:
+        values = _chain_values(values, equations.values, k, row, rows)
+        k += size
+        row += rows
+    return values
 
 
 def measured_energy(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
@@ -640,6 +676,52 @@ def adaptive_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped
         )
 
     return run
+
+
+@cache
+def readout(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
+    """``read(states, moments, parts, axes, turn, turned) -> (omega, quaternion,
+    values)``: one body's ω (n, 3), rad/s, and attitude (n, 4), body → space, both
+    in body axes, and its parts' values (n, m) (:func:`part_values`; (n, 0) when a
+    part has none compiled: then read back in Python), from its kernel states
+    (n, 7 + m) (a row per sample), with its platform moments (3,), its packed parts
+    (rows, 1), its principal axes ``axes`` (3, 3; columns, body coordinates) and
+    ``turn`` (4,), the unit quaternion that takes an attitude of the principal
+    frame to the body's (``q ⊗ turn``, renormalised:
+    :func:`tumble.core.quaternion.multiply_right`). ``turned`` False: the
+    principal axes are the body's, and ω and q are copied as they are. A
+    trajectory's samples read back in one call, ω as the kernels solve for it."""
+    velocity = part_model(layout).velocity
+    values_of = part_values(layout)
+    compiled = values_of is not None
+    values_of = values_of or _no_values
+    key = layout_identity(layout)
+
+    @specialise(njit, f"parts.readout|{key}")
+    def read(states, moments, parts, axes, turn, turned):  # type: ignore[no-untyped-def]
+        n, size = states.shape
+        omega = np.empty((n, 3))
+        values = np.empty((n, size - 7 if compiled else 0))
+        inverse = 1.0 / moments
+        y = np.empty(size)
+        for j in range(n):
+            for i in range(size):
+                y[i] = states[j, i]
+            w = velocity(y, inverse, parts, 0)
+            if turned:
+                for k in range(3):
+                    omega[j, k] = axes[k, 0] * w[0] + axes[k, 1] * w[1] + axes[k, 2] * w[2]
+            else:
+                omega[j, 0], omega[j, 1], omega[j, 2] = w
+            if compiled:
+                found = values_of(y, parts, 0, w)
+                for i in range(len(found)):
+                    values[j, i] = found[i]
+        attitudes = states[:, 3:7]
+        quaternion = multiply_right(attitudes, turn) if turned else attitudes.copy()
+        return omega, quaternion, values
+
+    return read
 
 
 @cache

@@ -60,6 +60,13 @@ def _scheduled(parts, row, rows, pc, hold):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
+def relative_speed(y, k, parts, row, pc, w1, w2, w3):  # type: ignore[no-untyped-def]
+    """``Ω = h / J − a·ω`` (rad/s): the rotor's spin rate relative to the body."""
+    along = parts[row, pc] * w1 + parts[row + 1, pc] * w2 + parts[row + 2, pc] * w3
+    return y[k] / parts[row + 3, pc] - along
+
+
+@njit(inline="always")
 def motor_torque(y, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-untyped-def]
     """The rotor's motor torque (N·m): its schedule read at ``hold`` plus its share
     of the torque ``v`` the rotors must exert on the body, clipped to its limits."""
@@ -70,8 +77,7 @@ def motor_torque(y, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-unt
     )
     largest = parts[row + 4, pc]
     u = min(max(u, -largest), largest)
-    along = parts[row, pc] * w1 + parts[row + 1, pc] * w2 + parts[row + 2, pc] * w3
-    speed = y[k] / parts[row + 3, pc] - along
+    speed = relative_speed(y, k, parts, row, pc, w1, w2, w3)
     limit = parts[row + 5, pc]
     if (speed >= limit and u > 0.0) or (speed <= -limit and u < 0.0):
         u = 0.0
@@ -101,12 +107,20 @@ def rotor_kick(y, k, parts, row, rows, pc, w, v, hold, h):  # type: ignore[no-un
 def rotor_energy(y, k, parts, row, rows, pc, w):  # type: ignore[no-untyped-def]
     """``h Ω`` with ``Ω = h / J − a·ω``: its momentum times its rate relative to the
     body (twice its kinetic energy ``h² / J`` less the ``h a·ω`` of ``ω · H``)."""
-    along = parts[row, pc] * w[0] + parts[row + 1, pc] * w[1] + parts[row + 2, pc] * w[2]
-    h = y[k]
-    return h * (h / parts[row + 3, pc] - along)
+    return y[k] * relative_speed(y, k, parts, row, pc, w[0], w[1], w[2])
+
+
+@njit(inline="always")
+def rotor_values(y, k, parts, row, rows, pc, w):  # type: ignore[no-untyped-def]
+    """``(Ω,)``: its spin rate relative to the body (rad/s), the value a trajectory keeps."""
+    return (relative_speed(y, k, parts, row, pc, w[0], w[1], w[2]),)
 
 
 #: The rotor's equations, for :mod:`tumble.core.parts`.
 ROTOR_EQUATIONS = PartEquations(
-    momentum=rotor_momentum, rates=rotor_rates, kick=rotor_kick, energy=rotor_energy
+    momentum=rotor_momentum,
+    rates=rotor_rates,
+    kick=rotor_kick,
+    energy=rotor_energy,
+    values=rotor_values,
 )

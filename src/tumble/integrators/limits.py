@@ -35,6 +35,8 @@ def check_record_every(record_every: Any, *, optional: bool = False) -> int | No
     InputError
         Anything else: a fraction of a step, a string, a bool, a number < 1.
     """
+    if type(record_every) is int and record_every >= 1:  # the usual case, at once
+        return record_every
     if record_every is None and optional:
         return None
     if (

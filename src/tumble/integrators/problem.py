@@ -5,6 +5,7 @@ the recorded times) and the :class:`Samples` (the recorded states, body axes).""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -16,7 +17,7 @@ from tumble.integrators.limits import check_recording
 from tumble.integrators.steps import time_step, warn_if_coarse, whole_steps
 from tumble.torques import BoundTorque
 
-__all__ = ["Problem", "Samples", "Schedule"]
+__all__ = ["PartsStart", "Problem", "Samples", "Schedule", "parts_start"]
 
 Array = NDArray[np.float64]
 
@@ -35,6 +36,35 @@ class Problem:
     def layout(self) -> Any:
         """The parts' layout for their kernels (:func:`tumble.parts.pack_parts`)."""
         return self.body.layout
+
+
+@dataclass(frozen=True, eq=False)
+class PartsStart:
+    """What a driver hands the kernels of a body carrying parts, before any step:
+    the kernel, the initial kernel state (7 + m,) (read-only: each run steps a
+    copy), the packed parts (rows, 1) and the principal moments (3,), kg·m²."""
+
+    kernel: Any
+    state: Array
+    parts: Array
+    moments: Array
+
+
+@lru_cache(maxsize=64)
+def parts_start(integrator: Any, problem: Problem) -> PartsStart:
+    """The :class:`PartsStart` of ``integrator``'s single-body kernel for ``problem``,
+    made once for the last problems asked (both immutable, named by identity):
+    the calls of :func:`tumble.simulate` that describe the same motion share a
+    problem."""
+    body = problem.body
+    state = body.kernel_state(problem.omega0, problem.attitude0)
+    state.flags.writeable = False
+    return PartsStart(
+        integrator.kernel("parts_single", problem.torque, problem.layout),
+        state,
+        np.array(body.packed_parts),
+        np.ascontiguousarray(body.moments),
+    )
 
 
 @dataclass(frozen=True, eq=False)

@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from tumble.core._jit import FINITE
 from tumble.errors import IntegrationError, RequestTooLargeError
-from tumble.integrators.problem import Problem, Samples, Schedule
+from tumble.integrators.problem import Problem, Samples, Schedule, parts_start
 from tumble.integrators.steps import Progress
 from tumble.resources import DEFAULT_MAX_STEPS_TEXT
 
@@ -38,11 +38,11 @@ def run_adaptive(
     if body.parts:
         from tumble.parts import switch_times
 
-        kernel = integrator.kernel("parts_single", torque, problem.layout)
-        y = body.kernel_state(problem.omega0, problem.attitude0)
+        start = parts_start(integrator, problem)
+        kernel, parts = start.kernel, start.parts
+        y = start.state.copy()
         out = np.empty((times.size, y.size))
         out[0] = y
-        parts = np.array(body.packed_parts)
 
         def advance(start: float, stop: float, rows: slice) -> int:
             status = kernel(

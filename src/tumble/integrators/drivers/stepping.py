@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from tumble.integrators.problem import Problem, Samples, Schedule
+from tumble.integrators.problem import Problem, Samples, Schedule, parts_start
 from tumble.integrators.steps import Progress, step_in_chunks
 
 __all__ = ["run_stepping"]
@@ -57,14 +57,12 @@ def _run_parts_stepping(
     integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
 ) -> Samples:
     """Fixed steps of a body carrying parts (:mod:`tumble.core.parts`)."""
-    body = problem.body
-    kernel = integrator.kernel("parts_single", problem.torque, problem.layout)
-    y = body.kernel_state(problem.omega0, problem.attitude0)
+    start = parts_start(integrator, problem)
+    kernel, moments, parts = start.kernel, start.moments, start.parts
+    y = start.state.copy()
     out = np.empty((len(schedule.times), y.size))
     out[0] = y
     torque = problem.torque
-    parts = np.array(body.packed_parts)
-    moments = np.ascontiguousarray(body.moments)
 
     def run(done: int, count: int) -> int:
         status = kernel(
@@ -84,5 +82,5 @@ def _run_parts_stepping(
     step_in_chunks(run, schedule.n_steps, schedule.step, progress)
     if schedule.n_steps % schedule.record_every != 0:
         out[-1] = y
-    omega, quaternion, values = body.from_kernel_state(out)
+    omega, quaternion, values = problem.body.from_kernel_state(out)
     return Samples(omega, quaternion, values, schedule.n_steps)

@@ -1,0 +1,103 @@
+"""The values most recently computed for a few keys, kept for calls that ask again.
+
+A :class:`RecentCache` keeps the last values computed from immutable objects
+(mass properties, parts, rotations: frozen, their arrays read-only) and plain
+values (numbers, strings, short vectors). A key names the objects by identity
+and the plain values by :func:`plain_key`; each entry holds the objects it
+names, so that no other object can take their identities while it lives.
+"""
+
+from __future__ import annotations
+
+import operator
+import struct
+import threading
+from collections import OrderedDict
+from collections.abc import Sequence
+from contextlib import suppress
+from typing import Any, Generic, TypeVar
+
+import numpy as np
+
+__all__ = ["UNKEYED", "RecentCache", "plain_key"]
+
+Value = TypeVar("Value")
+
+#: What :func:`plain_key` gives for a value it cannot name as a key.
+UNKEYED = object()
+
+#: The longest sequence or array named by value (a vector, a quaternion).
+_LONGEST = 4
+
+#: The types of the numbers named by value (not bool: ``True == 1``, and it is refused).
+_NUMBERS = frozenset({float, int})
+
+
+def plain_key(value: Any) -> Any:
+    """A hashable key that stands for ``value`` wherever only its value counts:
+    None and a string themselves; a float, an int, or a list, tuple or numeric
+    array of up to four of them, by the bytes of their float64 values (as the
+    unit conversion reads them: ``-0.0`` is not ``0.0``, ``1`` is ``1.0``, a list
+    is the array of its values), and by the shape of an array that is not a
+    vector. Anything else (bools, quantities, objects, longer arrays):
+    :data:`UNKEYED`."""
+    kind = type(value)
+    if value is None or kind is str:
+        return value
+    if kind is float or kind is int:
+        value = (value,)
+    elif kind is np.ndarray:
+        if value.size > _LONGEST or value.dtype.kind not in "fiu":
+            return UNKEYED
+        floats = value.astype(np.float64).tobytes()
+        return (False, floats) if value.ndim == 1 else (value.shape, floats)
+    elif kind is not list and kind is not tuple:
+        return UNKEYED
+    if len(value) > _LONGEST:
+        return UNKEYED
+    for number in value:
+        if type(number) not in _NUMBERS:
+            return UNKEYED
+    try:
+        return (kind is float or kind is int, struct.pack(f"{len(value)}d", *map(float, value)))
+    except OverflowError:  # an int beyond float range: refused where it is read
+        return UNKEYED
+
+
+class RecentCache(Generic[Value]):
+    """The last ``size`` values stored, by key, each with the objects its key
+    names by identity (thread-safe)."""
+
+    def __init__(self, size: int) -> None:
+        self.size = size
+        self._entries: OrderedDict[Any, tuple[tuple[Any, ...], Value]] = OrderedDict()
+        self._lock = threading.Lock()
+
+    def get(self, key: Any, held: Sequence[Any]) -> Value | None:
+        """The value stored for ``key`` with the very objects ``held`` (in order), or None."""
+        # Each of these two steps is atomic: no lock is needed, only the key that
+        # another thread's put may have pushed out in between.
+        entry = self._entries.get(key)
+        if entry is not None:
+            with suppress(KeyError):
+                self._entries.move_to_end(key)
+        if (
+            entry is not None
+            and len(entry[0]) == len(held)
+            and all(map(operator.is_, entry[0], held))
+        ):
+            return entry[1]
+        return None
+
+    def put(self, key: Any, held: Sequence[Any], value: Value) -> None:
+        """Store ``value`` for ``key``, holding ``held``; the oldest beyond ``size`` go."""
+        with self._lock:
+            self._entries[key] = (tuple(held), value)
+            self._entries.move_to_end(key)
+            while len(self._entries) > self.size:
+                self._entries.popitem(last=False)
+
+    def clear(self) -> None:
+        """Forget every value."""
+        with self._lock:
+            self._entries.clear()
