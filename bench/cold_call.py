@@ -8,8 +8,10 @@ medians; then the same calls under cProfile, hot and cold, with the cumulative t
 of the call's phases: ``prepare`` (the body, its parts and the method checked and
 built), ``Setup.schedule`` (the steps and samples), the integrator's run (the
 compiled kernel and its driver: the rest of the call) and the trajectory made from
-the samples (``_trajectory``); and the floor of such a call, case c's compiled
-steps alone (:func:`bare_steps`), hot and cold. cProfile
+the samples (``_trajectory``). Calls that repeat a motion find its setup kept
+(``tumble.simulation.prepare``); case c is also timed for a motion new at each
+call (:func:`spin_up_new`), which is set up anew. And the floor of such a call,
+case c's compiled steps alone (:func:`bare_steps`), hot and cold. cProfile
 adds its own cost to every Python call: its times are larger than the plain ones,
 and their shares, hot against cold, are what it shows.
 
@@ -22,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import cProfile
+import itertools
 import pstats
 import statistics
 import time
@@ -41,6 +44,16 @@ PHASES = ("prepare", "schedule", "_trajectory")
 
 def spin_up() -> Any:
     return tb.simulate(SPUN, [0, 0, 0], duration=10.0, internal=SPINNER, method="rk4", dt=0.1)
+
+
+_starts = itertools.count(1)
+
+
+def spin_up_new() -> Any:
+    """Case c's call for a motion not set up before: ω0 new at each call (a turn
+    rate of k·1e-15 rad/s about x, the k-th call), so that nothing is kept."""
+    omega0 = [next(_starts) * 1e-15, 0.0, 0.0]
+    return tb.simulate(SPUN, omega0, duration=10.0, internal=SPINNER, method="rk4", dt=0.1)
 
 
 def wheels() -> Any:
@@ -102,7 +115,7 @@ def profiled(call: Callable[[], Any], cold: bool, repeat: int) -> dict[str, floa
     for (path, _, name), (_, _, _, cumulative, _) in stats.items():
         if name in PHASES and path.endswith("simulation.py"):
             found[name] = found.get(name, 0.0) + cumulative / repeat * 1e3
-        if name in ("spin_up", "wheels") and path.endswith("cold_call.py"):
+        if name in ("spin_up", "spin_up_new", "wheels") and path.endswith("cold_call.py"):
             found["whole"] += cumulative / repeat * 1e3
     found["the run (the rest)"] = found["whole"] - sum(found.get(name, 0.0) for name in PHASES)
     return found
@@ -122,6 +135,7 @@ def main() -> None:
     )
     for name, call in (
         ("c. one wheel, RK4 dt 0.1 s", spin_up),
+        ("c., a motion new at each call (nothing kept)", spin_up_new),
         ("a. three wheels, adaptive", wheels),
     ):
         call()  # compile

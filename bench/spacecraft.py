@@ -29,7 +29,9 @@ each timed three ways: *alternated* (right after another configuration's or the
 peer's call), *hot* (at once again: its code and data in the caches) and *cold*
 (after 64 MB of other memory traffic). Basilisk's time is its
 ``ExecuteSimulation`` alone (its setup left out), tumble's a whole
-:func:`tumble.simulate` call (its setup in). Both do the same work: the states
+:func:`tumble.simulate` call (its setup in: kept between calls that describe the
+same motion); each side times its own call, the bench's work around it left out.
+Both do the same work: the states
 recorded every ``record`` s of simulated time, nothing else (Basilisk's Python-side
 logger of H and the energy is left out: ``basilisk_cases`` adds it only when asked).
 Then, for each Basilisk configuration and each way of timing, the fastest tumble
@@ -112,12 +114,21 @@ ROTORS = [
 ]
 
 
+def simulated(body: tb.MassProperties, omega0: Any, **keywords: Any) -> tuple[Any, float]:
+    """``tb.simulate``'s trajectory and the wall time of that call alone (s), as
+    Basilisk's runs report their ``ExecuteSimulation``'s: the bench's own work
+    around the call (its keywords, its results) is not counted on either side."""
+    start = time.perf_counter()
+    run = tb.simulate(body, omega0, **keywords)
+    return run, time.perf_counter() - start
+
+
 def wheels_tumble(method: str, dt: float, record: float) -> dict[str, Any]:
-    run = tb.simulate(
+    run, wall = simulated(
         WHEEL_BODY, WHEELS_OMEGA0, duration=WHEELS_DURATION, internal=ROTORS,
         **stepping(method, dt, record),
     )  # fmt: skip
-    return {"t": run.t, "quaternion": run.quaternion, "run": run}
+    return {"t": run.t, "quaternion": run.quaternion, "run": run, "wall_s": wall}
 
 
 def wheels_reference(times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -159,12 +170,12 @@ def pitch_exact(t: np.ndarray) -> np.ndarray:
 
 def orbit_tumble(method: str, dt: float, record: float) -> dict[str, Any]:
     start = Rotation.from_euler("z", PITCH0)
-    run = tb.simulate(
+    run, wall = simulated(
         BOOM, [0.0, 0.0, ORBIT_RATE], attitude0=start, duration=ORBIT_DURATION,
         torque=tb.torques.GravityGradient(ORBIT_RATE), **stepping(method, dt, record),
     )  # fmt: skip
     radial = np.column_stack([np.cos(ORBIT_RATE * run.t), np.sin(ORBIT_RATE * run.t), 0 * run.t])
-    return {"t": run.t, "pitch": pitch_of(run.quaternion, radial)}
+    return {"t": run.t, "pitch": pitch_of(run.quaternion, radial), "wall_s": wall}
 
 
 SPUN = tb.MassProperties(52.0, [0, 0, 0], np.diag([10.3, 12.3, 15.5]))  # hub and wheel
@@ -172,10 +183,10 @@ SPINNER = [tb.Rotor([0, 0, 1], 0.5, torque=0.1)]
 
 
 def spin_up_tumble(method: str, dt: float, record: float) -> dict[str, Any]:
-    run = tb.simulate(
+    run, wall = simulated(
         SPUN, [0, 0, 0], duration=10.0, internal=SPINNER, **stepping(method, dt, record)
     )
-    return {"t": run.t, "quaternion": run.quaternion}
+    return {"t": run.t, "quaternion": run.quaternion, "wall_s": wall}
 
 
 def spin_up_error(t: np.ndarray, quaternion: np.ndarray) -> float:
@@ -205,11 +216,10 @@ def churn() -> None:
     _SCRATCH[:] += 1.0
 
 
-def timed(call: Callable[[], dict[str, Any]], own: bool) -> tuple[float, dict[str, Any]]:
-    """One call's wall time (``own``: the call reports its own ``wall_s``) and result."""
-    start = time.perf_counter()
+def timed(call: Callable[[], dict[str, Any]]) -> tuple[float, dict[str, Any]]:
+    """One call's wall time (each side reports its own ``wall_s``) and result."""
     result = call()
-    return (result["wall_s"] if own else time.perf_counter() - start), result
+    return result["wall_s"], result
 
 
 def case(
@@ -237,13 +247,12 @@ def case(
         label: {setting: [] for setting in SETTINGS} for _, label, _ in runs
     }
     for _ in range(repeat):
-        for who, label, call in runs:
-            own = who == "Basilisk"
-            seconds, results[label] = timed(call, own)
+        for _, label, call in runs:
+            seconds, results[label] = timed(call)
             times[label]["alternated"].append(seconds)
-            times[label]["hot"].append(timed(call, own)[0])
+            times[label]["hot"].append(timed(call)[0])
             churn()
-            times[label]["cold"].append(timed(call, own)[0])
+            times[label]["cold"].append(timed(call)[0])
     rows = []
     for who, label, _ in peers + ours:
         wrong = error(results[label])

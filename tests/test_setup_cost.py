@@ -302,3 +302,25 @@ def test_an_integrator_registered_since_makes_a_new_automatic_choice(
     monkeypatch.setitem(INTEGRATORS, "splitting", again)
     after = prepare(BODY, [0.0, 1.0, 0.1], internal=wheel)
     assert after is not before and after.integrator is again
+
+
+def test_a_large_run_again_is_held_to_the_memory_budget_of_now(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # 5001 samples of 8 values, 32 B each: 1.3 MB, above the 1 MiB a run again keeps.
+    monkeypatch.delenv(BUDGET_VARIABLE, raising=False)
+    tb.simulate(BODY, [0.0, 1.0, 0.5], duration=50.0, dt=0.01, method="rk4")  # kept
+    monkeypatch.setenv(BUDGET_VARIABLE, "1 MB")
+    with pytest.raises(RequestTooLargeError, match=r"^Expected a request that fits in the memory"):
+        tb.simulate(BODY, [0.0, 1.0, 0.5], duration=50.0, dt=0.01, method="rk4")
+
+
+def test_a_small_run_again_keeps_the_verdict_of_its_memory_check(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # 11 samples: within the 1 MiB that no machine refuses (SMALL_REQUEST), not asked again.
+    monkeypatch.delenv(BUDGET_VARIABLE, raising=False)
+    first = tb.simulate(BODY, [0.0, 1.0, 0.75], duration=0.1, dt=0.01, method="rk4")
+    monkeypatch.setenv(BUDGET_VARIABLE, "100 B")
+    again = tb.simulate(BODY, [0.0, 1.0, 0.75], duration=0.1, dt=0.01, method="rk4")
+    assert np.array_equal(again.omega, first.omega)

@@ -35,7 +35,7 @@ from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties, as_mass_properties, readonly
 from tumble.parts import InternalPart, check_parts, value_columns
 from tumble.recent import UNKEYED, RecentCache, plain_key
-from tumble.resources import DEFAULT_MAX_STEPS
+from tumble.resources import DEFAULT_MAX_STEPS, SMALL_REQUEST
 from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
 from tumble.trajectory import Trajectory
 from tumble.units import to_si, vector_to_si
@@ -356,11 +356,16 @@ class Setup:
         plain = all(type(value) in _PLAIN for value in key)
         last = self.__dict__.get("_last_schedule") if plain else None
         if last is not None and last[0] == key:
-            schedule, coarse = last[1], last[2]
+            schedule, coarse, recording = last[1], last[2], last[3]
+            if recording is not None:
+                # The machine's memory now: asked again of a request that may not fit.
+                check_recording(*recording)
         else:
-            schedule, coarse = self._new_schedule(duration, dt, record_every, rtol, atol, max_steps)
+            schedule, coarse, recording = self._new_schedule(
+                duration, dt, record_every, rtol, atol, max_steps
+            )
             if plain:
-                self.__dict__["_last_schedule"] = (key, schedule, coarse)
+                self.__dict__["_last_schedule"] = (key, schedule, coarse, recording)
         if coarse is not None:
             step, rate, what = coarse
             # The warning names the line that called simulate: four frames up.
@@ -375,10 +380,13 @@ class Setup:
         rtol: float,
         atol: float,
         max_steps: int | None,
-    ) -> tuple[Schedule, tuple[float, float, str] | None]:
-        """:meth:`schedule`'s steps, checked, and what a coarse step warns of (the
-        step, s, the rate it must resolve, rad/s, and what turns at that rate; None
-        when the step is not the user's)."""
+    ) -> tuple[Schedule, tuple[float, float, str] | None, tuple[float, float, int, int] | None]:
+        """:meth:`schedule`'s steps, checked; what a coarse step warns of (the step,
+        s, the rate it must resolve, rad/s, and what turns at that rate; None when
+        the step is not the user's); and the arguments of its memory check
+        (:func:`tumble.integrators.limits.check_recording`) for a run again, None
+        for samples of at most :data:`tumble.resources.SMALL_REQUEST` bytes (1 MiB),
+        which no machine's memory refuses: a run again keeps that verdict."""
         integrator, body = self.integrator, self.body
         fastest = self.fastest_rate()
         step = time_step(dt, fastest, duration)
@@ -387,7 +395,8 @@ class Setup:
             # The default step resolves the parts' own motion too: one step per 1/rate,
             # well within the stability interval (2.78 for RK4).
             step = min(step, 1.0 / internal)
-        check_recording(duration, step, record_every, len(value_columns(body.parts)))
+        checked = (duration, step, record_every, len(value_columns(body.parts)))
+        recording = None if check_recording(*checked) <= SMALL_REQUEST else checked
         most = most_steps(max_steps)
         schedule = Schedule.build(
             duration, step, record_every, rtol=rtol, atol=atol, most_steps=most
@@ -400,10 +409,12 @@ class Setup:
             )
         check_internal_stability(internal, names, integrator.kind, schedule.step, duration, most)
         if dt is None or integrator.kind != "stepping":
-            return schedule, None
+            return schedule, None, recording
         if integrator.exact_free_motion:  # only the torque needs resolving
-            return schedule, (schedule.step, body.pendulum_rate(self.weight), "the pendulum swing")
-        return schedule, (schedule.step, fastest, "the fastest rotation")
+            rate, what = body.pendulum_rate(self.weight), "the pendulum swing"
+        else:
+            rate, what = fastest, "the fastest rotation"
+        return schedule, (schedule.step, rate, what), recording
 
 
 def prepare(

@@ -62,9 +62,10 @@ def check_recording(
     record_every: int,
     part_values: int,
     advice: str = "Record less often (record_every), or ask for a shorter duration or a larger dt.",
-) -> None:
+) -> float:
     """Refuse a run whose recorded samples cannot fit in the memory budget
     (:mod:`tumble.resources`), or of more than 2^53 steps, before any work.
+    Returns the memory they take, bytes (the estimate checked).
 
     ``advice`` says how to ask for less.
 
@@ -76,14 +77,16 @@ def check_recording(
     whole_steps(duration, step)  # at most 2^53 steps
     samples = recorded_samples(duration, step, record_every)
     values = 8 + part_values
+    needed = samples * values * PEAK_PER_VALUE
     check_memory(
-        samples * values * PEAK_PER_VALUE,
+        needed,
         lambda: (
             f"{samples:.3g} recorded samples of {values} values ({duration:.3g} s at dt = "
             f"{step:.3g} s, every {record_every} step{'s' if record_every > 1 else ''})"
         ),
         advice,
     )
+    return needed
 
 
 #: The stability intervals of the explicit methods on the negative real axis,
