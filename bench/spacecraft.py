@@ -40,7 +40,7 @@ accuracy, count as equal) and the ratio of their times.
 
 Run from the repository root (``make bench`` installs Basilisk)::
 
-    .venv/bin/python bench/spacecraft.py [--repeat 5]
+    .venv/bin/python bench/spacecraft.py [--repeat 5] [--cases abc]
 """
 
 from __future__ import annotations
@@ -311,16 +311,8 @@ def tumble_runs(
     return runs
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=5)
-    args = parser.parse_args()
-    from Basilisk import __version__ as bsk_version
-
-    print(describe({"Basilisk": bsk_version}))
-    summary = {}
-
-    # a. reaction wheels ---------------------------------------------------------
+def wheels_case(repeat: int) -> dict[str, list[float]]:
+    """Case a: three reaction wheels; its ratios by setting."""
     record = 0.1
     times = np.arange(0.0, WHEELS_DURATION + record / 2, record)
     matrices_ref = wheels_reference(times)[1]
@@ -343,15 +335,18 @@ def main() -> None:
         return angle_error(result["quaternion"][at], matrices_ref)
 
     title = "a. three reaction wheels: torques for 0.5 s, then a coast to 20 s"
-    summary["a"] = ratios(case(title, runs, wheels_error, args.repeat))
+    found = ratios(case(title, runs, wheels_error, repeat))
     run = wheels_tumble("rk4", 0.01, record)["run"]
     after = run.t >= TORQUE_OFF
     print(
         f"  tumble rk4 dt = 0.01 s: |ΔH|/|H| {run.drift['angular_momentum_vector']:.1e}, the "
         f"energy after 0.5 s within {np.ptp(run.energy[after]):.1e} J of {run.energy[-1]:.6g} J"
     )
+    return found
 
-    # b. gravity gradient ---------------------------------------------------------
+
+def orbit_case(repeat: int) -> dict[str, list[float]]:
+    """Case b: the gravity-gradient pitch libration; its ratios by setting."""
     record = 10.0
 
     def orbit_error(result: dict[str, Any]) -> float:
@@ -368,9 +363,11 @@ def main() -> None:
                       ("adaptive", 1e-10), ("adaptive", 1e-13))  # fmt: skip
     runs += tumble_runs(configurations, orbit_tumble, record)
     title = "b. gravity-gradient pitch libration, three orbits (pitch error, rad)"
-    summary["b"] = ratios(case(title, runs, orbit_error, args.repeat))
+    return ratios(case(title, runs, orbit_error, repeat))
 
-    # c. spin-up ------------------------------------------------------------------
+
+def spin_up_case(repeat: int) -> dict[str, list[float]]:
+    """Case c: a wheel spun up; its ratios by setting."""
     record = 0.1
     runs = [
         ("Basilisk", f"RK4 dt = {dt:g} s", partial(bsk.spin_up, dt, record_dt=record))
@@ -382,10 +379,23 @@ def main() -> None:
     def spin_error(result: dict[str, Any]) -> float:
         return spin_up_error(result["t"], result["quaternion"])
 
-    summary["c"] = ratios(
-        case("c. one wheel spun up from rest, 10 s", runs, spin_error, args.repeat)
-    )
+    return ratios(case("c. one wheel spun up from rest, 10 s", runs, spin_error, repeat))
 
+
+CASES = {"a": wheels_case, "b": orbit_case, "c": spin_up_case}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument(
+        "--cases", default="abc", help="which cases to run (letters of a, b, c; default all)"
+    )
+    args = parser.parse_args()
+    from Basilisk import __version__ as bsk_version
+
+    print(describe({"Basilisk": bsk_version}))
+    summary = {name: CASES[name](args.repeat) for name in sorted(set(args.cases) & set(CASES))}
     print(
         "\nSpeed of tumble over Basilisk at equal or better accuracy (the smallest per case, "
         "and the largest), by how the calls were timed:"

@@ -156,7 +156,7 @@ def simulate(
     -----
     A call that describes a motion set up before (the same mass properties and
     parts, the same values of the other arguments, no ``torque`` model) reuses
-    that setup (:func:`prepare`, the last :data:`SETUP_CACHE_SIZE`) and, for the
+    that setup (``tumble.simulation.prepare`` keeps the last ``SETUP_CACHE_SIZE``) and, for the
     same duration and steps, its schedule: a short run repeated costs little more
     than its steps.
 
@@ -361,9 +361,7 @@ class Setup:
                 # The machine's memory now: asked again of a request that may not fit.
                 check_recording(*recording)
         else:
-            schedule, coarse, recording = self._new_schedule(
-                duration, dt, record_every, rtol, atol, max_steps
-            )
+            schedule, coarse, recording = self._new_schedule(key)
             if plain:
                 self.__dict__["_last_schedule"] = (key, schedule, coarse, recording)
         if coarse is not None:
@@ -373,20 +371,16 @@ class Setup:
         return schedule
 
     def _new_schedule(
-        self,
-        duration: float,
-        dt: Any,
-        record_every: int,
-        rtol: float,
-        atol: float,
-        max_steps: int | None,
+        self, arguments: tuple[Any, ...]
     ) -> tuple[Schedule, tuple[float, float, str] | None, tuple[float, float, int, int] | None]:
-        """:meth:`schedule`'s steps, checked; what a coarse step warns of (the step,
+        """:meth:`schedule`'s steps for its ``arguments`` (duration, record_every,
+        dt, rtol, atol, max_steps), checked; what a coarse step warns of (the step,
         s, the rate it must resolve, rad/s, and what turns at that rate; None when
         the step is not the user's); and the arguments of its memory check
         (:func:`tumble.integrators.limits.check_recording`) for a run again, None
         for samples of at most :data:`tumble.resources.SMALL_REQUEST` bytes (1 MiB),
         which no machine's memory refuses: a run again keeps that verdict."""
+        duration, record_every, dt, rtol, atol, max_steps = arguments
         integrator, body = self.integrator, self.body
         fastest = self.fastest_rate()
         step = time_step(dt, fastest, duration)

@@ -206,16 +206,20 @@ def test_a_trajectory_is_read_back_in_body_axes() -> None:
     moments = np.array([1.0, 1.0, 2.0])
     packed = np.array(rotor_rows((0, 0, 1), 0.5))[:, None]
     read = parts.readout(layout)
-    # Principal axes that are the body's: ω and q as they are.
-    omega, quaternion = read(states, moments, packed, np.eye(3), np.array([1.0, 0, 0, 0]), False)
+    # Principal axes that are the body's: ω and q as they are; the rotor's spin rate
+    # relative to the body h / J − a·ω = 1 / 0.5 − 1 = 1 rad/s, in either frame.
+    turn = np.array([1.0, 0, 0, 0])
+    omega, quaternion, values = read(states, moments, packed, np.eye(3), turn, False)
     assert omega.tolist() == [[0.0, 0.0, 1.0]] * 2
     assert quaternion.tolist() == states[:, 3:7].tolist()
+    assert values.tolist() == [[1.0]] * 2
     # Principal axis 3 along body x (axes' columns: body y, body z, body x), a turn of
     # 120° about (1, 1, 1): ω = (1, 0, 0) in body axes, q ⊗ turn⁻¹ as the quaternion.
     axes = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     back = np.array([0.5, -0.5, -0.5, -0.5])  # the conjugate of the principal frame's turn
-    omega, quaternion = read(states, moments, packed, axes, back, True)
+    omega, quaternion, values = read(states, moments, packed, axes, back, True)
     assert omega.tolist() == [[1.0, 0.0, 0.0]] * 2
+    assert values.tolist() == [[1.0]] * 2
     w, x, y, z = c * 0.5 + s * 0.5, -c * 0.5 + s * 0.5, -c * 0.5 - s * 0.5, -c * 0.5 + s * 0.5
     # The product of unit quaternions, renormalised: to round-off, 2 ulp.
     assert_allclose(quaternion, [[w, x, y, z]] * 2, rtol=0, atol=4e-16)

@@ -316,19 +316,26 @@ def part_model(layout: tuple[LayoutEntry, ...]) -> PartModel:
     return PartModel(velocity, momentum, rates, kick)
 
 
+def _every_part(layout, equation, nothing, chain):  # type: ignore[no-untyped-def]
+    """The chain (``chain``, from ``nothing``) of every part's function ``equation``
+    (a field of :class:`PartEquations`), in the order of their states; None when a
+    part of ``layout`` has none."""
+    if any(getattr(equations, equation) is None for equations, _, _ in layout):
+        return None
+    every, k, row = nothing, 7, 0
+    for equations, size, rows in layout:
+        every = chain(every, getattr(equations, equation), k, row, rows)
+        k += size
+        row += rows
+    return every
+
+
 @cache
 def part_energy(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
     """``shares(y, parts, pc, w) -> Σ ε`` (J): the parts' shares of twice the energy
     (the module's docstring), so that twice the energy of the body and its parts
     is ``ω · H`` plus it; None when a part of ``layout`` has no ``energy``."""
-    if any(equations.energy is None for equations, _, _ in layout):
-        return None
-    shares, k, row = _no_energy, 7, 0
-    for equations, size, rows in layout:
-        shares = _chain_energy(shares, equations.energy, k, row, rows)
-        k += size
-        row += rows
-    return shares
+    return _every_part(layout, "energy", _no_energy, _chain_energy)
 
 
 @cache
@@ -336,14 +343,7 @@ def part_values(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def
     """``values(y, parts, pc, w) -> (value, …)``: the parts' values (a tuple, m)
     from their state and the body's ω, in the order of their states; None when a
     part of ``layout`` has no compiled ``values``."""
-    if any(equations.values is None for equations, _, _ in layout):
-        return None
-    values, k, row = _no_values, 7, 0
-    for equations, size, rows in layout:
-        values = _chain_values(values, equations.values, k, row, rows)
-        k += size
-        row += rows
-    return values
+    return _every_part(layout, "values", _no_values, _chain_values)
 
 
 def measured_energy(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
