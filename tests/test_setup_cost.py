@@ -315,12 +315,53 @@ def test_a_large_run_again_is_held_to_the_memory_budget_of_now(
         tb.simulate(BODY, [0.0, 1.0, 0.5], duration=50.0, dt=0.01, method="rk4")
 
 
-def test_a_small_run_again_keeps_the_verdict_of_its_memory_check(
+def test_a_small_run_again_is_held_to_a_budget_set_since(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv(BUDGET_VARIABLE, raising=False)
+    tb.simulate(BODY, [0.0, 1.0, 0.75], duration=0.1, dt=0.01, method="rk4")  # kept
+    monkeypatch.setenv(BUDGET_VARIABLE, "100 B")
+    with pytest.raises(RequestTooLargeError, match=r"^Expected a request that fits in the memory"):
+        tb.simulate(BODY, [0.0, 1.0, 0.75], duration=0.1, dt=0.01, method="rk4")
+
+
+def test_a_run_of_many_samples_keeps_no_schedule() -> None:
+    from tumble.simulation import prepare
+
+    # 5001 samples of 8 values: 1.3 MB while the run ends, over the 1 MiB kept.
+    tb.simulate(BODY, [0.0, 1.0, 0.6], duration=50.0, dt=0.01, method="rk4")
+    assert "_last_schedule" not in prepare(BODY, [0.0, 1.0, 0.6], method="rk4").__dict__
+    tb.simulate(BODY, [0.0, 1.0, 0.6], duration=0.5, dt=0.01, method="rk4")
+    assert "_last_schedule" in prepare(BODY, [0.0, 1.0, 0.6], method="rk4").__dict__
+
+
+def test_a_max_steps_that_is_no_integer_is_refused_after_one_that_is() -> None:
+    tb.simulate(BODY, [0.0, 1.0, 0.8], duration=1.0, dt=0.01, method="rk4", max_steps=1000)
+    with pytest.raises(
+        InputError, match=r"^Expected `max_steps` to be an integer >= 1 or None, got 1000\.0\.$"
+    ):
+        tb.simulate(BODY, [0.0, 1.0, 0.8], duration=1.0, dt=0.01, method="rk4", max_steps=1000.0)
+
+
+def test_a_gravity_model_registered_since_makes_a_new_setup(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    # 11 samples: within the 1 MiB that no machine refuses (SMALL_REQUEST), not asked again.
-    monkeypatch.delenv(BUDGET_VARIABLE, raising=False)
-    first = tb.simulate(BODY, [0.0, 1.0, 0.75], duration=0.1, dt=0.01, method="rk4")
-    monkeypatch.setenv(BUDGET_VARIABLE, "100 B")
-    again = tb.simulate(BODY, [0.0, 1.0, 0.75], duration=0.1, dt=0.01, method="rk4")
-    assert np.array_equal(again.omega, first.omega)
+    from tumble.simulation import prepare
+    from tumble.torques import TORQUES
+
+    before = prepare(BODY, [0.0, 1.0, 0.1], pivot=[0, 0, -0.1], gravity=[0, 0, -9.81])
+
+    class Heavier(TORQUES["gravity"]):  # type: ignore[misc, valid-type]
+        pass
+
+    monkeypatch.setitem(TORQUES, "gravity", Heavier)
+    after = prepare(BODY, [0.0, 1.0, 0.1], pivot=[0, 0, -0.1], gravity=[0, 0, -9.81])
+    assert after is not before and type(after.model) is Heavier
+
+
+def test_a_read_only_attitude_turns_without_a_kernel_of_its_own() -> None:
+    from tumble.core.quaternion import multiply_right
+
+    attitude = np.array([[1.0, 0.0, 0.0, 0.0]])
+    attitude.flags.writeable = False
+    turned = body_model(BODY).attitude_to_principal(attitude)  # BODY's axes are turned
+    assert turned.flags.writeable
+    assert not any("readonly" in str(signature) for signature in multiply_right.signatures)

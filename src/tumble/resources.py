@@ -38,6 +38,7 @@ __all__ = [
     "DEFAULT_MAX_STEPS",
     "DEFAULT_MAX_STEPS_TEXT",
     "SMALL_REQUEST",
+    "budget_is_set",
     "check_memory",
     "format_bytes",
     "machine_memory",
@@ -224,6 +225,12 @@ def format_bytes(amount: float) -> str:
     raise AssertionError("unreachable")
 
 
+def budget_is_set() -> bool:
+    """Whether ``TUMBLE_MEMORY_BUDGET`` is set (to more than blanks): then even a
+    small request is checked (:func:`check_memory`)."""
+    return bool(os.environ.get(BUDGET_VARIABLE, "").strip())
+
+
 def check_memory(needed: float, what: str | Callable[[], str], advice: str) -> None:
     """Refuse a request that needs ``needed`` bytes when the budget is smaller.
 
@@ -236,7 +243,7 @@ def check_memory(needed: float, what: str | Callable[[], str], advice: str) -> N
     RequestTooLargeError
         With the estimate, the budget and the advice.
     """
-    if needed <= SMALL_REQUEST and not os.environ.get(BUDGET_VARIABLE, "").strip():
+    if needed <= SMALL_REQUEST and not budget_is_set():
         return
     budget, source = memory_budget()
     if needed > budget:

@@ -35,7 +35,7 @@ from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties, as_mass_properties, readonly
 from tumble.parts import InternalPart, check_parts, value_columns
 from tumble.recent import UNKEYED, RecentCache, plain_key
-from tumble.resources import DEFAULT_MAX_STEPS, SMALL_REQUEST
+from tumble.resources import DEFAULT_MAX_STEPS, SMALL_REQUEST, budget_is_set
 from tumble.torques import TORQUES, BoundTorque, TorqueModel, bind
 from tumble.trajectory import Trajectory
 from tumble.units import to_si, vector_to_si
@@ -350,19 +350,19 @@ class Setup:
         RequestTooLargeError, IntegrationError
             As :func:`simulate`.
         """
-        # Plain values (as the checks read them, 1 is 1.0; none of them may be -0.0)
-        # name the schedule; a run given quantities is scheduled anew.
+        # Plain values name the schedule, as the checks read them: 1 is 1.0 (none of
+        # them may be -0.0), but max_steps is an int or None. A run given quantities,
+        # or one whose samples take more than SMALL_REQUEST, is scheduled anew.
         key = (duration, record_every, dt, rtol, atol, max_steps)
-        plain = all(type(value) in _PLAIN for value in key)
+        plain = type(max_steps) in _STEP_COUNTS and all(type(v) in _PLAIN for v in key[2:5])
         last = self.__dict__.get("_last_schedule") if plain else None
         if last is not None and last[0] == key:
             schedule, coarse, recording = last[1], last[2], last[3]
-            if recording is not None:
-                # The machine's memory now: asked again of a request that may not fit.
+            if budget_is_set():  # small requests are checked against a budget set since
                 check_recording(*recording)
         else:
-            schedule, coarse, recording = self._new_schedule(key)
-            if plain:
+            schedule, coarse, recording, needed = self._new_schedule(key)
+            if plain and needed <= SMALL_REQUEST:
                 self.__dict__["_last_schedule"] = (key, schedule, coarse, recording)
         if coarse is not None:
             step, rate, what = coarse
@@ -372,14 +372,13 @@ class Setup:
 
     def _new_schedule(
         self, arguments: tuple[Any, ...]
-    ) -> tuple[Schedule, tuple[float, float, str] | None, tuple[float, float, int, int] | None]:
+    ) -> tuple[Schedule, tuple[float, float, str] | None, tuple[float, float, int, int], float]:
         """:meth:`schedule`'s steps for its ``arguments`` (duration, record_every,
         dt, rtol, atol, max_steps), checked; what a coarse step warns of (the step,
         s, the rate it must resolve, rad/s, and what turns at that rate; None when
-        the step is not the user's); and the arguments of its memory check
-        (:func:`tumble.integrators.limits.check_recording`) for a run again, None
-        for samples of at most :data:`tumble.resources.SMALL_REQUEST` bytes (1 MiB),
-        which no machine's memory refuses: a run again keeps that verdict."""
+        the step is not the user's); the arguments of its memory check
+        (:func:`tumble.integrators.limits.check_recording`) and the memory its
+        samples take, bytes."""
         duration, record_every, dt, rtol, atol, max_steps = arguments
         integrator, body = self.integrator, self.body
         fastest = self.fastest_rate()
@@ -389,8 +388,8 @@ class Setup:
             # The default step resolves the parts' own motion too: one step per 1/rate,
             # well within the stability interval (2.78 for RK4).
             step = min(step, 1.0 / internal)
-        checked = (duration, step, record_every, len(value_columns(body.parts)))
-        recording = None if check_recording(*checked) <= SMALL_REQUEST else checked
+        recording = (duration, step, record_every, len(value_columns(body.parts)))
+        needed = check_recording(*recording)
         most = most_steps(max_steps)
         schedule = Schedule.build(
             duration, step, record_every, rtol=rtol, atol=atol, most_steps=most
@@ -403,12 +402,12 @@ class Setup:
             )
         check_internal_stability(internal, names, integrator.kind, schedule.step, duration, most)
         if dt is None or integrator.kind != "stepping":
-            return schedule, None, recording
+            return schedule, None, recording, needed
         if integrator.exact_free_motion:  # only the torque needs resolving
             rate, what = body.pendulum_rate(self.weight), "the pendulum swing"
         else:
             rate, what = fastest, "the fastest rotation"
-        return schedule, (schedule.step, rate, what), recording
+        return schedule, (schedule.step, rate, what), recording, needed
 
 
 def prepare(
@@ -465,8 +464,10 @@ def prepare(
     return setup
 
 
-#: The types of the values that name a run's schedule (:meth:`Setup.schedule`).
+#: The types of the values that name a run's schedule (:meth:`Setup.schedule`):
+#: dt, rtol and atol, and max_steps.
 _PLAIN = frozenset({float, int, str, type(None)})
+_STEP_COUNTS = frozenset({int, type(None)})
 
 #: How many setups :func:`prepare` keeps for calls that describe the same motion
 #: again: the most recently made.
@@ -490,9 +491,10 @@ def _setup_key(
     given by anything but mass properties, parts and plain values
     (:func:`tumble.recent.plain_key`). Mass properties and parts are immutable;
     their identities name them, with the values of ``mp`` (as
-    :func:`tumble.body.body_model`'s key). For ``method="auto"`` the registry of
-    integrators is held as well: an integrator registered since makes a new
-    setup (a method asked for by name is looked up again, :func:`prepare`)."""
+    :func:`tumble.body.body_model`'s key). What the registries give is held as
+    well: the model of ``gravity``, and for ``method="auto"`` every integrator, so
+    that one registered since makes a new setup (a method asked for by name is
+    looked up again, :func:`prepare`)."""
     parts = () if internal is None else internal
     if (
         type(mp) is not MassProperties
@@ -507,9 +509,8 @@ def _setup_key(
         return None, ()
     key: tuple[Any, ...] = (id(mp), mp.mass, mp.center_of_mass.tobytes(), mp.inertia.tobytes())
     key += (method, *values, tuple(map(id, parts)))
-    if method == "auto":
-        return key, (mp, *parts, *INTEGRATORS.values())
-    return key, (mp, *parts)
+    held = (mp, *parts) if gravity is None else (mp, *parts, TORQUES.get("gravity"))
+    return key, (*held, *INTEGRATORS.values()) if method == "auto" else held
 
 
 def _torque_model(

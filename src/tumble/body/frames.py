@@ -83,6 +83,7 @@ def _turned(quaternions: Array, turn: Array) -> Array:
     (4,) on the right, renormalised (:func:`tumble.core.quaternion.multiply_right`)."""
     from tumble.core.quaternion import multiply_right
 
-    stack = np.ascontiguousarray(np.atleast_2d(quaternions), dtype=float)
+    # A copy, writable: a read-only one would be a kernel signature of its own.
+    stack = np.array(np.atleast_2d(quaternions), dtype=float, order="C")
     out = multiply_right(stack, turn)
     return np.asarray(out[0] if np.ndim(quaternions) == 1 else out)
