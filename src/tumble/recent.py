@@ -1,7 +1,7 @@
 """The values most recently computed for a few keys, kept for calls that ask again.
 
 A :class:`RecentCache` keeps the last values computed from immutable objects
-(mass properties, parts, rotations: frozen, their arrays read-only) and plain
+(mass properties and parts: frozen, their arrays read-only) and plain
 values (numbers, strings, short vectors). A key names the objects by identity
 and the plain values by :func:`plain_key`; each entry holds the objects it
 names, so that no other object can take their identities while it lives.
@@ -96,8 +96,3 @@ class RecentCache(Generic[Value]):
             self._entries.move_to_end(key)
             while len(self._entries) > self.size:
                 self._entries.popitem(last=False)
-
-    def clear(self) -> None:
-        """Forget every value."""
-        with self._lock:
-            self._entries.clear()
