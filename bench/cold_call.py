@@ -71,7 +71,7 @@ def bare_steps() -> Callable[[], Any]:
     from tumble.simulation import prepare
 
     setup = prepare(SPUN, [0, 0, 0], internal=SPINNER, method="rk4")
-    schedule = setup.schedule(10.0, 0.1, 1, rtol=1e-10, atol=1e-12, max_steps=None)
+    schedule = setup.plan(10.0, 0.1, 1, rtol=1e-10, atol=1e-12, max_steps=None).schedule
     start, torque = parts_start(setup.integrator, setup.problem), setup.torque
 
     def call() -> Any:

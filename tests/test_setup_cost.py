@@ -13,7 +13,7 @@ import tumble as tb
 from tumble.body import BODY_CACHE_SIZE, RigidBody, body_model
 from tumble.errors import InputError, RequestTooLargeError
 from tumble.resources import BUDGET_VARIABLE, SMALL_REQUEST, check_memory
-from tumble.units import to_si, vector_to_si
+from tumble.units import to_si, ureg, vector_to_si
 
 BODY = tb.MassProperties(
     2.0, [0.0, 0.0, 0.1], [[3.0, -1.0, 0.0], [-1.0, 3.0, 0.0], [0.0, 0.0, 5.0]]
@@ -323,14 +323,72 @@ def test_a_small_run_again_is_held_to_a_budget_set_since(monkeypatch: pytest.Mon
         tb.simulate(BODY, [0.0, 1.0, 0.75], duration=0.1, dt=0.01, method="rk4")
 
 
-def test_a_run_of_many_samples_keeps_no_schedule() -> None:
-    from tumble.simulation import prepare
+def _plans_counted(monkeypatch: pytest.MonkeyPatch) -> list[float]:
+    """The durations of the runs planned anew from now on (:meth:`Setup.plan`)."""
+    from tumble.simulation import Setup
 
+    planned: list[float] = []
+    plan = Setup.plan
+
+    def counted(self: Setup, duration: float, *args: object, **kwargs: object) -> object:
+        planned.append(duration)
+        return plan(self, duration, *args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(Setup, "plan", counted)
+    return planned
+
+
+def test_a_run_of_many_samples_is_not_kept(monkeypatch: pytest.MonkeyPatch) -> None:
+    planned = _plans_counted(monkeypatch)
     # 5001 samples of 8 values: 1.3 MB while the run ends, over the 1 MiB kept.
-    tb.simulate(BODY, [0.0, 1.0, 0.6], duration=50.0, dt=0.01, method="rk4")
-    assert "_last_schedule" not in prepare(BODY, [0.0, 1.0, 0.6], method="rk4").__dict__
-    tb.simulate(BODY, [0.0, 1.0, 0.6], duration=0.5, dt=0.01, method="rk4")
-    assert "_last_schedule" in prepare(BODY, [0.0, 1.0, 0.6], method="rk4").__dict__
+    for _ in range(2):
+        tb.simulate(BODY, [0.0, 1.0, 0.6], duration=50.0, dt=0.01, method="rk4")
+        tb.simulate(BODY, [0.0, 1.0, 0.6], duration=0.5, dt=0.01, method="rk4")
+    assert planned == [50.0, 0.5, 50.0]
+
+
+def test_a_run_asked_for_again_is_kept_whatever_the_plain_values_look_like(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    planned = _plans_counted(monkeypatch)
+    wheel = [tb.Rotor([0, 1, 0], 0.05, speed=20.0)]
+    first = tb.simulate(BODY, [0.0, 1.0, 0.4], duration=1.0, dt=0.01, internal=wheel)
+    # 1 is 1.0, a tuple is a list; the same run each time.
+    again = [
+        tb.simulate(BODY, (0.0, 1, 0.4), duration=1, dt=0.01, internal=tuple(wheel)),
+        tb.simulate(BODY, [0.0, 1.0, 0.4], duration=1.0, dt=0.01, internal=wheel, rtol=1e-10),
+    ]
+    assert planned == [1.0]
+    for run in again:
+        assert np.array_equal(run.omega, first.omega) and np.array_equal(run.t, first.t)
+        assert np.array_equal(run.rotor_speed, first.rotor_speed)
+        assert run.reason == first.reason and run.method == first.method
+    # Each of these is planned anew: a new value, a quantity, a new max_steps, atol.
+    tb.simulate(BODY, [0.0, 1.0, 0.4], duration=2.0, dt=0.01, internal=wheel)
+    tb.simulate(BODY, [0.0, 1.0, 0.4], duration=1.0, dt=0.02, internal=wheel)
+    tb.simulate(BODY, [0.0, 1.0, 0.4], duration=1.0, dt=0.01, internal=wheel, record_every=2)
+    tb.simulate(BODY, [0.0, 1.0, 0.4], duration=ureg.Quantity(1.0, "s"), dt=0.01, internal=wheel)
+    tb.simulate(BODY, [0.0, 1.0, 0.4], duration=1.0, dt=0.01, internal=wheel, max_steps=10**6)
+    tb.simulate(BODY, [0.0, 1.0, 0.4], duration=1.0, dt=0.01, internal=wheel, atol=1e-9)
+    assert planned == [1.0, 2.0, 1.0, 1.0, 1.0, 1.0, 1.0]
+    # A progress report runs the kept run, reporting.
+    reports: list[tuple[int, int]] = []
+    reported = tb.simulate(
+        BODY,
+        [0.0, 1.0, 0.4],
+        duration=1.0,
+        dt=0.01,
+        internal=wheel,
+        progress=lambda done, total: reports.append((done, total)),
+    )
+    assert len(planned) == 7 and reports == [(100, 100)]
+    assert np.array_equal(reported.omega, first.omega)
+
+
+def test_a_kept_run_refuses_a_progress_that_cannot_be_called() -> None:
+    tb.simulate(BODY, [0.0, 1.0, 0.45], duration=1.0, dt=0.01, method="rk4")
+    with pytest.raises(InputError, match=r"^Expected `progress` to be None or a function"):
+        tb.simulate(BODY, [0.0, 1.0, 0.45], duration=1.0, dt=0.01, method="rk4", progress=3)
 
 
 def test_a_max_steps_that_is_no_integer_is_refused_after_one_that_is() -> None:
@@ -365,3 +423,33 @@ def test_a_read_only_attitude_turns_without_a_kernel_of_its_own() -> None:
     turned = body_model(BODY).attitude_to_principal(attitude)  # BODY's axes are turned
     assert turned.flags.writeable
     assert not any("readonly" in str(signature) for signature in multiply_right.signatures)
+
+
+def test_a_kept_run_that_does_not_stay_finite_is_refused_each_time() -> None:
+    # ω of 1e160 rad/s: its squares overflow in the first step of a body and its
+    # wheel, as the kernel takes it in one call (100 steps, no progress asked).
+    wheel = [tb.Rotor([0, 1, 0], 0.05, speed=20.0)]
+    for _ in range(2):
+        with (
+            pytest.raises(
+                tb.IntegrationError,
+                match=r"^Expected the integration to stay finite, got NaN or inf at step 1 ",
+            ),
+            pytest.warns(tb.CoarseStepWarning),
+        ):
+            tb.simulate(
+                BODY, [1e160, 1.0, 0.0], duration=1.0, dt=0.01, internal=wheel, method="rk4"
+            )
+
+
+def test_an_integrator_without_a_ready_driver_runs_its_own() -> None:
+    from tumble.integrators.problem import Samples
+    from tumble.simulation import prepare
+
+    setup = prepare(BODY, [0.0, 1.0, 0.3], method="adaptive", internal=[WHEEL])
+    assert setup.integrator.ready is None
+    run = setup.plan(1.0, 0.1, 1, rtol=1e-10, atol=1e-12, max_steps=None)
+    samples = run.steps(None)
+    again = setup.integrator.run(setup.integrator, setup.problem, run.schedule, None)
+    assert isinstance(samples, Samples) and samples.steps == again.steps
+    assert np.array_equal(samples.omega, again.omega)

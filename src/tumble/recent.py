@@ -32,6 +32,9 @@ _LONGEST = 4
 #: The types of the numbers named by value (not bool: ``True == 1``, and it is refused).
 _NUMBERS = frozenset({float, int})
 
+#: The packing of 0 to ``_LONGEST`` float64 values into their bytes, by count.
+_PACK = tuple(struct.Struct(f"{count}d").pack for count in range(_LONGEST + 1))
+
 
 def plain_key(value: Any) -> Any:
     """A hashable key that stands for ``value`` wherever only its value counts:
@@ -59,7 +62,7 @@ def plain_key(value: Any) -> Any:
         if type(number) not in _NUMBERS:
             return UNKEYED
     try:
-        return (kind is float or kind is int, struct.pack(f"{len(value)}d", *map(float, value)))
+        return (kind is float or kind is int, _PACK[len(value)](*map(float, value)))
     except OverflowError:  # an int beyond float range: refused where it is read
         return UNKEYED
 

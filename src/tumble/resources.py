@@ -228,7 +228,8 @@ def format_bytes(amount: float) -> str:
 def budget_is_set() -> bool:
     """Whether ``TUMBLE_MEMORY_BUDGET`` is set (to more than blanks): then even a
     small request is checked (:func:`check_memory`)."""
-    return bool(os.environ.get(BUDGET_VARIABLE, "").strip())
+    value = os.environ.get(BUDGET_VARIABLE)
+    return value is not None and not value.isspace() and value != ""
 
 
 def check_memory(needed: float, what: str | Callable[[], str], advice: str) -> None:

@@ -30,7 +30,7 @@ from tumble.integrators.limits import (
     check_recording,
 )
 from tumble.integrators.problem import Problem, Samples, Schedule
-from tumble.integrators.steps import MAX_STEPS, time_step, warn_if_coarse
+from tumble.integrators.steps import MAX_STEPS, Progress, time_step, warn_if_coarse
 from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties, as_mass_properties, readonly
 from tumble.parts import InternalPart, check_parts, value_columns
@@ -42,7 +42,7 @@ from tumble.units import to_si, vector_to_si
 
 Array = NDArray[np.float64]
 
-__all__ = ["SETUP_CACHE_SIZE", "Setup", "prepare", "simulate"]
+__all__ = ["SETUP_CACHE_SIZE", "PlannedRun", "Setup", "prepare", "simulate"]
 
 
 def simulate(
@@ -156,9 +156,12 @@ def simulate(
     -----
     A call that describes a motion set up before (the same mass properties and
     parts, the same values of the other arguments, no ``torque`` model) reuses
-    that setup (``tumble.simulation.prepare`` keeps the last ``SETUP_CACHE_SIZE``) and, for the
-    same duration and steps, its schedule: a short run repeated costs little more
-    than its steps.
+    that setup (``tumble.simulation.prepare`` keeps the last ``SETUP_CACHE_SIZE``).
+    A call that asks for a run made before (its setup kept, and the same
+    duration, steps and tolerances, given as plain numbers or strings) reuses
+    the run checked and made ready, when its samples take at most 1 MiB: a
+    short run repeated costs little more than its steps. It still warns of a
+    coarse step and is held to a memory budget set since.
 
     Examples
     --------
@@ -190,26 +193,39 @@ def simulate(
     >>> print(f"{rate:.2f} rad/s, theory {np.sqrt(2 * 9.81 * 0.2 / (0.008 + 2 * 0.2**2)):.2f}")
     6.68 rad/s, theory 6.68
     """
-    record_every = check_record_every(record_every)
-    setup = prepare(
-        mp,
-        omega0,
-        attitude0=attitude0,
-        pivot=pivot,
-        gravity=gravity,
-        torque=torque,
-        method=method,
-        internal=internal,
-    )
-    total_time = _duration(duration)
-    _check_run_options(rtol, atol, progress)
-    schedule = setup.schedule(
-        total_time, dt, record_every, rtol=rtol, atol=atol, max_steps=max_steps
-    )
-    integrator = setup.integrator
-    samples = integrator.run(integrator, setup.problem, schedule, progress)
+    arguments = (duration, dt, record_every, rtol, atol, max_steps)
+    key, held = _run_key(mp, omega0, attitude0, pivot, gravity, torque, method, internal, arguments)
+    run = None if key is None else _RUNS.get(key, held)
+    # A method asked for by name: the one registered under it now.
+    if run is not None and (method == "auto" or INTEGRATORS.get(method) is run.setup.integrator):
+        if progress is not None:
+            _check_run_options(rtol, atol, progress)
+        if budget_is_set():  # small requests are checked against a budget set since
+            check_recording(*run.recording)
+    else:
+        record_every = check_record_every(record_every)
+        setup = prepare(
+            mp,
+            omega0,
+            attitude0=attitude0,
+            pivot=pivot,
+            gravity=gravity,
+            torque=torque,
+            method=method,
+            internal=internal,
+        )
+        total_time = _duration(duration)
+        _check_run_options(rtol, atol, progress)
+        run = setup.plan(total_time, dt, record_every, rtol=rtol, atol=atol, max_steps=max_steps)
+        if key is not None and run.needed <= SMALL_REQUEST:
+            _RUNS.put(key, held, run)
+    if run.coarse is not None:
+        # The warning names the line that called simulate: three frames up.
+        warn_if_coarse(*run.coarse, stacklevel=3)
+    setup, schedule = run.setup, run.schedule
+    samples = run.steps(progress)
     reason = setup.reason
-    if integrator.kind == "adaptive" and method == "auto":
+    if setup.integrator.kind == "adaptive" and method == "auto":
         reason += f" (rtol {rtol:g}, atol {atol:g})"
     return _trajectory(mp, pivot, setup, schedule, samples, reason)
 
@@ -287,8 +303,7 @@ class Setup:
     as given (``gravity`` included), which the trajectory keeps for its energy.
 
     :func:`prepare` keeps the last :data:`SETUP_CACHE_SIZE` for calls that
-    describe the same motion again, and each keeps the schedule of its last run:
-    a setup is never changed once made."""
+    describe the same motion again: a setup is never changed once made."""
 
     body: RigidBody
     torque: BoundTorque
@@ -325,7 +340,7 @@ class Setup:
         1/``DEFAULT_STEPS_PER_TURN`` of a turn of the fastest rotation)."""
         return time_step(dt, self.fastest_rate(), duration)
 
-    def schedule(
+    def plan(
         self,
         duration: float,
         dt: Any,
@@ -334,13 +349,13 @@ class Setup:
         rtol: float,
         atol: float,
         max_steps: int | None,
-    ) -> Schedule:
-        """The steps and recorded times of a run of ``duration`` s (arguments as
-        :func:`simulate`'s), checked before any work: the samples within the
+    ) -> PlannedRun:
+        """A run of ``duration`` s (arguments as :func:`simulate`'s, ``duration`` and
+        ``record_every`` checked), checked before any work: the samples within the
         memory budget, the steps within ``max_steps``, a fixed step within the
-        stability of the parts' own motion; a ``dt`` given too coarse for the
-        fastest rotation (or, for the splittings around the exact free motion,
-        for the pendulum swing) warns.
+        stability of the parts' own motion; and what a ``dt`` given too coarse
+        for the fastest rotation (or, for the splittings around the exact free
+        motion, for the pendulum swing) warns of.
 
         Raises
         ------
@@ -350,36 +365,6 @@ class Setup:
         RequestTooLargeError, IntegrationError
             As :func:`simulate`.
         """
-        # Plain values name the schedule, as the checks read them: 1 is 1.0 (none of
-        # them may be -0.0), but max_steps is an int or None. A run given quantities,
-        # or one whose samples take more than SMALL_REQUEST, is scheduled anew.
-        key = (duration, record_every, dt, rtol, atol, max_steps)
-        plain = type(max_steps) in _STEP_COUNTS and all(type(v) in _PLAIN for v in key[2:5])
-        last = self.__dict__.get("_last_schedule") if plain else None
-        if last is not None and last[0] == key:
-            schedule, coarse, recording = last[1], last[2], last[3]
-            if budget_is_set():  # small requests are checked against a budget set since
-                check_recording(*recording)
-        else:
-            schedule, coarse, recording, needed = self._new_schedule(key)
-            if plain and needed <= SMALL_REQUEST:
-                self.__dict__["_last_schedule"] = (key, schedule, coarse, recording)
-        if coarse is not None:
-            step, rate, what = coarse
-            # The warning names the line that called simulate: four frames up.
-            warn_if_coarse(step, rate, what, stacklevel=4)
-        return schedule
-
-    def _new_schedule(
-        self, arguments: tuple[Any, ...]
-    ) -> tuple[Schedule, tuple[float, float, str] | None, tuple[float, float, int, int], float]:
-        """:meth:`schedule`'s steps for its ``arguments`` (duration, record_every,
-        dt, rtol, atol, max_steps), checked; what a coarse step warns of (the step,
-        s, the rate it must resolve, rad/s, and what turns at that rate; None when
-        the step is not the user's); the arguments of its memory check
-        (:func:`tumble.integrators.limits.check_recording`) and the memory its
-        samples take, bytes."""
-        duration, record_every, dt, rtol, atol, max_steps = arguments
         integrator, body = self.integrator, self.body
         fastest = self.fastest_rate()
         step = time_step(dt, fastest, duration)
@@ -401,13 +386,37 @@ class Setup:
                 "larger dt or a shorter duration, or raise `max_steps=`."
             )
         check_internal_stability(internal, names, integrator.kind, schedule.step, duration, most)
-        if dt is None or integrator.kind != "stepping":
-            return schedule, None, recording, needed
-        if integrator.exact_free_motion:  # only the torque needs resolving
-            rate, what = body.pendulum_rate(self.weight), "the pendulum swing"
-        else:
-            rate, what = fastest, "the fastest rotation"
-        return schedule, (schedule.step, rate, what), recording, needed
+        coarse = None
+        if dt is not None and integrator.kind == "stepping":
+            if integrator.exact_free_motion:  # only the torque needs resolving
+                coarse = (schedule.step, body.pendulum_rate(self.weight), "the pendulum swing")
+            else:
+                coarse = (schedule.step, fastest, "the fastest rotation")
+        return PlannedRun(self, schedule, coarse, recording, needed)
+
+
+@dataclass(frozen=True, eq=False)
+class PlannedRun:
+    """A run of a :class:`Setup`, checked before any step (:meth:`Setup.plan`): its
+    schedule; what a coarse step warns of (the step, s, the rate it must resolve,
+    rad/s, and what turns at that rate; None when the step is not the user's);
+    the arguments of its memory check
+    (:func:`tumble.integrators.limits.check_recording`) and the memory its
+    samples take, bytes. :func:`simulate` keeps the last
+    :data:`SETUP_CACHE_SIZE` small ones for calls that ask for them again."""
+
+    setup: Setup
+    schedule: Schedule
+    coarse: tuple[float, float, str] | None
+    recording: tuple[float, float, int, int]
+    needed: float
+
+    @cached_property
+    def steps(self) -> Callable[[Progress], Samples]:
+        """``steps(progress) -> Samples``: the integrator's driver made ready for
+        this run (:meth:`tumble.integrators.Integrator.ready_run`), from the
+        initial state at each call."""
+        return self.setup.integrator.ready_run(self.setup.problem, self.schedule)
 
 
 def prepare(
@@ -464,16 +473,49 @@ def prepare(
     return setup
 
 
-#: The types of the values that name a run's schedule (:meth:`Setup.schedule`):
-#: dt, rtol and atol, and max_steps.
+#: The types of the values that name a run besides its setup (:func:`_run_key`):
+#: the duration, dt, rtol and atol; and max_steps.
 _PLAIN = frozenset({float, int, str, type(None)})
 _STEP_COUNTS = frozenset({int, type(None)})
 
 #: How many setups :func:`prepare` keeps for calls that describe the same motion
-#: again: the most recently made.
+#: again, and how many runs :func:`simulate` keeps for calls that ask for the same
+#: run again: the most recently made.
 SETUP_CACHE_SIZE = 64
 
 _SETUPS: RecentCache[Setup] = RecentCache(SETUP_CACHE_SIZE)
+_RUNS: RecentCache[PlannedRun] = RecentCache(SETUP_CACHE_SIZE)
+
+
+def _run_key(
+    mp: Any,
+    omega0: Any,
+    attitude0: Any,
+    pivot: Any,
+    gravity: Any,
+    torque: Any,
+    method: Any,
+    internal: Any,
+    arguments: tuple[Any, ...],
+) -> tuple[Any, tuple[Any, ...]]:
+    """The key of :func:`simulate`'s arguments and the objects its entry holds, or
+    (None, ()) for a run that is not kept: one whose setup is not
+    (:func:`_setup_key`), or whose ``arguments`` (duration, dt, record_every,
+    rtol, atol, max_steps) are not plain values. They name it as the checks read
+    them: 1 is 1.0 (none of them may be -0.0), but ``record_every`` is an int and
+    ``max_steps`` an int or None."""
+    duration, dt, record_every, rtol, atol, max_steps = arguments
+    if (
+        type(record_every) is not int
+        or type(max_steps) not in _STEP_COUNTS
+        or type(duration) not in _PLAIN
+        or type(dt) not in _PLAIN
+        or type(rtol) not in _PLAIN
+        or type(atol) not in _PLAIN
+    ):
+        return None, ()
+    key, held = _setup_key(mp, omega0, attitude0, pivot, gravity, torque, method, internal)
+    return (None, ()) if key is None else (key + arguments, held)
 
 
 def _setup_key(
@@ -495,20 +537,34 @@ def _setup_key(
     well: the model of ``gravity``, and for ``method="auto"`` every integrator, so
     that one registered since makes a new setup (a method asked for by name is
     looked up again, :func:`prepare`)."""
+    # One flat tuple, made and compared in as few steps as may be: a short run
+    # repeated spends a good part of its time here.
     parts = () if internal is None else internal
     if (
         type(mp) is not MassProperties
         or torque is not None
         or type(method) is not str
         or (type(parts) is not list and type(parts) is not tuple)
-        or not all(isinstance(part, InternalPart) for part in parts)
     ):
         return None, ()
-    values = tuple(map(plain_key, (omega0, attitude0, pivot, gravity)))
-    if UNKEYED in values:
+    for part in parts:
+        if not isinstance(part, InternalPart):
+            return None, ()
+    key = (
+        id(mp),
+        mp.mass,
+        mp.center_of_mass.tobytes(),
+        mp.inertia.tobytes(),
+        method,
+        plain_key(omega0),
+        None if attitude0 is None else plain_key(attitude0),
+        None if pivot is None else plain_key(pivot),
+        None if gravity is None else plain_key(gravity),
+        len(parts),
+        *map(id, parts),
+    )
+    if UNKEYED in key[5:9]:
         return None, ()
-    key: tuple[Any, ...] = (id(mp), mp.mass, mp.center_of_mass.tobytes(), mp.inertia.tobytes())
-    key += (method, *values, tuple(map(id, parts)))
     held = (mp, *parts) if gravity is None else (mp, *parts, TORQUES.get("gravity"))
     return key, (*held, *INTEGRATORS.values()) if method == "auto" else held
 

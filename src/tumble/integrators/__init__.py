@@ -116,6 +116,9 @@ class Integrator:
         parts (one body, a batch, a batch measured as it steps: :mod:`tumble.core.parts`),
         or None.
     run : the single-body driver of its kind (:mod:`tumble.integrators.drivers`).
+    ready : None, or ``ready(integrator, problem, schedule) -> run(progress)``: its
+        driver made ready for one problem and schedule, called for each run of
+        them (:meth:`ready_run`; None: ``run`` itself, with those arguments).
     """
 
     name: str
@@ -138,6 +141,7 @@ class Integrator:
     parts_single: PartsKernelFactory | None = None
     parts_batch: PartsKernelFactory | None = None
     parts_metrics: PartsKernelFactory | None = None
+    ready: Callable[..., Callable[[Any], Any]] | None = None
     _kernels: dict[tuple[str, str, Any, int | None, bool], Any] = field(
         default_factory=dict, repr=False
     )
@@ -146,6 +150,13 @@ class Integrator:
     @property
     def supports_batch(self) -> bool:
         return self.batch is not None
+
+    def ready_run(self, problem: Any, schedule: Any) -> Callable[[Any], Any]:
+        """``run(progress) -> Samples``: its driver for this problem and schedule
+        (:mod:`tumble.integrators.problem`), made ready for runs that repeat them."""
+        if self.ready is None:
+            return partial(self.run, self, problem, schedule)
+        return self.ready(self, problem, schedule)
 
     def handles(self, parts: Any) -> bool:
         """True when it integrates a body carrying these parts (instances of
@@ -407,6 +418,7 @@ def _splitting(
         "kind": "stepping",
         "order": order,
         "run": drivers.run_stepping,
+        "ready": drivers.ready_stepping,
         "exact_symmetric_spin": True,
         "kicks": True,
         "auto": auto,
@@ -489,6 +501,7 @@ register_integrator(
         order=4,
         preserves="the unit quaternion",
         run=drivers.run_stepping,
+        ready=drivers.ready_stepping,
         single=partial(stepping.single_kernel, rk4_step),
         batch=partial(stepping.batch_kernel, rk4_step),
         metrics=partial(stepping.metrics_kernel, rk4_step),

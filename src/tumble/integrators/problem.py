@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -67,11 +67,11 @@ def parts_start(integrator: Any, problem: Problem) -> PartsStart:
     )
 
 
-@dataclass(frozen=True, eq=False)
-class Samples:
+class Samples(NamedTuple):
     """What a driver returns: ω (n, 3) rad/s and the attitude (n, 4) body → space in
     body axes, the parts' values (n, p) (p the sum of the parts'
-    :attr:`~tumble.parts.InternalPart.size`) and the number of steps taken."""
+    :attr:`~tumble.parts.InternalPart.size`) and the number of steps taken (a
+    tuple: made at every run, at the cost of one)."""
 
     omega: Array
     quaternion: Array

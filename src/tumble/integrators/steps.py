@@ -23,6 +23,7 @@ __all__ = [
     "MIN_STEPS_PER_TURN",
     "PROGRESS_CHUNK",
     "Progress",
+    "check_finite",
     "recorded_samples",
     "step_in_chunks",
     "time_step",
@@ -82,15 +83,26 @@ def step_in_chunks(
     done = 0
     while done < n_steps:
         count = min(PROGRESS_CHUNK, n_steps - done)
-        status = int(run(done, count))
-        if status != FINITE:
-            raise IntegrationError(
-                f"Expected the integration to stay finite, got NaN or inf at step {status} "
-                f"(t = {status * step:.6g} s) with dt = {step:.3g} s: reduce dt."
-            )
+        check_finite(run(done, count), step)
         done += count
         if progress is not None:
             progress(done, n_steps)
+
+
+def check_finite(status: int, step: float) -> None:
+    """Refuse a compiled kernel's ``status`` that is not ``FINITE``: the number of
+    its first non-finite step of ``step`` s.
+
+    Raises
+    ------
+    IntegrationError
+        The message names the step and its time.
+    """
+    if status != FINITE:
+        raise IntegrationError(
+            f"Expected the integration to stay finite, got NaN or inf at step {status} "
+            f"(t = {status * step:.6g} s) with dt = {step:.3g} s: reduce dt."
+        )
 
 
 #: Fewer integration steps than this per turn of the fastest rotation trigger a

@@ -10,6 +10,13 @@ state holds the parts' momenta besides the body's.
 
 from tumble.integrators.drivers.adaptive import ADAPTIVE_CHUNK, run_adaptive
 from tumble.integrators.drivers.exact import check_finite_motion, run_exact
-from tumble.integrators.drivers.stepping import run_stepping
+from tumble.integrators.drivers.stepping import ready_stepping, run_stepping
 
-__all__ = ["ADAPTIVE_CHUNK", "check_finite_motion", "run_adaptive", "run_exact", "run_stepping"]
+__all__ = [
+    "ADAPTIVE_CHUNK",
+    "check_finite_motion",
+    "ready_stepping",
+    "run_adaptive",
+    "run_exact",
+    "run_stepping",
+]

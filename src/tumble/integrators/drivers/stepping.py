@@ -4,83 +4,89 @@ of steps between progress reports."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from tumble.integrators.problem import Problem, Samples, Schedule, parts_start
-from tumble.integrators.steps import Progress, step_in_chunks
+from tumble.integrators.steps import PROGRESS_CHUNK, Progress, check_finite, step_in_chunks
 
-__all__ = ["run_stepping"]
+__all__ = ["ready_stepping", "run_stepping"]
 
 
 def run_stepping(
     integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
 ) -> Samples:
     """Fixed steps with the integrator's single-body kernel."""
+    return ready_stepping(integrator, problem, schedule)(progress)
+
+
+def ready_stepping(
+    integrator: Any, problem: Problem, schedule: Schedule
+) -> Callable[[Progress], Samples]:
+    """:func:`run_stepping` made ready: ``run(progress) -> Samples``, which starts
+    from a copy of the initial state at each call. Without progress reports, a
+    run of at most ``PROGRESS_CHUNK`` steps is one call of the kernel, with
+    nothing between the caller and the compiled steps but the samples' arrays."""
     if problem.body.parts:
-        return _run_parts_stepping(integrator, problem, schedule, progress)
-    body = problem.body
-    kernel = integrator.kernel("single", problem.torque)
-    rows = len(schedule.times)
-    out_w = np.empty((rows, 3))
-    out_q = np.empty((rows, 4))
-    w = np.array(body.to_principal(problem.omega0), dtype=float)
-    q = np.array(body.attitude_to_principal(problem.attitude0), dtype=float)
-    out_w[0], out_q[0] = w, q
-    torque = problem.torque
+        return _ready_parts(integrator, problem, schedule)
+    body, torque = problem.body, problem.torque
+    kernel = integrator.kernel("single", torque)
     inertia = np.ascontiguousarray(body.moments)
+    w0 = np.array(body.to_principal(problem.omega0), dtype=float)
+    q0 = np.array(body.attitude_to_principal(problem.attitude0), dtype=float)
+    params, context = torque.params, torque.context
+    step, n_steps, every = schedule.step, schedule.n_steps, schedule.record_every
+    rows = len(schedule.times)
 
-    def run(done: int, count: int) -> int:
-        status = kernel(
-            w,
-            q,
-            inertia,
-            torque.params,
-            torque.context,
-            schedule.step,
-            count,
-            done,
-            schedule.record_every,
-            out_w,
-            out_q,
-        )
-        return int(status)
+    def run(progress: Progress) -> Samples:
+        w, q = w0.copy(), q0.copy()
+        out_w, out_q = np.empty((rows, 3)), np.empty((rows, 4))
+        out_w[0], out_q[0] = w, q
 
-    step_in_chunks(run, schedule.n_steps, schedule.step, progress)
-    if schedule.n_steps % schedule.record_every != 0:
-        out_w[-1], out_q[-1] = w, q
-    return Samples.rigid(problem, out_w, out_q, schedule.n_steps)
+        def steps(done: int, count: int) -> int:
+            return int(
+                kernel(w, q, inertia, params, context, step, count, done, every, out_w, out_q)
+            )
+
+        if progress is None and n_steps <= PROGRESS_CHUNK:
+            check_finite(steps(0, n_steps), step)
+        else:
+            step_in_chunks(steps, n_steps, step, progress)
+        if n_steps % every != 0:
+            out_w[-1], out_q[-1] = w, q
+        return Samples.rigid(problem, out_w, out_q, n_steps)
+
+    return run
 
 
-def _run_parts_stepping(
-    integrator: Any, problem: Problem, schedule: Schedule, progress: Progress
-) -> Samples:
-    """Fixed steps of a body carrying parts (:mod:`tumble.core.parts`)."""
+def _ready_parts(
+    integrator: Any, problem: Problem, schedule: Schedule
+) -> Callable[[Progress], Samples]:
+    """:func:`ready_stepping` for a body carrying parts (:mod:`tumble.core.parts`)."""
     start = parts_start(integrator, problem)
-    kernel, moments, parts = start.kernel, start.moments, start.parts
-    y = start.state.copy()
-    out = np.empty((len(schedule.times), y.size))
-    out[0] = y
-    torque = problem.torque
+    kernel, moments, parts, state = start.kernel, start.moments, start.parts, start.state
+    torque, read = problem.torque, problem.body.from_kernel_state
+    params, context = torque.params, torque.context
+    step, n_steps, every = schedule.step, schedule.n_steps, schedule.record_every
+    rows = len(schedule.times)
 
-    def run(done: int, count: int) -> int:
-        status = kernel(
-            y,
-            moments,
-            parts,
-            torque.params,
-            torque.context,
-            schedule.step,
-            count,
-            done,
-            schedule.record_every,
-            out,
-        )
-        return int(status)
+    def run(progress: Progress) -> Samples:
+        y = state.copy()
+        out = np.empty((rows, y.size))
+        out[0] = y
 
-    step_in_chunks(run, schedule.n_steps, schedule.step, progress)
-    if schedule.n_steps % schedule.record_every != 0:
-        out[-1] = y
-    omega, quaternion, values = problem.body.from_kernel_state(out)
-    return Samples(omega, quaternion, values, schedule.n_steps)
+        def steps(done: int, count: int) -> int:
+            return int(kernel(y, moments, parts, params, context, step, count, done, every, out))
+
+        if progress is None and n_steps <= PROGRESS_CHUNK:
+            check_finite(steps(0, n_steps), step)
+        else:
+            step_in_chunks(steps, n_steps, step, progress)
+        if n_steps % every != 0:
+            out[-1] = y
+        omega, quaternion, values = read(out)
+        return Samples(omega, quaternion, values, n_steps)
+
+    return run
