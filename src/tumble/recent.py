@@ -14,7 +14,6 @@ import struct
 import threading
 from collections import OrderedDict
 from collections.abc import Sequence
-from contextlib import suppress
 from typing import Any, Generic, TypeVar
 
 import numpy as np
@@ -81,15 +80,15 @@ class RecentCache(Generic[Value]):
         # Each of these two steps is atomic: no lock is needed, only the key that
         # another thread's put may have pushed out in between.
         entry = self._entries.get(key)
-        if entry is not None:
-            with suppress(KeyError):
-                self._entries.move_to_end(key)
-        if (
-            entry is not None
-            and len(entry[0]) == len(held)
-            and all(map(operator.is_, entry[0], held))
-        ):
-            return entry[1]
+        if entry is None:
+            return None
+        try:
+            self._entries.move_to_end(key)
+        except KeyError:  # pushed out by another thread's put in between: made anew
+            return None
+        stored, value = entry
+        if len(stored) == len(held) and all(map(operator.is_, stored, held)):
+            return value
         return None
 
     def put(self, key: Any, held: Sequence[Any], value: Value) -> None:

@@ -77,12 +77,16 @@ def _ready_parts(
         out = np.empty((rows, y.size))
         out[0] = y
 
-        def steps(done: int, count: int) -> int:
-            return int(kernel(y, moments, parts, params, context, step, count, done, every, out))
-
         if progress is None and n_steps <= PROGRESS_CHUNK:
-            check_finite(steps(0, n_steps), step)
+            status = kernel(y, moments, parts, params, context, step, n_steps, 0, every, out)
+            check_finite(status, step)
         else:
+
+            def steps(done: int, count: int) -> int:
+                return int(
+                    kernel(y, moments, parts, params, context, step, count, done, every, out)
+                )
+
             step_in_chunks(steps, n_steps, step, progress)
         if n_steps % every != 0:
             out[-1] = y
