@@ -5,15 +5,17 @@ The call of ``bench/spacecraft.py``'s case c (a body and one wheel spun up, RK4,
 method at rtol 1e-13), timed hot (at once after a call of its own) and cold (after
 64 MB of other memory traffic, ``spacecraft.churn``), ``--repeat`` times each,
 medians; then the same calls under cProfile, hot and cold, with the cumulative time
-of the call's phases: ``prepare`` (the body, its parts and the method checked and
-built), ``Setup.schedule`` (the steps and samples), the integrator's run (the
-compiled kernel and its driver: the rest of the call) and the trajectory made from
-the samples (``_trajectory``). Calls that repeat a motion find its setup kept
-(``tumble.simulation.prepare``); case c is also timed for a motion new at each
-call (:func:`spin_up_new`), which is set up anew. And the floor of such a call,
-case c's compiled steps alone (:func:`bare_steps`), hot and cold. cProfile
-adds its own cost to every Python call: its times are larger than the plain ones,
-and their shares, hot against cold, are what it shows.
+of the call's phases (:data:`PHASES`): the run's key and its look-up among the runs
+kept (``tumble.simulation.prepare``'s and ``simulate``'s), the setup and the plan of
+a run not kept (the body, its parts and the method checked and built; the steps and
+samples checked), the driver's run (its compiled kernel and the read-back) and the
+trajectory made from the samples; the rest is ``simulate``'s own work (the
+arguments, the memory budget's variable, the warnings). Calls that repeat a run
+find it kept; case c is also timed for a motion new at each call
+(:func:`spin_up_new`), which is set up anew. And the floor of such a call, case c's
+compiled steps alone (:func:`bare_steps`), hot and cold. cProfile adds its own cost
+to every Python call: its times are larger than the plain ones, and their shares,
+hot against cold, are what it shows.
 
 Run from the repository root::
 
@@ -37,9 +39,18 @@ import tumble as tb
 from machine import describe
 from spacecraft import ROTORS, SPINNER, SPUN, WHEEL_BODY, WHEELS_OMEGA0, churn
 
-#: The phases of a call, as cProfile names their functions (all in simulation.py);
-#: the rest of the call is the integrator's run (its driver and compiled kernel).
-PHASES = ("prepare", "schedule", "_trajectory")
+#: The phases of a call: their names, and the (file, function) cProfile names them
+#: by, counted where ``simulate`` calls them; the rest of the call is simulate's own
+#: work.
+PHASES = {
+    "key": ("simulation.py", "_run_key"),
+    "look-up": ("recent.py", "get"),
+    "setup (new)": ("simulation.py", "prepare"),
+    "plan (new)": ("simulation.py", "plan"),
+    "driver's run": ("stepping.py", "run"),
+    "driver's run (adaptive)": ("adaptive.py", "run_adaptive"),
+    "trajectory": ("simulation.py", "_trajectory"),
+}
 
 
 def spin_up() -> Any:
@@ -112,12 +123,21 @@ def profiled(call: Callable[[], Any], cold: bool, repeat: int) -> dict[str, floa
         profile.disable()
     stats = pstats.Stats(profile).stats  # type: ignore[attr-defined]
     found = {"whole": 0.0}
-    for (path, _, name), (_, _, _, cumulative, _) in stats.items():
-        if name in PHASES and path.endswith("simulation.py"):
-            found[name] = found.get(name, 0.0) + cumulative / repeat * 1e3
+    for (path, _, name), (_, _, _, cumulative, callers) in stats.items():
+        for phase, (where, function) in PHASES.items():
+            if name == function and path.endswith(where):
+                found[phase] = (
+                    1e3
+                    / repeat
+                    * sum(
+                        timing[3]
+                        for (_, _, caller), timing in callers.items()
+                        if caller == "simulate"
+                    )
+                )
         if name in ("spin_up", "spin_up_new", "wheels") and path.endswith("cold_call.py"):
             found["whole"] += cumulative / repeat * 1e3
-    found["the run (the rest)"] = found["whole"] - sum(found.get(name, 0.0) for name in PHASES)
+    found["simulate's own"] = found["whole"] - sum(found.get(phase, 0.0) for phase in PHASES)
     return found
 
 
@@ -145,7 +165,7 @@ def main() -> None:
             setting: profiled(call, setting == "cold", args.repeat) for setting in ("hot", "cold")
         }
         print(f"  {'phase (cProfile, ms a call)':30s} {'hot':>8s} {'cold':>8s} {'cold − hot':>10s}")
-        for phase in ("whole", *PHASES, "the run (the rest)"):
+        for phase in ("whole", *PHASES, "simulate's own"):
             h, c = shares["hot"].get(phase, np.nan), shares["cold"].get(phase, np.nan)
             print(f"  {phase:30s} {h:8.3f} {c:8.3f} {c - h:10.3f}")
 
