@@ -30,7 +30,13 @@ from tumble.integrators.limits import (
     check_recording,
 )
 from tumble.integrators.problem import Problem, Samples, Schedule
-from tumble.integrators.steps import MAX_STEPS, Progress, time_step, warn_if_coarse
+from tumble.integrators.steps import (
+    MAX_STEPS,
+    Progress,
+    time_step,
+    too_coarse,
+    warn_if_coarse,
+)
 from tumble.kinematics import as_attitude
 from tumble.massprops import MassProperties, as_mass_properties, readonly
 from tumble.parts import InternalPart, check_parts, value_columns
@@ -389,17 +395,19 @@ class Setup:
         coarse = None
         if dt is not None and integrator.kind == "stepping":
             if integrator.exact_free_motion:  # only the torque needs resolving
-                coarse = (schedule.step, body.pendulum_rate(self.weight), "the pendulum swing")
+                rate, what = body.pendulum_rate(self.weight), "the pendulum swing"
             else:
-                coarse = (schedule.step, fastest, "the fastest rotation")
+                rate, what = fastest, "the fastest rotation"
+            if too_coarse(schedule.step, rate):
+                coarse = (schedule.step, rate, what)
         return PlannedRun(self, schedule, coarse, recording, needed)
 
 
 @dataclass(frozen=True, eq=False)
 class PlannedRun:
     """A run of a :class:`Setup`, checked before any step (:meth:`Setup.plan`): its
-    schedule; what a coarse step warns of (the step, s, the rate it must resolve,
-    rad/s, and what turns at that rate; None when the step is not the user's);
+    schedule; what its step, given too coarse, warns of (the step, s, the rate it
+    must resolve, rad/s, and what turns at that rate; None when it does not warn);
     the arguments of its memory check
     (:func:`tumble.integrators.limits.check_recording`) and the memory its
     samples take, bytes. :func:`simulate` keeps the last

@@ -205,7 +205,13 @@ def test_a_trajectory_is_read_back_in_body_axes() -> None:
     states = np.array([[0.0, 0.0, 3.0, c, 0.0, 0.0, s, 1.0]] * 2)
     moments = np.array([1.0, 1.0, 2.0])
     packed = np.array(rotor_rows((0, 0, 1), 0.5))[:, None]
-    read = parts.readout(layout)
+    readout = parts.readout(layout)
+
+    def read(*arguments):  # type: ignore[no-untyped-def]
+        omega, quaternion, values = np.empty((2, 3)), np.empty((2, 4)), np.empty((2, 1))
+        readout(*arguments, omega, quaternion, values)
+        return omega, quaternion, values
+
     # Principal axes that are the body's: ω and q as they are; the rotor's spin rate
     # relative to the body h / J − a·ω = 1 / 0.5 − 1 = 1 rad/s, in either frame.
     turn = np.array([1.0, 0, 0, 0])

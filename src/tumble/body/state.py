@@ -32,16 +32,18 @@ class PartsState:
         return layout, packed
 
     @cached_property
-    def _reading(self: BodyModel) -> tuple[Any, tuple[Array, ...], bool]:
+    def _reading(self: BodyModel) -> tuple[Any, tuple[Array, ...], bool, bool]:
         """What :meth:`from_kernel_state` hands the kernels: the compiled reading of
         the layout (:func:`tumble.core.parts.readout`), its arrays (the moments, the
         packed parts, the principal axes and the quaternion from the principal frame
-        to the body's, contiguous), and whether the principal axes turn at all."""
-        from tumble.core.parts import readout
+        to the body's, contiguous), whether the principal axes turn at all, and
+        whether every part's values are read compiled."""
+        from tumble.core.parts import part_values, readout
 
         arrays = (self.moments, self.packed_parts, self.axes, self._principal_quaternions[1])
         contiguous = tuple(np.array(a, dtype=float, order="C") for a in arrays)
-        return readout(self.layout), contiguous, not self._axes_are_body_axes
+        compiled = part_values(self.layout) is not None
+        return readout(self.layout), contiguous, not self._axes_are_body_axes, compiled
 
     @property
     def layout(self: BodyModel) -> Any:
@@ -105,10 +107,13 @@ class PartsState:
         the values compiled where every part has them
         (:func:`tumble.core.parts.readout`)."""
         states = np.ascontiguousarray(states, dtype=float)
-        read, arrays, turned = self._reading
-        omega, quaternion, compiled = read(states, *arrays, turned)
-        if compiled.shape[1] or not self.parts:  # every part's values compiled
-            return omega, quaternion, compiled
+        read, arrays, turned, compiled = self._reading
+        n, size = states.shape
+        omega, quaternion = np.empty((n, 3)), np.empty((n, 4))
+        found = np.empty((n, size - 7 if compiled else 0))
+        read(states, *arrays, turned, omega, quaternion, found)
+        if compiled or not self.parts:
+            return omega, quaternion, found
         values, k = [], 7
         for part in self.parts:
             momenta = part.from_kernel(states[:, k : k + part.size], self)

@@ -88,7 +88,7 @@ from tumble.core._jit import (
 )
 from tumble.core.adaptive import adaptive_loop
 from tumble.core.dynamics import quaternion_rates
-from tumble.core.quaternion import multiply_right
+from tumble.core.quaternion import multiply_right_into
 from tumble.core.rk4 import rk4_array_step
 from tumble.core.splitting import decay_integral, free_flow_one_body, sub_steps, turn
 
@@ -680,17 +680,20 @@ def adaptive_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped
 
 @cache
 def readout(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
-    """``read(states, moments, parts, axes, turn, turned) -> (omega, quaternion,
-    values)``: one body's ω (n, 3), rad/s, and attitude (n, 4), body → space, both
-    in body axes, and its parts' values (n, m) (:func:`part_values`; (n, 0) when a
-    part has none compiled: then read back in Python), from its kernel states
-    (n, 7 + m) (a row per sample), with its platform moments (3,), its packed parts
-    (rows, 1), its principal axes ``axes`` (3, 3; columns, body coordinates) and
-    ``turn`` (4,), the unit quaternion that takes an attitude of the principal
-    frame to the body's (``q ⊗ turn``, renormalised:
+    """``read(states, moments, parts, axes, turn, turned, omega, quaternion,
+    values)``: one body's ω, rad/s, and attitude, body → space, both in body axes,
+    and its parts' values (:func:`part_values`), written into ``omega`` (n, 3),
+    ``quaternion`` (n, 4) and ``values`` (n, m; (n, 0) when a part has none
+    compiled: then read back in Python), from its kernel states (n, 7 + m) (a row
+    per sample), with its platform moments (3,), its packed parts (rows, 1), its
+    principal axes ``axes`` (3, 3; columns, body coordinates) and ``turn`` (4,),
+    the unit quaternion that takes an attitude of the principal frame to the
+    body's (``q ⊗ turn``, renormalised:
     :func:`tumble.core.quaternion.multiply_right`). ``turned`` False: the
     principal axes are the body's, and ω and q are copied as they are. A
-    trajectory's samples read back in one call, ω as the kernels solve for it."""
+    trajectory's samples read back in one call, ω as the kernels solve for it,
+    into arrays made by the caller (arrays a compiled call returns cost more to
+    hand back to Python than the reading itself)."""
     velocity = part_model(layout).velocity
     values_of = part_values(layout)
     compiled = values_of is not None
@@ -698,10 +701,8 @@ def readout(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
     key = layout_identity(layout)
 
     @specialise(njit, f"parts.readout|{key}")
-    def read(states, moments, parts, axes, turn, turned):  # type: ignore[no-untyped-def]
+    def read(states, moments, parts, axes, turn, turned, omega, quaternion, values):  # type: ignore[no-untyped-def]
         n, size = states.shape
-        omega = np.empty((n, 3))
-        values = np.empty((n, size - 7 if compiled else 0))
         inverse = 1.0 / moments
         y = np.empty(size)
         for j in range(n):
@@ -717,9 +718,10 @@ def readout(layout: tuple[LayoutEntry, ...]):  # type: ignore[no-untyped-def]
                 found = values_of(y, parts, 0, w)
                 for i in range(len(found)):
                     values[j, i] = found[i]
-        attitudes = states[:, 3:7]
-        quaternion = multiply_right(attitudes, turn) if turned else attitudes.copy()
-        return omega, quaternion, values
+        if turned:
+            multiply_right_into(states[:, 3:7], turn, quaternion)
+        else:
+            quaternion[:] = states[:, 3:7]
 
     return read
 

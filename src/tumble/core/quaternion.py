@@ -45,11 +45,16 @@ def _unit_product(quaternions, k, r0, r1, r2, r3, out):  # type: ignore[no-untyp
 def multiply_right(quaternions, r):  # type: ignore[no-untyped-def]
     """``q ⊗ r`` for each row q of ``quaternions`` (n, 4) and one unit ``r`` (4,);
     the rows are renormalised (inputs unit to round-off stay unit)."""
-    n = quaternions.shape[0]
-    out = np.empty((n, 4))
-    for k in range(n):
-        _unit_product(quaternions, k, r[0], r[1], r[2], r[3], out)
+    out = np.empty((quaternions.shape[0], 4))
+    multiply_right_into(quaternions, r, out)
     return out
+
+
+@njit
+def multiply_right_into(quaternions, r, out):  # type: ignore[no-untyped-def]
+    """:func:`multiply_right` written into ``out`` (n, 4)."""
+    for k in range(quaternions.shape[0]):
+        _unit_product(quaternions, k, r[0], r[1], r[2], r[3], out)
 
 
 @njit

@@ -27,6 +27,7 @@ __all__ = [
     "recorded_samples",
     "step_in_chunks",
     "time_step",
+    "too_coarse",
     "warn_if_coarse",
     "whole_steps",
 ]
@@ -133,14 +134,18 @@ def time_step(dt: Any, fastest: float, duration: float) -> float:
     return step
 
 
+def too_coarse(step: float, fastest: float) -> bool:
+    """Whether a step of ``step`` s gives fewer than ``MIN_STEPS_PER_TURN`` steps
+    per turn at ``fastest`` rad/s (never when nothing turns)."""
+    return fastest > 0 and 2 * math.pi / (fastest * step) < MIN_STEPS_PER_TURN
+
+
 def warn_if_coarse(step: float, fastest: float, what: str, stacklevel: int = 3) -> None:
     """Warn (:class:`~tumble.errors.CoarseStepWarning`) when a step of ``step`` s
-    gives fewer than ``MIN_STEPS_PER_TURN`` steps per turn at ``fastest`` rad/s,
-    the rate of ``what`` (e.g. "the fastest rotation")."""
-    if fastest <= 0:
-        return
-    per_turn = 2 * math.pi / (fastest * step)
-    if per_turn < MIN_STEPS_PER_TURN:
+    gives fewer than ``MIN_STEPS_PER_TURN`` steps per turn at ``fastest`` rad/s
+    (:func:`too_coarse`), the rate of ``what`` (e.g. "the fastest rotation")."""
+    if too_coarse(step, fastest):
+        per_turn = 2 * math.pi / (fastest * step)
         warnings.warn(
             f"dt = {step:.3g} s gives {per_turn:.1f} steps per turn of {what} "
             f"({fastest:.3g} rad/s); below {MIN_STEPS_PER_TURN} the result is inaccurate.",
