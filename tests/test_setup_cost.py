@@ -453,3 +453,29 @@ def test_an_integrator_without_a_ready_driver_runs_its_own() -> None:
     again = setup.integrator.run(setup.integrator, setup.problem, run.schedule, None)
     assert isinstance(samples, Samples) and samples.steps == again.steps
     assert np.array_equal(samples.omega, again.omega)
+
+
+@pytest.mark.parametrize("internal", [None, [WHEEL]], ids=["rigid", "wheel"])
+def test_a_run_is_the_same_in_one_call_of_its_kernel_or_in_chunks(internal: object) -> None:
+    from tumble.integrators.steps import PROGRESS_CHUNK
+
+    # Without progress reports, a run of at most PROGRESS_CHUNK steps is one call of
+    # its kernel, and a longer one is stepped in chunks, as every run that reports.
+    # The kernel numbers each step from the first: both ways give the same bits.
+    reports: list[int] = []
+    for steps in (PROGRESS_CHUNK, PROGRESS_CHUNK + 7):
+        arguments = {"duration": steps * 1e-4, "dt": 1e-4, "record_every": 997}
+        quiet = tb.simulate(BODY, [0.3, 1.0, 0.2], method="rk4", internal=internal, **arguments)
+        reports.clear()
+        told = tb.simulate(
+            BODY,
+            [0.3, 1.0, 0.2],
+            method="rk4",
+            internal=internal,
+            progress=lambda done, total: reports.append(done),
+            **arguments,
+        )
+        assert quiet.steps == told.steps == steps and reports[-1] == steps
+        assert np.array_equal(quiet.omega, told.omega)
+        assert np.array_equal(quiet.quaternion, told.quaternion)
+        assert np.array_equal(quiet.internal_values, told.internal_values)

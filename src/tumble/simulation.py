@@ -200,7 +200,8 @@ def simulate(
     6.68 rad/s, theory 6.68
     """
     arguments = (duration, dt, record_every, rtol, atol, max_steps)
-    key, held = _run_key(mp, omega0, attitude0, pivot, gravity, torque, method, internal, arguments)
+    motion = (mp, omega0, attitude0, pivot, gravity, torque, method, internal)
+    key, held = _run_key(motion, arguments)
     run = None if key is None else _RUNS.get(key, held)
     # A method asked for by name: the one registered under it now.
     if run is not None and (method == "auto" or INTEGRATORS.get(method) is run.setup.integrator):
@@ -495,21 +496,11 @@ _SETUPS: RecentCache[Setup] = RecentCache(SETUP_CACHE_SIZE)
 _RUNS: RecentCache[PlannedRun] = RecentCache(SETUP_CACHE_SIZE)
 
 
-def _run_key(
-    mp: Any,
-    omega0: Any,
-    attitude0: Any,
-    pivot: Any,
-    gravity: Any,
-    torque: Any,
-    method: Any,
-    internal: Any,
-    arguments: tuple[Any, ...],
-) -> tuple[Any, tuple[Any, ...]]:
+def _run_key(motion: tuple[Any, ...], arguments: tuple[Any, ...]) -> tuple[Any, tuple[Any, ...]]:
     """The key of :func:`simulate`'s arguments and the objects its entry holds, or
-    (None, ()) for a run that is not kept: one whose setup is not
-    (:func:`_setup_key`), or whose ``arguments`` (duration, dt, record_every,
-    rtol, atol, max_steps) are not plain values. They name it as the checks read
+    (None, ()) for a run that is not kept: one whose setup is not (``motion``,
+    :func:`_setup_key`'s arguments in order), or whose ``arguments`` (duration,
+    dt, record_every, rtol, atol, max_steps) are not plain values. They name it as the checks read
     them: 1 is 1.0 (none of them may be -0.0), but ``record_every`` is an int and
     ``max_steps`` an int or None."""
     duration, dt, record_every, rtol, atol, max_steps = arguments
@@ -522,7 +513,7 @@ def _run_key(
         or type(atol) not in _PLAIN
     ):
         return None, ()
-    key, held = _setup_key(mp, omega0, attitude0, pivot, gravity, torque, method, internal)
+    key, held = _setup_key(*motion)
     return (None, ()) if key is None else (key + arguments, held)
 
 

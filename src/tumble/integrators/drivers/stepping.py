@@ -45,14 +45,16 @@ def ready_stepping(
         out_w, out_q = np.empty((rows, 3)), np.empty((rows, 4))
         out_w[0], out_q[0] = w, q
 
-        def steps(done: int, count: int) -> int:
-            return int(
-                kernel(w, q, inertia, params, context, step, count, done, every, out_w, out_q)
-            )
-
         if progress is None and n_steps <= PROGRESS_CHUNK:
-            check_finite(steps(0, n_steps), step)
+            status = kernel(w, q, inertia, params, context, step, n_steps, 0, every, out_w, out_q)
+            check_finite(status, step)
         else:
+
+            def steps(done: int, count: int) -> int:
+                return int(
+                    kernel(w, q, inertia, params, context, step, count, done, every, out_w, out_q)
+                )
+
             step_in_chunks(steps, n_steps, step, progress)
         if n_steps % every != 0:
             out_w[-1], out_q[-1] = w, q
