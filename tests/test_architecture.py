@@ -22,10 +22,11 @@ import tumble.sweep
 CORE = Path(tumble.core.__file__).parent
 # numpy, numba and a few standard modules (ctypes: the user-torque callback read
 # back as arrays when numba's JIT is disabled; hashlib and pathlib: the cache keys
-# of the kernels specialised for one torque).
+# of the kernels specialised for one torque; sys: whether numba was imported before
+# the kernels, when their optimisation level is set).
 ALLOWED = {
     "numpy", "numba", "tumble", "__future__", "functools", "math", "os", "typing", "ctypes",
-    "hashlib", "pathlib", "collections", "contextlib",
+    "hashlib", "pathlib", "collections", "contextlib", "sys",
 }  # fmt: skip
 
 
