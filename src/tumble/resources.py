@@ -229,7 +229,7 @@ def budget_is_set() -> bool:
     """Whether ``TUMBLE_MEMORY_BUDGET`` is set (to more than blanks): then even a
     small request is checked (:func:`check_memory`)."""
     value = os.environ.get(BUDGET_VARIABLE)
-    return value is not None and not value.isspace() and value != ""
+    return value is not None and value.strip() != ""
 
 
 def check_memory(needed: float, what: str | Callable[[], str], advice: str) -> None:
