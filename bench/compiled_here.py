@@ -3,22 +3,23 @@ kernel loaded from numba's cache.
 
 A batch of bodies under a torque (``ConstantBodyTorque``, ``RotorMomentum`` with a
 momentum per body) steps through a kernel specialised for that torque
-(``tumble.core._jit.specialise``), compiled on first use and cached on disk; so do
-a batch of bodies carrying a rotor (RK4's blocks of ``tumble.core.part_blocks``)
-and a sweep chunk of bodies carrying a rotor and a Kane damper (its measuring
-kernel; ``--steps`` of 2 ms, its bodies ``bench/sweep_parts.py``'s). Each
-case runs in two fresh processes that share an empty cache folder
-(``NUMBA_CACHE_DIR``): the first compiles the kernel, the second loads it. Each
-process times ``--repeat`` calls after its first (which compiles or loads), and the
-medians are compared; then a process with the cache off (``TUMBLE_NUMBA_CACHE=0``),
-as on a read-only install, which compiles every time; then one that compiles into
-another empty cache folder at numba's own default optimisation level
-(``NUMBA_OPT=3``; tumble sets ``max`` when the environment does not say,
-:mod:`tumble.core`).
+(``tumble.core._jit.specialise``), compiled on first use and cached on disk; so do a
+batch of bodies carrying a rotor (RK4's blocks of ``tumble.core.part_blocks``; and
+the splitting's, under ``ConstantBodyTorque``) and a sweep chunk of bodies carrying
+a rotor and a Kane damper (its measuring kernel; ``--steps`` of 2 ms, its bodies
+``bench/sweep_parts.py``'s). Each case runs in two fresh processes that share an
+empty cache folder (``NUMBA_CACHE_DIR``): the first compiles the kernel, the second
+loads it. Each process times ``--repeat`` calls after its first (which compiles or
+loads), and the medians are compared; then a process with the cache off
+(``TUMBLE_NUMBA_CACHE=0``), as on a read-only install, which compiles every time;
+then one that compiles into another empty cache folder at numba's own default
+optimisation level (``NUMBA_OPT=3``; tumble sets ``max`` when the environment does
+not say, :mod:`tumble.core`).
 
 Run from the repository root::
 
     .venv/bin/python bench/compiled_here.py [--bodies 20000] [--steps 500] [--repeat 5]
+        [--cases ConstantBodyTorque RotorMomentum Rotor "Rotor splitting" "Rotor sweep"]
 """
 
 from __future__ import annotations
@@ -47,9 +48,12 @@ if case == "RotorMomentum":
     momentum = np.zeros((n, 3))
     momentum[:, 1] = rng.uniform(0.0, 1.5, n)
     options["torque"] = tb.torques.RotorMomentum(momentum)
-elif case == "Rotor":
+elif case.startswith("Rotor"):
     options["internal"] = [tb.Rotor([0, 1, 0], 0.5)]
     options["rotor_speed"] = np.linspace(-10.0, 10.0, n)[:, None]
+    if case == "Rotor splitting":
+        options["method"] = "splitting"
+        options["torque"] = tb.torques.ConstantBodyTorque([0.01, 0.0, 0.0])
 else:
     options["torque"] = tb.torques.ConstantBodyTorque([0.01, 0.0, 0.0])
 def run():
@@ -75,6 +79,9 @@ print(json.dumps({"first": first, "median": statistics.median(times)}))
 """
 
 
+CASES = ["ConstantBodyTorque", "RotorMomentum", "Rotor", "Rotor splitting", "Rotor sweep"]
+
+
 def timed(case: str, args: argparse.Namespace, environment: dict[str, str]) -> dict[str, float]:
     """The case's times in a fresh process with ``environment`` added."""
     command = [sys.executable, "-c", CHILD, case, str(args.bodies), str(args.steps)]
@@ -93,11 +100,12 @@ def main() -> None:
     parser.add_argument("--bodies", type=int, default=20_000)
     parser.add_argument("--steps", type=int, default=500)
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--cases", nargs="+", choices=CASES, default=CASES)
     args = parser.parse_args()
     print(describe({}))
     print(f"{args.bodies} bodies × {args.steps} steps, medians of {args.repeat} calls a process")
     print(f"{'case':18s} {'process':26s} {'first call s':>13s} {'a call ms':>10s} {'ratio':>6s}")
-    for case in ("ConstantBodyTorque", "RotorMomentum", "Rotor", "Rotor sweep"):
+    for case in args.cases:
         with tempfile.TemporaryDirectory() as folder, tempfile.TemporaryDirectory() as other:
             cache = {"NUMBA_CACHE_DIR": folder}
             rows = [

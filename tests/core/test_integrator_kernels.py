@@ -8,13 +8,20 @@ import math
 
 import numba
 import numpy as np
+import pytest
 from numpy.testing import assert_allclose
 
 from tumble.core import adaptive, splitting, stepping
 from tumble.core._jit import FINITE, file_stamp
 from tumble.core.adaptive import ACCEPTED, STEP_UNDERFLOW
 from tumble.core.rk4 import rk4_step
-from tumble.core.splitting import YOSHIDA_INNER, YOSHIDA_OUTER
+from tumble.core.splitting import (
+    YOSHIDA_INNER,
+    YOSHIDA_OUTER,
+    sub_step,
+    sub_step_start,
+    sub_steps,
+)
 from tumble.core.torques import (
     combine,
     compile_user_potential,
@@ -48,6 +55,25 @@ def test_yoshida_weights_sum_to_one_and_cancel_the_third_order_error() -> None:
     # w0 + 2 w1 = 1 and w0³ + 2 w1³ = 0 (Yoshida 1990, eq. 4.11).
     assert YOSHIDA_INNER + 2 * YOSHIDA_OUTER == 1.0
     assert abs(YOSHIDA_INNER**3 + 2 * YOSHIDA_OUTER**3) < 1e-15
+
+
+@pytest.mark.parametrize("order", [2, 4])
+def test_the_sub_steps_tile_the_step_from_its_start(order) -> None:
+    # Strang's one whole step, or the triple jump's w1, w0, w1: each sub-step
+    # starts where the ones before it end, their times added one by one as a loop
+    # over them adds them (so the kernels that take one sub-step at a time and
+    # those that take them in a loop give the same bits), and together they make
+    # the step (1 = w1 + w0 + w1 to round-off: within 2 ulp of t + dt).
+    t, dt = 0.37, 0.013
+    count = sub_steps(order)
+    assert count == (1 if order == 2 else 3)
+    fractions = [sub_step(order, j) for j in range(count)]
+    assert fractions == ([1.0] if order == 2 else [YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER])
+    running = t
+    for j in range(count):
+        assert sub_step_start(order, j, t, dt) == running
+        running += fractions[j] * dt
+    assert running == pytest.approx(t + dt, rel=0, abs=2 * np.spacing(t + dt))
 
 
 def test_splitting_is_exact_for_a_symmetric_body_in_one_step() -> None:

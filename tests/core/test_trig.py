@@ -10,7 +10,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from tumble.core._jit import njit, njit_vector, prange
-from tumble.core.trig import LARGEST_ANGLE, QUARTER_TURN, cos_sin, cos_sin_small
+from tumble.core.trig import LARGEST_ANGLE, QUARTER_TURN, cos_sin, cos_sin_small, library_cos_sin
 
 
 @njit
@@ -74,6 +74,22 @@ def test_an_angle_that_is_not_finite_gives_nan() -> None:
         with np.errstate(invalid="ignore"):  # run as Python (NUMBA_DISABLE_JIT), inf − inf
             c, s = _evaluate(kernel, np.array([math.nan, math.inf, -math.inf]))
         assert np.all(np.isnan(c)) and np.all(np.isnan(s))
+
+
+@njit
+def _library(x, c, s):  # type: ignore[no-untyped-def]
+    for i in range(x.shape[0]):
+        c[i], s[i] = library_cos_sin(x[i])
+
+
+def test_the_library_form_gives_the_library_values_and_nan_where_not_finite() -> None:
+    # Compiled, the C library's own values; as Python (NUMBA_DISABLE_JIT), math.cos
+    # and math.sin, which raise where the C library gives NaN: the same NaN.
+    x = np.array([0.0, 0.3, -2.0, 1e6, math.nan, math.inf, -math.inf])
+    c, s = _evaluate(_library, x)
+    assert c[:4].tolist() == [math.cos(v) for v in x[:4]]
+    assert s[:4].tolist() == [math.sin(v) for v in x[:4]]
+    assert np.all(np.isnan(c[4:])) and np.all(np.isnan(s[4:]))
 
 
 @njit

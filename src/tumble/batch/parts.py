@@ -1,6 +1,6 @@
 """Batches of bodies that carry internal parts (:mod:`tumble.parts`): the state
 conversions and packing, per body, for the parts' batch kernels
-(:func:`tumble.core.parts.batch_kernel`), and their driver."""
+(:func:`tumble.core.part_blocks.block_kernel`), and their driver."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ Array = NDArray[np.float64]
 @dataclass(frozen=True, eq=False)
 class PartsBatch:
     """N bodies carrying the same parts, ready for the parts' batch kernels
-    (:func:`tumble.core.parts.batch_kernel`): each body in the principal frame of
+    (:func:`tumble.core.part_blocks.block_kernel`): each body in the principal frame of
     its platform inertia (the locked inertia less the parts' spin inertia), the
     state ``y`` (7 + m, N) holding H, q and the parts' momenta, as
     :meth:`tumble.body.RigidBody.kernel_state` does for one.

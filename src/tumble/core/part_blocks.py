@@ -1,35 +1,44 @@
-"""RK4 for batches of bodies carrying parts, stepped in blocks of bodies.
+"""Batches of bodies carrying parts, stepped in blocks of bodies.
 
 The kernels of :mod:`tumble.core.parts` step one body per thread: each body's
 state is an array whose length the parts decide, and the compiler vectorises
 nothing across bodies. Here ``BLOCK`` bodies step together, as the free body's
 blocks do (:mod:`tumble.core.stepping`): the block's states are the columns of
 one array (7 + m, BLOCK); each body's state is read from its column as a tuple
-(its length fixed by the layout), stepped in registers by the shared RK4 of
-tuples (:func:`tumble.core.rk4.rk4_tuple_step` of
-:func:`tumble.core.parts.state_rates`) and written back, one body after the
-other in a loop across the block, which the compiler vectorises. No array is
-made per body: a view of a column, passed to the parts' equations as an array,
-is counted by numba's reference counting, and those calls kept the loop from
-being vectorised. The parts' and the torque's columns are copied into the
-block, one per body, so that every load is contiguous.
+(its length fixed by the layout), stepped in registers and written back, one
+body after the other in a loop across the block, which the compiler vectorises.
+No array is made per body: a view of a column, passed to the parts' equations
+as an array, is counted by numba's reference counting, and those calls kept the
+loop from being vectorised. The parts' and the torque's columns are copied into
+the block, one per body, so that every load is contiguous.
+
+A body's step is made by one of :func:`rk4_body_step` (the shared RK4 of
+tuples, :func:`tumble.core.rk4.rk4_tuple_step` of
+:func:`tumble.core.parts.state_rates`), :func:`strang_body_step` and
+:func:`yoshida_body_step` (the gyrostat splitting,
+:func:`tumble.core.parts.splitting_step`, turning by the vectorised sines
+:func:`tumble.core.trig.cos_sin` where one body alone turns by the C library's).
 
 The kernels take the arguments of the one-body-per-thread kernels and give their
 statuses and measures; with the floating-point freedoms of the free body's
-blocks (:data:`tumble.core._jit.VECTOR_FASTMATH`: FMA contraction, reassociation),
-each body's state and measures are its own run's to round-off
-(``tests/core/test_parts_kernels.py``; ``bench/batch_parts.py`` for the speed).
+blocks (:data:`tumble.core._jit.VECTOR_FASTMATH`: FMA contraction, reassociation)
+and, for the splittings, the other sines, each body's state and measures are its
+own run's to round-off (``tests/core/test_parts_kernels.py``;
+``bench/batch_parts.py`` for the speed).
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from tumble.core._jit import (
     FINITE,
+    file_stamp,
     njit,
+    njit_block,
     njit_block_inline,
     njit_vector,
     own_name,
@@ -37,13 +46,23 @@ from tumble.core._jit import (
     specialise,
 )
 from tumble.core.part_measures import RUNNING, body_measures, finish_measures
-from tumble.core.parts import layout_identity, part_model, state_rates
+from tumble.core.parts import layout_identity, part_model, splitting_sub_step, state_rates
 from tumble.core.rk4 import entry_by_entry, rk4_tuple_step
+from tumble.core.splitting import free_flow, sub_steps
+from tumble.core.trig import cos_sin
 
-__all__ = ["BLOCK", "rk4_block_kernel", "rk4_block_measuring_kernel"]
+__all__ = [
+    "BLOCK",
+    "BodyStep",
+    "block_kernel",
+    "block_measuring_kernel",
+    "rk4_body_step",
+    "strang_body_step",
+    "yoshida_body_step",
+]
 
 
-#: Bodies a thread steps together in :func:`rk4_block_kernel`.
+#: Bodies a thread steps together in :func:`block_kernel`.
 BLOCK = 64
 
 
@@ -68,9 +87,10 @@ def _put_column(block, j, state):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
-def _inverse_at(inverse, j):  # type: ignore[no-untyped-def]
-    """Body ``j``'s inverse platform moments, a tuple (3,)."""
-    return inverse[0, j], inverse[1, j], inverse[2, j]
+def _three_at(block, j):  # type: ignore[no-untyped-def]
+    """Column ``j`` of a block (3, BLOCK) (body ``j``'s platform moments or their
+    inverses), a tuple (3,)."""
+    return block[0, j], block[1, j], block[2, j]
 
 
 @njit(inline="always")
@@ -100,51 +120,131 @@ def _no_block_observer(number, alive, arguments):  # type: ignore[no-untyped-def
 @njit(inline="always")
 def _loaded(y, moments, parts, params, context, start, stop):  # type: ignore[no-untyped-def]
     """Bodies ``start:stop`` of a batch as a block (:func:`_block_of`): their states
-    (7 + m, BLOCK) and their model ``(inverse, parts, params, context)``, the inverse
-    platform moments (3, BLOCK), the parts and the torque's parameters a column per
-    body, the torque's context."""
-    inverse = 1.0 / _block_of(moments, start, stop)
-    model = (inverse, _block_of(parts, start, stop), _block_of(params, start, stop), context)
+    (7 + m, BLOCK) and their model ``(moments, inverse, parts, params, context)``:
+    the platform moments and their inverses (3, BLOCK), the parts and the torque's
+    parameters a column per body, the torque's context."""
+    block_moments = _block_of(moments, start, stop)
+    model = (
+        block_moments,
+        1.0 / block_moments,
+        _block_of(parts, start, stop),
+        _block_of(params, start, stop),
+        context,
+    )
     return _block_of(y, start, stop), model
 
 
-def _block_advance(torque, drive, layout):  # type: ignore[no-untyped-def]
+class BodyStep(NamedTuple):
+    """A method's step of one body of a block, made by ``make(torque, drive,
+    layout)`` (:func:`rk4_body_step`, :func:`strang_body_step`,
+    :func:`yoshida_body_step`): ``step(torque, t, dt, sub, state, body, params, j,
+    context)`` is the body's state (a tuple, its quaternion not renormalised)
+    after sub-step ``sub`` of a step of ``dt`` s from time ``t``, with ``body`` =
+    (moments, inverse, parts): the body's platform moments and their inverses
+    (tuples (3,)) and the block's parts, its column ``j`` (as the torque's);
+    ``sub_steps`` how many sub-steps make a step."""
+
+    step: Any
+    sub_steps: int
+
+
+def rk4_body_step(torque, drive, layout):  # type: ignore[no-untyped-def]
+    """The classical Runge–Kutta step (:func:`tumble.core.rk4.rk4_tuple_step` of
+    :func:`tumble.core.parts.state_rates`), the parts' inputs read at the step's
+    middle; one sub-step."""
+    velocity, _, rates, _, _ = part_model(layout)
+
+    @njit(inline="always", cache=False)
+    def derivatives(torque, t, y, held, params, j, context):  # type: ignore[no-untyped-def]
+        hold, moments, inverse, parts = held
+        system = (moments, inverse, parts, j, params, j, context)
+        return state_rates(torque, drive, velocity, rates, t, hold, y, system)
+
+    stages = rk4_tuple_step(derivatives)
+
+    @njit(inline="always", cache=False)
+    def step(torque, t, dt, sub, state, body, params, j, context):  # type: ignore[no-untyped-def]
+        moments, inverse, parts = body
+        held = (t + 0.5 * dt, moments, inverse, parts)
+        return stages(torque, t, dt, state, held, params, j, context)
+
+    return BodyStep(step, 1)
+
+
+def _splitting_body_step(torque, drive, layout, order):  # type: ignore[no-untyped-def]
+    """:func:`tumble.core.parts.splitting_sub_step` of ``order``, turning by the
+    vectorised sines."""
+    _, momentum, _, kick, _ = part_model(layout)
+
+    @njit(inline="always", cache=False)
+    def step(torque, t, dt, sub, state, body, params, j, context):  # type: ignore[no-untyped-def]
+        moments, inverse, parts = body
+        system = (moments, inverse, parts, j, params, j, context)
+        flow, sines = free_flow, cos_sin
+        return splitting_sub_step(
+            torque, drive, momentum, kick, flow, sines, t, dt, sub, state, system, order
+        )
+
+    return BodyStep(step, sub_steps(order))
+
+
+def strang_body_step(torque, drive, layout):  # type: ignore[no-untyped-def]
+    """The gyrostat's Strang splitting (order 2): one sub-step."""
+    return _splitting_body_step(torque, drive, layout, 2)
+
+
+def yoshida_body_step(torque, drive, layout):  # type: ignore[no-untyped-def]
+    """Yoshida's triple jump of the gyrostat's Strang splitting (order 4): three
+    sub-steps."""
+    return _splitting_body_step(torque, drive, layout, 4)
+
+
+def _block_advance(make_step, torque, drive, layout):  # type: ignore[no-untyped-def]
     """``advance(state, model, t0, dt, n_steps, status, start, count, observer,
-    arguments)``: ``n_steps`` RK4 steps of a block's states (7 + m, BLOCK) in place
-    (its model as :func:`_loaded` gives it): each body's state read as a tuple,
-    stepped (:func:`tumble.core.rk4.rk4_tuple_step`), kept or not
-    (:func:`_kept`) and written back, in a loop across the bodies that the
-    compiler vectorises. Step k runs from global step ``round(t0 / dt) + k``; the
-    first ``count`` bodies are the block's own (``start`` the first's index in
-    ``status``, which gets the number of the step at which a body stopped). After
-    each step, ``observer(number, alive, arguments)`` (:func:`_no_block_observer`)."""
-    velocity, _, rates, _ = part_model(layout)
-    size = 7 + sum(entry[1] for entry in layout)
+    arguments)``: ``n_steps`` steps (``make_step``'s, :class:`BodyStep`) of a
+    block's states (7 + m, BLOCK) in place (its model as :func:`_loaded` gives
+    it): each body's state read as a tuple, stepped, kept or not (:func:`_kept`)
+    and written back, in a loop across the bodies that the compiler vectorises.
+    A step of several sub-steps takes a loop across the bodies for each, so that
+    the compiler inlines the sub-step once (the Yoshida splitting's three Strang
+    steps written out took 102 s to compile, against 59 s for Strang's one), and
+    the states before the step are kept aside for :func:`_kept`. Step k runs
+    from global step ``round(t0 / dt) + k``; the first ``count`` bodies are the
+    block's own (``start`` the first's index in ``status``, which gets the number
+    of the step at which a body stopped). After each step, ``observer(number,
+    alive, arguments)`` (:func:`_no_block_observer`)."""
+    step, n_sub = make_step(torque, drive, layout)
+    size = part_model(layout).size
     column = njit(inline="always", cache=False)(
         entry_by_entry("column", "block, j", "block[{i}, j]", size)
     )
 
     @njit(inline="always", cache=False)
-    def derivatives(torque, t, y, held, params, j, context):  # type: ignore[no-untyped-def]
-        hold, inverse, parts = held
-        system = (inverse, inverse, parts, j, params, j, context)
-        return state_rates(torque, drive, velocity, rates, t, hold, y, system)
-
-    step = rk4_tuple_step(derivatives)
-
-    @njit(inline="always", cache=False)
     def advance(state, model, t0, dt, n_steps, status, start, count, observer, arguments):  # type: ignore[no-untyped-def]
-        inverse, parts, params, context = model
+        moments, inverse, parts, params, context = model
         alive = np.ones(BLOCK, dtype=np.bool_)
         stopped = np.full(BLOCK, FINITE, dtype=np.int64)
+        before = np.empty((size, BLOCK)) if n_sub > 1 else np.empty((0, 0))
         first = int(t0 / dt + 0.5) if dt > 0.0 else 0
         for k in range(n_steps):
             t = (first + k) * dt
-            hold = t + 0.5 * dt
+            if n_sub > 1:
+                for i in range(size):
+                    for j in range(BLOCK):
+                        before[i, j] = state[i, j]
+                for sub in range(n_sub):
+                    for j in range(BLOCK):
+                        body = (_three_at(moments, j), _three_at(inverse, j), parts)
+                        now = step(torque, t, dt, sub, column(state, j), body, params, j, context)
+                        _put_column(state, j, now)
             for j in range(BLOCK):
-                old = column(state, j)
-                held = (hold, _inverse_at(inverse, j), parts)
-                new, keep = _kept(old, step(torque, t, dt, old, held, params, j, context), alive[j])
+                old = column(before, j) if n_sub > 1 else column(state, j)
+                if n_sub > 1:
+                    new, keep = _kept(old, column(state, j), alive[j])
+                else:
+                    body = (_three_at(moments, j), _three_at(inverse, j), parts)
+                    stepped = step(torque, t, dt, 0, old, body, params, j, context)
+                    new, keep = _kept(old, stepped, alive[j])
                 _put_column(state, j, new)
                 stopped[j] = first + k + 1 if alive[j] and not keep else stopped[j]
                 alive[j] = keep
@@ -156,24 +256,33 @@ def _block_advance(torque, drive, layout):  # type: ignore[no-untyped-def]
     return advance, column
 
 
-def rk4_block_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped-def]
-    """:func:`tumble.core.parts.batch_kernel` of RK4 (the same arguments and
-    statuses), stepping ``BLOCK`` bodies together (:func:`_block_advance`), in
-    parallel over blocks. With the floating-point freedoms of the free body's
-    blocks (:data:`tumble.core._jit.VECTOR_FASTMATH`: FMA contraction,
-    reassociation), each body's state is its own run's to round-off."""
-    advance, _ = _block_advance(torque, drive, layout)
-    key = layout_identity(layout)
+def _block_compiler(make_step):  # type: ignore[no-untyped-def]
+    """How the work on one block is compiled: inlined into the kernel's parallel
+    loop for RK4 (:data:`tumble.core._jit.njit_block_inline`, as fast in the
+    process that compiles it as loaded from the cache); a function of its own for
+    the splittings (:data:`~tumble.core._jit.njit_block`): inlined there, numba's
+    analysis of the parallel loop fails on the splitting's step (an assertion on
+    the shapes it infers for the tuples of the state)."""
+    return njit_block_inline if make_step is rk4_body_step else njit_block
 
-    @njit_block_inline
-    @own_name(f"parts.rk4_block|{key}|{identity}")
+
+def block_kernel(make_step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
+    """:func:`tumble.core.parts.batch_kernel` of ``make_step``'s method (the same
+    arguments and statuses), stepping ``BLOCK`` bodies together
+    (:func:`_block_advance`), in parallel over blocks: each body's state is its
+    own run's to round-off (the module's docstring)."""
+    advance, _ = _block_advance(make_step, torque, drive, layout)
+    key = f"{file_stamp(make_step)}|{layout_identity(layout)}"
+
+    @_block_compiler(make_step)
+    @own_name(f"parts.block|{key}|{identity}")
     def stepped_block(y, moments, parts, params, context, t0, dt, n_steps, status, start, stop):  # type: ignore[no-untyped-def]
         state, model = _loaded(y, moments, parts, params, context, start, stop)
         count = stop - start
         advance(state, model, t0, dt, n_steps, status, start, count, _no_block_observer, ())
         y[:, start:stop] = state[:, :count]
 
-    @specialise(njit_vector, f"parts.rk4_batch|{key}|{identity}")
+    @specialise(njit_vector, f"parts.block_batch|{key}|{identity}")
     def batch(y, moments, parts, params, context, t0, dt, n_steps, status):  # type: ignore[no-untyped-def]
         n = y.shape[1]
         for block in prange((n + BLOCK - 1) // BLOCK):
@@ -192,14 +301,14 @@ def _finish_block(running, out, energy0, start, count, dt):  # type: ignore[no-u
         finish_measures(running, j, out, energy0, start + j, dt)
 
 
-def rk4_block_measuring_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped-def]
-    """:func:`tumble.core.part_measures.measuring_kernel` of RK4 (the same arguments,
-    measures and statuses), stepping ``BLOCK`` bodies together as
-    :func:`rk4_block_kernel` does and measuring each after every step, as there,
+def block_measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
+    """:func:`tumble.core.part_measures.measuring_kernel` of ``make_step``'s method
+    (the same arguments, measures and statuses), stepping ``BLOCK`` bodies together
+    as :func:`block_kernel` does and measuring each after every step, as there,
     to round-off."""
-    advance, column = _block_advance(torque, drive, layout)
+    advance, column = _block_advance(make_step, torque, drive, layout)
     start_body, after_body = body_measures(layout)
-    key = layout_identity(layout)
+    key = f"{file_stamp(make_step)}|{layout_identity(layout)}"
 
     @njit(inline="always", cache=False)
     def observer(number, alive, arguments):  # type: ignore[no-untyped-def]
@@ -207,28 +316,28 @@ def rk4_block_measuring_kernel(torque, drive, layout, identity):  # type: ignore
         for j in range(BLOCK):
             if alive[j]:
                 body = column(state, j)
-                after_body(body, _inverse_at(inverse, j), parts, j, running, j, number * dt)
+                after_body(body, _three_at(inverse, j), parts, j, running, j, number * dt)
 
-    @njit_block_inline
-    @own_name(f"parts.rk4_block_measured|{key}|{identity}")
+    @_block_compiler(make_step)
+    @own_name(f"parts.block_measured|{key}|{identity}")
     def measured_block(  # type: ignore[no-untyped-def]
         y, moments, parts, params, context, axis, t0, dt, n_steps, out, energy0, status, start, stop
     ):
         state, model = _loaded(y, moments, parts, params, context, start, stop)
-        inverse, block_parts = model[0], model[1]
+        inverse, block_parts = model[1], model[2]
         nominal = _block_of(axis, start, stop)
         running = np.empty((len(RUNNING), BLOCK))
         for j in range(BLOCK):
             a1, a2, a3 = nominal[0, j], nominal[1, j], nominal[2, j]
             body = column(state, j)
-            start_body(body, _inverse_at(inverse, j), block_parts, j, a1, a2, a3, running, j)
+            start_body(body, _three_at(inverse, j), block_parts, j, a1, a2, a3, running, j)
         count = stop - start
         arguments = (state, inverse, block_parts, running, dt)
         advance(state, model, t0, dt, n_steps, status, start, count, observer, arguments)
         _finish_block(running, out, energy0, start, count, dt)
         y[:, start:stop] = state[:, :count]
 
-    @specialise(njit_vector, f"parts.rk4_measure|{key}|{identity}")
+    @specialise(njit_vector, f"parts.block_measure|{key}|{identity}")
     def measure(y, moments, parts, params, context, axis, t0, dt, n_steps, out, energy0, status):  # type: ignore[no-untyped-def]
         n = y.shape[1]
         for block in prange((n + BLOCK - 1) // BLOCK):

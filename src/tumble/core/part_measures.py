@@ -6,8 +6,9 @@ its parts, ``ω · H + Σ ε`` (:func:`tumble.core.parts.measured_energy`), for
 ``ω · I ω``. The running measures of one body are a column of :data:`RUNNING`
 rows, updated by the functions :func:`body_measures` makes and written out by
 :func:`finish_measures`: the one body per thread of :func:`measuring_kernel`
-(the splittings) and the blocks of bodies of
-:func:`tumble.core.part_blocks.rk4_block_measuring_kernel` (RK4) take the same.
+(the reference) and the blocks of bodies of
+:func:`tumble.core.part_blocks.block_measuring_kernel` (which sweeps run) take the
+same.
 """
 
 from __future__ import annotations
@@ -77,7 +78,7 @@ def body_measures(layout):  # type: ignore[no-untyped-def]
     ``start(y, inverse, parts, pc, a1, a2, a3, m, mc)`` before the first step,
     about the nominal axis a (principal-platform axes); ``after(y, inverse,
     parts, pc, m, mc, time)`` after a step that ends at ``time`` (s)."""
-    velocity, _, _, _ = part_model(layout)
+    velocity = part_model(layout).velocity
     shares = measured_energy(layout)
 
     @njit(inline="always", cache=False)
@@ -179,8 +180,7 @@ def measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignor
     measured after every step about its nominal axis (``axis`` (3, N),
     principal-platform axes) into ``out`` (``N_METRICS``, N) (:func:`body_measures`);
     ``energy0`` (N,) receives twice its energy at the start."""
-    velocity, momentum, rates, kick = part_model(layout)
-    step = make_step(torque, drive, velocity, momentum, rates, kick)
+    step = make_step(torque, drive, layout)
     start, after = body_measures(layout)
     key = layout_identity(layout)
 

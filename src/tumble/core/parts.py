@@ -38,7 +38,8 @@ only the kicks write it) and its packed values from rows ``row … row + rows �
   body (a motor's share), read at time ``hold``;
 * for a part the splitting integrators take (a rotor: its momentum is fixed
   in the body between kicks), ``kick(y, k, parts, row, rows, pc, w, v, hold,
-  h)``: its momenta advanced over ``h`` with the attitude held;
+  h) -> (y_k', …)``: its momenta advanced over ``h`` with the attitude held, a
+  tuple as long as its state (reading its own entries of ``y`` alone);
 * for a part whose energy a sweep measures, ``energy(y, k, parts, row, rows,
   pc, w) -> ε`` (J): its momenta times their rates relative to the body, plus
   twice its potential energy, so that twice the energy of the body and its
@@ -65,9 +66,10 @@ and its parts and leave H alone.
 in order, with their state sizes and packed rows) into the four functions the
 steps close over (``velocity``, ``momentum``, ``rates``, ``kick``); the
 kernels are built for one layout and cached under its identity. A batch steps
-one body per thread (:func:`batch_kernel`,
-:func:`tumble.core.part_measures.measuring_kernel`: the splittings), or, with
-RK4, blocks of bodies (:mod:`tumble.core.part_blocks`).
+blocks of bodies (:mod:`tumble.core.part_blocks`), each body's state a tuple;
+:func:`batch_kernel` and :func:`tumble.core.part_measures.measuring_kernel` step
+one body per thread with the step of one body alone, the reference the blocks
+are checked against (``tests/core/test_parts_kernels.py``).
 """
 
 from __future__ import annotations
@@ -77,6 +79,7 @@ from functools import cache
 from typing import Any, NamedTuple
 
 import numpy as np
+from numba.core.extending import overload
 
 from tumble.core._jit import (
     FINITE,
@@ -87,10 +90,18 @@ from tumble.core._jit import (
     specialise,
 )
 from tumble.core.adaptive import adaptive_loop
-from tumble.core.dynamics import quaternion_rates
+from tumble.core.dynamics import is_free, quaternion_rates
 from tumble.core.quaternion import multiply_right_into
-from tumble.core.rk4 import rk4_array_step
-from tumble.core.splitting import decay_integral, free_flow_one_body, sub_steps, turn
+from tumble.core.rk4 import entry_by_entry, rk4_array_step
+from tumble.core.splitting import (
+    decay_integral,
+    free_flow_one_body,
+    sub_step,
+    sub_step_start,
+    sub_steps,
+    turn,
+)
+from tumble.core.trig import LARGEST_ANGLE, library_cos_sin
 
 __all__ = [
     "PartEquations",
@@ -137,14 +148,17 @@ class PartModel(NamedTuple):
     """The compiled functions of one layout: ``velocity(y, inverse, parts, pc) ->
     ω``, ``momentum(y, parts, pc) -> Σ momentum``, ``rates(y, parts, pc, w, v,
     hold) -> the parts' rates`` (a tuple, in the order of their states) and
-    ``kick(y, parts, pc, w, v, hold, h)`` (the kicks of the parts that have one:
-    the splitting kernels take a layout only when every part kicks and none
-    moves mass, :attr:`tumble.parts.InternalPart.splittable`)."""
+    ``kick(y, parts, pc, w, v, hold, h) -> the parts' new states`` (a tuple, the
+    kicks of the parts that have one: the splitting kernels take a layout only
+    when every part kicks and none moves mass,
+    :attr:`tumble.parts.InternalPart.splittable`); ``size``, the state's length
+    (7 + m)."""
 
     velocity: Any
     momentum: Any
     rates: Any
     kick: Any
+    size: int
 
 
 def layout_identity(layout: tuple[LayoutEntry, ...]) -> str:
@@ -197,7 +211,7 @@ def _no_rates(y, parts, pc, w, v, hold):  # type: ignore[no-untyped-def]
 
 @njit(inline="always")
 def _no_kick(y, parts, pc, w, v, hold, h):  # type: ignore[no-untyped-def]
-    return None
+    return ()
 
 
 @njit(inline="always")
@@ -257,8 +271,8 @@ def _chain_rates(previous, rates, k, row, rows):  # type: ignore[no-untyped-def]
 def _chain_kick(previous, kick, k, row, rows):  # type: ignore[no-untyped-def]
     @njit(inline="always", cache=False)
     def every(y, parts, pc, w, v, hold, h):  # type: ignore[no-untyped-def]
-        previous(y, parts, pc, w, v, hold, h)
-        kick(y, k, parts, row, rows, pc, w, v, hold, h)
+        moved = previous(y, parts, pc, w, v, hold, h)
+        return moved + kick(y, k, parts, row, rows, pc, w, v, hold, h)
 
     return every
 
@@ -313,7 +327,7 @@ def part_model(layout: tuple[LayoutEntry, ...]) -> PartModel:
     velocity = (
         _diagonal_velocity(momentum) if inertia is None else _solved_velocity(momentum, inertia)
     )
-    return PartModel(velocity, momentum, rates, kick)
+    return PartModel(velocity, momentum, rates, kick, k)
 
 
 def _every_part(layout, equation, nothing, chain):  # type: ignore[no-untyped-def]
@@ -419,17 +433,17 @@ def finite_state(y):  # type: ignore[no-untyped-def]
     return math.isfinite(total) and math.isfinite(norm) and norm > 0.0
 
 
-# Every step below is made for one layout and torque by a function of the
-# layout's four functions (:func:`part_model`) and the torques:
-# ``make(torque, drive, velocity, momentum, rates, kick)`` returns
-# ``step(t, dt, y, work, system)``, which advances ``y`` in place. The functions
-# are the step's closure constants, so the compiler inlines them (held in a tuple,
-# numba would pass them as pointers).
-def make_rk4_step(torque, drive, velocity, momentum, rates, kick):  # type: ignore[no-untyped-def]
+# Every step below is made for one layout and torque by a function of the layout
+# and the torques: ``make(torque, drive, layout)`` returns ``step(t, dt, y, work,
+# system)``, which advances ``y`` in place. The layout's functions
+# (:func:`part_model`) are the step's closure constants, so the compiler inlines
+# them (held in a tuple, numba would pass them as pointers).
+def make_rk4_step(torque, drive, layout):  # type: ignore[no-untyped-def]
     """The classical Runge–Kutta step of ``dt`` s from time ``t``, by the shared
     stepper (:func:`tumble.core.rk4.rk4_array_step`; ``work`` (5, len(y)) its
     scratch): the parts' inputs read at the step's middle, the quaternion
     renormalised after it."""
+    velocity, _, rates, _, _ = part_model(layout)
 
     @njit(inline="always", cache=False)
     def derivatives(t, y, dy, model):  # type: ignore[no-untyped-def]
@@ -445,27 +459,33 @@ def make_rk4_step(torque, drive, velocity, momentum, rates, kick):  # type: igno
 
 
 # ------------------------------------------------------------------ the gyrostat splitting
+# Written on the state held as a tuple (7 + m), as the blocks of bodies hold it
+# (tumble.core.part_blocks); one body alone is read into a tuple, stepped and
+# written back. ``flow`` and ``sines`` are the free flow and the sines it turns
+# by: the C library's one body at a time (free_flow_one_body, library_cos_sin),
+# the vectorised ones in blocks (free_flow, cos_sin), the same map to round-off.
 @njit(inline="always")
-def _link(momentum, h, y, system):  # type: ignore[no-untyped-def]
-    """The exact flow over h of ``−b·H``, ``b = I_p⁻¹ g`` with ``g`` the parts'
-    momentum (fixed in the body between kicks): the body turns about the
-    body-fixed b at the rate −|b|, so H turns about b by +|b| h in the body."""
-    inverse = system[1]
-    parts = system[2]
-    pc = system[3]
+def _linked(momentum, sines, h, y, system):  # type: ignore[no-untyped-def]
+    """The state after the exact flow over h of ``−b·H``, ``b = I_p⁻¹ g`` with ``g``
+    the parts' momentum (fixed in the body between kicks): the body turns about
+    the body-fixed b at the rate −|b|, so H turns about b by +|b| h in the body.
+    No turn when b = 0; NaN beyond :data:`~tumble.core.trig.LARGEST_ANGLE` (a step
+    far too coarse, as the free flow's). Written without branches, so that a
+    block's loop vectorises."""
+    inverse, parts, pc = system[1], system[2], system[3]
     g1, g2, g3 = momentum(y, parts, pc)
     b1 = g1 * inverse[0]
     b2 = g2 * inverse[1]
     b3 = g3 * inverse[2]
     size = math.sqrt(b1 * b1 + b2 * b2 + b3 * b3)
-    if size == 0.0:
-        return
-    e1 = b1 / size
-    e2 = b2 / size
-    e3 = b3 / size
+    # b = 0 gives e = 0, c = 1 and s = 0, which leave H and q as they are.
+    divisor = size if size > 0.0 else 1.0
+    e1 = b1 / divisor
+    e2 = b2 / divisor
+    e3 = b3 / divisor
     half = 0.5 * size * h
-    c = math.cos(half)
-    s = math.sin(half)
+    c, s = sines(half)
+    c = c if abs(half) <= LARGEST_ANGLE else math.nan
     # H' = H + 2c s (e × H) + 2 s² e × (e × H): H turned about e by 2·half.
     l1 = y[0]
     l2 = y[1]
@@ -476,17 +496,43 @@ def _link(momentum, h, y, system):  # type: ignore[no-untyped-def]
     z1 = e2 * x3 - e3 * x2
     z2 = e3 * x1 - e1 * x3
     z3 = e1 * x2 - e2 * x1
-    y[0] = l1 + 2.0 * s * (c * x1 + s * z1)
-    y[1] = l2 + 2.0 * s * (c * x2 + s * z2)
-    y[2] = l3 + 2.0 * s * (c * x3 + s * z3)
-    y[3], y[4], y[5], y[6] = turn(y[3], y[4], y[5], y[6], c, -s, e1, e2, e3)
+    h1 = l1 + 2.0 * s * (c * x1 + s * z1)
+    h2 = l2 + 2.0 * s * (c * x2 + s * z2)
+    h3 = l3 + 2.0 * s * (c * x3 + s * z3)
+    turned = (h1, h2, h3)
+    return turned + turn(y[3], y[4], y[5], y[6], c, -s, e1, e2, e3) + y[7:]
+
+
+def external_kick(torque, y, moments, h, torques, w):  # type: ignore[no-untyped-def]
+    """H (a tuple (3,)) after the external torque ``torques`` = (τ1, τ2, τ3, c) over
+    h with the attitude held, its damping ``c`` integrated exactly; compiled, H
+    itself for a free body (:func:`tumble.core.dynamics.free_torque`)."""
+    return _external_kick(torque, y, moments, h, torques, w)
+
+
+def _external_kick(torque, y, moments, h, torques, w):  # type: ignore[no-untyped-def]
+    t1, t2, t3, c = torques
+    return (
+        y[0] + (t1 - c * w[0]) * decay_integral(c, moments[0], h),
+        y[1] + (t2 - c * w[1]) * decay_integral(c, moments[1], h),
+        y[2] + (t3 - c * w[2]) * decay_integral(c, moments[2], h),
+    )
+
+
+def _no_external_kick(torque, y, moments, h, torques, w):  # type: ignore[no-untyped-def]
+    return y[0], y[1], y[2]
+
+
+@overload(external_kick, inline="always")
+def _external_kick_overload(torque, y, moments, h, torques, w):  # type: ignore[no-untyped-def]
+    return _no_external_kick if is_free(torque) else _external_kick
 
 
 @njit(inline="always")
-def _kick(torque, drive, momentum, kick, t, hold, h, y, system):  # type: ignore[no-untyped-def]
-    """The torques over h with the attitude and the torques held: the external
-    torque on H (its damping ``c`` integrated exactly) and the parts' kicks
-    (their inputs read at ``hold``)."""
+def _kicked(torque, drive, momentum, kick, t, hold, h, y, system):  # type: ignore[no-untyped-def]
+    """The state after the torques over h with the attitude and the torques held:
+    the external torque on H (:func:`external_kick`) and the parts' kicks (their
+    inputs read at ``hold``)."""
     moments, inverse, parts, pc = system[0], system[1], system[2], system[3]
     g1, g2, g3 = momentum(y, parts, pc)
     w1 = (y[0] - g1) * inverse[0]
@@ -494,64 +540,82 @@ def _kick(torque, drive, momentum, kick, t, hold, h, y, system):  # type: ignore
     w3 = (y[2] - g3) * inverse[2]
     q = (y[3], y[4], y[5], y[6])
     t1, t2, t3, c, v1, v2, v3 = _torques(torque, drive, t, w1, w2, w3, q, system)
-    kick(y, parts, pc, (w1, w2, w3), (v1, v2, v3), hold, h)
-    y[0] += (t1 - c * w1) * decay_integral(c, moments[0], h)
-    y[1] += (t2 - c * w2) * decay_integral(c, moments[1], h)
-    y[2] += (t3 - c * w3) * decay_integral(c, moments[2], h)
+    moved = kick(y, parts, pc, (w1, w2, w3), (v1, v2, v3), hold, h)
+    held = external_kick(torque, y, moments, h, (t1, t2, t3, c), (w1, w2, w3))
+    return held + q + moved
 
 
 @njit(inline="always")
-def _strang(torque, drive, momentum, kick, t, h, hold, y, system):  # type: ignore[no-untyped-def]
+def _strang(torque, drive, momentum, kick, flow, sines, t, h, hold, y, system):  # type: ignore[no-untyped-def]
     """kick(h/2) ∘ link(h/2) ∘ free(h) ∘ link(h/2) ∘ kick(h/2), from time t."""
     inverse = system[1]
-    _kick(torque, drive, momentum, kick, t, hold, 0.5 * h, y, system)
-    _link(momentum, 0.5 * h, y, system)
-    # The C library's sines: the kernels turn one body at a time.
-    y[0], y[1], y[2], y[3], y[4], y[5], y[6] = free_flow_one_body(
-        h, y[0], y[1], y[2], y[3], y[4], y[5], y[6], inverse[0], inverse[1], inverse[2]
-    )
-    _link(momentum, 0.5 * h, y, system)
-    _kick(torque, drive, momentum, kick, t + h, hold, 0.5 * h, y, system)
+    y = _kicked(torque, drive, momentum, kick, t, hold, 0.5 * h, y, system)
+    y = _linked(momentum, sines, 0.5 * h, y, system)
+    free = flow(h, y[0], y[1], y[2], y[3], y[4], y[5], y[6], inverse[0], inverse[1], inverse[2])
+    y = _linked(momentum, sines, 0.5 * h, free + y[7:], system)
+    return _kicked(torque, drive, momentum, kick, t + h, hold, 0.5 * h, y, system)
 
 
 @njit(inline="always")
-def splitting_step(torque, drive, momentum, kick, t, dt, y, system, order):  # type: ignore[no-untyped-def]
-    """One splitting step of ``dt`` s from ``t``, in place: Strang (``order`` 2) or
-    Yoshida's triple jump of it (4), for a layout whose parts all kick and move
-    no mass (:attr:`PartModel.splittable`). The free flow of the gyrostat,
-    ``T = ½ (H − g)ᵀ I_p⁻¹ (H − g)`` with ``g`` the parts' momentum, constant
-    between kicks, is the rigid body's ``½ Hᵀ I_p⁻¹ H`` (the exact rotations of
-    :func:`tumble.core.splitting.free_flow_one_body`) and the linear ``−(I_p⁻¹
-    g)·H``, an exact rotation about a body-fixed axis: explicit and symplectic,
-    H kept to round-off."""
-    fractions, n_sub = sub_steps(order)
+def splitting_sub_step(torque, drive, momentum, kick, flow, sines, t, dt, sub, y, system, order):  # type: ignore[no-untyped-def]
+    """The state (a tuple) after Strang sub-step ``sub``
+    (:func:`~tumble.core.splitting.sub_steps`) of a splitting step of ``dt`` s
+    from ``t``: Strang (``order`` 2) or Yoshida's triple jump of it (4), the
+    parts' inputs read at the step's middle; its quaternion is not renormalised.
+    For a layout whose parts all kick and move no mass
+    (:attr:`tumble.parts.InternalPart.splittable`).
+
+    The free flow of the gyrostat, ``T = ½ (H − g)ᵀ I_p⁻¹ (H − g)`` with ``g`` the
+    parts' momentum, constant between kicks, is the rigid body's ``½ Hᵀ I_p⁻¹ H``
+    (``flow``: the exact rotations of :func:`tumble.core.splitting.free_flow`) and
+    the linear ``−(I_p⁻¹ g)·H``, an exact rotation about a body-fixed axis:
+    explicit and symplectic, H kept to round-off."""
     hold = t + 0.5 * dt
-    # The sub-steps at one call site, so the compiler inlines the Strang step once.
-    for j in range(n_sub):
-        h = fractions[j] * dt
-        _strang(torque, drive, momentum, kick, t, h, hold, y, system)
-        t += h
-    _normalise(y)
+    start = sub_step_start(order, sub, t, dt)
+    h = sub_step(order, sub) * dt
+    return _strang(torque, drive, momentum, kick, flow, sines, start, h, hold, y, system)
 
 
-def make_strang_step(torque, drive, velocity, momentum, rates, kick):  # type: ignore[no-untyped-def]
-    """:func:`splitting_step` of order 2 (Strang); ``work`` is not used."""
+@njit(inline="always")
+def splitting_step(torque, drive, momentum, kick, flow, sines, t, dt, y, system, order):  # type: ignore[no-untyped-def]
+    """The state after a whole splitting step: its sub-steps
+    (:func:`splitting_sub_step`) one after the other, at one call site, so that the
+    compiler inlines the Strang step once."""
+    for sub in range(sub_steps(order)):
+        y = splitting_sub_step(
+            torque, drive, momentum, kick, flow, sines, t, dt, sub, y, system, order
+        )
+    return y
+
+
+def _make_splitting_step(torque, drive, layout, order):  # type: ignore[no-untyped-def]
+    """:func:`splitting_step` of one body held in an array, with the C library's
+    sines (one body at a time, they are the faster); ``work`` is not used."""
+    _, momentum, _, kick, size = part_model(layout)
+    state_of = njit(inline="always", cache=False)(entry_by_entry("state_of", "y", "y[{i}]", size))
 
     @njit(inline="always", cache=False)
     def step(t, dt, y, work, system):  # type: ignore[no-untyped-def]
-        splitting_step(torque, drive, momentum, kick, t, dt, y, system, 2)
+        state = state_of(y)
+        flow, sines = free_flow_one_body, library_cos_sin
+        new = splitting_step(
+            torque, drive, momentum, kick, flow, sines, t, dt, state, system, order
+        )
+        for i in range(size):
+            y[i] = new[i]
+        _normalise(y)
 
     return step
 
 
-def make_yoshida_step(torque, drive, velocity, momentum, rates, kick):  # type: ignore[no-untyped-def]
+def make_strang_step(torque, drive, layout):  # type: ignore[no-untyped-def]
+    """:func:`splitting_step` of order 2 (Strang)."""
+    return _make_splitting_step(torque, drive, layout, 2)
+
+
+def make_yoshida_step(torque, drive, layout):  # type: ignore[no-untyped-def]
     """:func:`splitting_step` of order 4 (Yoshida's triple jump of Strang)."""
-
-    @njit(inline="always", cache=False)
-    def step(t, dt, y, work, system):  # type: ignore[no-untyped-def]
-        splitting_step(torque, drive, momentum, kick, t, dt, y, system, 4)
-
-    return step
+    return _make_splitting_step(torque, drive, layout, 4)
 
 
 # ------------------------------------------------------------------ loops
@@ -592,8 +656,7 @@ def single_kernel(make_step, torque, drive, layout, identity):  # type: ignore[n
     or the global number of the first step that was not finite (the state is
     left as it was before it).
     """
-    velocity, momentum, rates, kick = part_model(layout)
-    step = make_step(torque, drive, velocity, momentum, rates, kick)
+    step = make_step(torque, drive, layout)
     key = layout_identity(layout)
 
     @specialise(njit, f"parts.single|{file_stamp(make_step)}|{key}|{identity}")
@@ -608,12 +671,12 @@ def single_kernel(make_step, torque, drive, layout, identity):  # type: ignore[n
 def batch_kernel(make_step, torque, drive, layout, identity):  # type: ignore[no-untyped-def]
     """``batch(y, moments, parts, params, context, t0, dt, n_steps, status)``: N bodies
     (``y`` (7 + m, N), ``moments`` (3, N); ``parts`` and ``params`` shared or one
-    column per body) advanced in place, one body per thread at a time (the
-    splittings'; RK4's steps blocks of bodies:
-    :func:`tumble.core.part_blocks.rk4_block_kernel`); ``status``
-    (N,) receives each body's status (a body keeps its last finite state)."""
-    velocity, momentum, rates, kick = part_model(layout)
-    step = make_step(torque, drive, velocity, momentum, rates, kick)
+    column per body) advanced in place, one body per thread at a time with the
+    step of one body alone (``make_step``'s): the reference of the blocked
+    kernels that batches run (:func:`tumble.core.part_blocks.block_kernel`).
+    ``status`` (N,) receives each body's status (a body keeps its last finite
+    state)."""
+    step = make_step(torque, drive, layout)
     key = layout_identity(layout)
 
     # One body per call of a compiled function of its own, as in
@@ -658,7 +721,7 @@ def adaptive_kernel(torque, drive, layout, identity):  # type: ignore[no-untyped
     to the rows of ``out`` (m, 7 + m') and the status as there). The parts'
     inputs are read at the middle of (t_start, t_stop): the driver ends each
     call at the next switch of a schedule."""
-    velocity, _, rates, _ = part_model(layout)
+    velocity, _, rates, _, _ = part_model(layout)
     key = layout_identity(layout)
 
     @njit(inline="always", cache=False)

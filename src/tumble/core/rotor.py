@@ -99,8 +99,9 @@ def rotor_rates(y, k, parts, row, rows, pc, w, v, hold):  # type: ignore[no-unty
 
 @njit(inline="always")
 def rotor_kick(y, k, parts, row, rows, pc, w, v, hold, h):  # type: ignore[no-untyped-def]
-    """``h += u h``: the motor torque over a kick of ``h`` s, the attitude held."""
-    y[k] += motor_torque(y, k, parts, row, rows, pc, w, v, hold) * h
+    """``(h + u h,)``: its momentum after the motor torque over a kick of ``h`` s,
+    the attitude held."""
+    return (y[k] + motor_torque(y, k, parts, row, rows, pc, w, v, hold) * h,)
 
 
 @njit(inline="always")

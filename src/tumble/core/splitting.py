@@ -56,7 +56,7 @@ from numba.extending import overload
 from tumble.core._jit import file_stamp, njit, njit_block, own_name
 from tumble.core.dynamics import free_torque, is_free, normalised
 from tumble.core.freebody import free_step
-from tumble.core.stepping import Variables, no_observer
+from tumble.core.stepping import Variables, block_steps, no_observer
 from tumble.core.trig import (
     LARGEST_ANGLE,
     QUARTER_TURN,
@@ -80,6 +80,8 @@ __all__ = [
     "momentum_vectors",
     "strang_step",
     "strang_step_one_body",
+    "sub_step",
+    "sub_step_start",
     "sub_steps",
     "turn",
     "velocity_state",
@@ -258,7 +260,14 @@ def _exact(h, m, body):  # type: ignore[no-untyped-def]
 
 @njit
 def decay_integral(c, moment, h):  # type: ignore[no-untyped-def]
-    """∫₀ʰ exp(−c s / I) ds = (1 − exp(−c h / I)) I / c, and h when c = 0."""
+    """∫₀ʰ exp(−c s / I) ds = (1 − exp(−c h / I)) I / c, and h when c = 0.
+
+    ``c`` is tested first: for a torque without damping it is a constant zero,
+    so the compiler drops the rest, and a loop of kicks across bodies keeps no
+    call to ``expm1`` and vectorises (measured: a block of bodies carrying a rotor
+    under a constant torque stepped 6× slower with the call left in)."""
+    if c == 0.0:
+        return h
     rate = c / moment
     if rate == 0.0:
         return h
@@ -422,11 +431,26 @@ def exact_yoshida_step(torque, t, dt, state, coefficients, params, column, conte
 
 @njit(inline="always")
 def sub_steps(order):  # type: ignore[no-untyped-def]
-    """The fractions of a step taken by Strang sub-steps, and how many: one whole
-    step (``order`` 2), or Yoshida's triple jump (4)."""
-    if order == 2:
-        return (1.0, 0.0, 0.0), 1
-    return (YOSHIDA_OUTER, YOSHIDA_INNER, YOSHIDA_OUTER), 3
+    """How many Strang sub-steps a step takes: one whole step (``order`` 2), or
+    Yoshida's triple jump (4)."""
+    return 1 if order == 2 else 3
+
+
+@njit(inline="always")
+def sub_step(order, j):  # type: ignore[no-untyped-def]
+    """The fraction of a step taken by Strang sub-step ``j`` (:func:`sub_steps`):
+    1, or w1, w0, w1. (A number, not a tuple of them: the analysis of a parallel
+    loop that inlines a step takes a tuple of constants for an array's shape.)"""
+    return 1.0 if order == 2 else (YOSHIDA_INNER if j == 1 else YOSHIDA_OUTER)
+
+
+@njit(inline="always")
+def sub_step_start(order, j, t, dt):  # type: ignore[no-untyped-def]
+    """The time (s) at which Strang sub-step ``j`` of a step of ``dt`` s from ``t``
+    starts: the sub-steps before it added to ``t`` one by one, as a loop over them
+    adds them."""
+    first = t + sub_step(order, 0) * dt
+    return t if j == 0 else (first if j == 1 else first + sub_step(order, 1) * dt)
 
 
 # ------------------------------------------------------------------ whole blocks
@@ -604,14 +628,64 @@ _UNOBSERVED = {
 _OBSERVED = {strang_step: _free_strang_block, yoshida_step: _free_yoshida_block}
 
 
+# Under a torque, Yoshida's triple jump takes a loop across the block for each of
+# its three Strang steps: in one loop of whole steps the compiler vectorised
+# nothing (measured: 1e5 bodies under a constant torque, 3.9 s for 300 steps
+# against 0.2 s free; Strang's single step vectorises). Each sub-step is
+# :func:`_strang` from the time and of the length the triple jump gives it, so
+# the map is :func:`yoshida_step`'s.
+@njit(inline="always")
+def _first_jump(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    h = YOSHIDA_OUTER * dt
+    return _strang(torque, _rotations, t, h, state, coefficients, params, column, context)
+
+
+@njit(inline="always")
+def _middle_jump(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    start = t + YOSHIDA_OUTER * dt
+    h = YOSHIDA_INNER * dt
+    return _strang(torque, _rotations, start, h, state, coefficients, params, column, context)
+
+
+@njit(inline="always")
+def _last_jump(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    start = t + YOSHIDA_OUTER * dt + YOSHIDA_INNER * dt
+    h = YOSHIDA_OUTER * dt
+    flowed = _strang(torque, _rotations, start, h, state, coefficients, params, column, context)
+    return normalised(flowed)
+
+
+@njit(inline="always")
+def _jump(jump, torque, t, dt, state, coefficients, params, context):  # type: ignore[no-untyped-def]
+    """One Strang step of the triple jump (``jump``) of every body of a block."""
+    block_steps(jump, torque, t, dt, 1, state, coefficients, params, context, no_observer, ())
+
+
+@njit(inline="always")
+def _yoshida_jumps(  # type: ignore[no-untyped-def]
+    step, torque, t0, dt, n_steps, state, coefficients, params, context, observer, arguments
+):
+    """:func:`yoshida_step` under a torque, for a whole block: its three Strang
+    steps one after the other, each a loop across the block
+    (:func:`tumble.core.stepping.block_steps` of one step)."""
+    for k in range(n_steps):
+        t = t0 + k * dt
+        _jump(_first_jump, torque, t, dt, state, coefficients, params, context)
+        _jump(_middle_jump, torque, t, dt, state, coefficients, params, context)
+        _jump(_last_jump, torque, t, dt, state, coefficients, params, context)
+        observer(k, arguments)
+
+
 def block_advance(step: Any, torque: Any, observed: bool = False) -> Any:
     """The ``advance`` of the batch and measuring kernels
     (:func:`tumble.core.stepping.batch_kernel`, :func:`~tumble.core.stepping.metrics_kernel`)
     for ``step`` and ``torque``: for a free body and the rotations, one loop over
     the block per turn (the same operations as :func:`strang_step` and
-    :func:`yoshida_step` body by body); else None, the body-by-body default.
+    :func:`yoshida_step` body by body); under a torque, for :func:`yoshida_step`,
+    one loop per Strang step (:func:`_yoshida_jumps`); else None, the
+    body-by-body default.
     ``observed``: whether it calls its observer (else it calls none, and compiles
     faster)."""
     if torque is not free_torque:
-        return None
+        return _yoshida_jumps if step is yoshida_step else None
     return (_OBSERVED if observed else _UNOBSERVED).get(step)

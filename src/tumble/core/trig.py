@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba.core.extending import overload
 
 from tumble.core._jit import njit
 
@@ -95,8 +96,18 @@ def cos_sin_small(x):  # type: ignore[no-untyped-def]
     return _polynomials(x)
 
 
-@njit(inline="always")
 def library_cos_sin(x):  # type: ignore[no-untyped-def]
     """(cos x, sin x) from the C library: within 1 ulp at any x, and faster than
-    :func:`cos_sin` one angle at a time, but calls that a loop cannot vectorise."""
+    :func:`cos_sin` one angle at a time, but calls that a loop cannot vectorise;
+    NaN for x not finite, compiled or not (Python's ``math.cos`` raises there)."""
+    if not math.isfinite(x):
+        return math.nan, math.nan
     return math.cos(x), math.sin(x)
+
+
+@overload(library_cos_sin, inline="always")
+def _compiled_library_cos_sin(x):  # type: ignore[no-untyped-def]
+    def library(x):  # type: ignore[no-untyped-def]
+        return math.cos(x), math.sin(x)  # NaN for x not finite, as the C library gives
+
+    return library

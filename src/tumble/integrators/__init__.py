@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from functools import partial
 from typing import Any, Literal
 
-from tumble.core import adaptive, freebody, part_blocks, part_measures, splitting, stepping
+from tumble.core import adaptive, freebody, part_blocks, splitting, stepping
 from tumble.core import parts as part_kernels
 from tumble.core.rk4 import rk4_step
 from tumble.errors import InputError, unknown_choice
@@ -444,13 +444,14 @@ def _splitting(
             **common,
         )
     part_step = part_kernels.make_strang_step if order == 2 else part_kernels.make_yoshida_step
+    body_step = part_blocks.strang_body_step if order == 2 else part_blocks.yoshida_body_step
     return Integrator(
         preserves="|L| to round-off when torque-free; bounded energy error under gravity; "
         "a symmetric body's free motion exactly; with rotors, L to round-off",
         takes_part=splittable_part,
         parts_single=partial(part_kernels.single_kernel, part_step),
-        parts_batch=partial(part_kernels.batch_kernel, part_step),
-        parts_metrics=partial(part_measures.measuring_kernel, part_step),
+        parts_batch=partial(part_blocks.block_kernel, body_step),
+        parts_metrics=partial(part_blocks.block_measuring_kernel, body_step),
         **common,
     )
 
@@ -508,8 +509,8 @@ register_integrator(
         measures_without_attitude=True,
         takes_part=any_part,
         parts_single=partial(part_kernels.single_kernel, part_kernels.make_rk4_step),
-        parts_batch=part_blocks.rk4_block_kernel,
-        parts_metrics=part_blocks.rk4_block_measuring_kernel,
+        parts_batch=partial(part_blocks.block_kernel, part_blocks.rk4_body_step),
+        parts_metrics=partial(part_blocks.block_measuring_kernel, part_blocks.rk4_body_step),
     )
 )
 register_integrator(
