@@ -99,7 +99,7 @@ def main() -> None:
     print(describe({}))
     print(f"{n} bodies × {steps} steps")
     # Each row against the free body of its own method.
-    free = {name.split(", ")[1]: rate for name, rate in rows if name.startswith("free body")}
+    free = {name.split(", ")[1]: rate for name, rate in rows if name.split(", ")[0] == "free body"}
     print(f"{'what':28s} {'body-steps/s':>14s} {'cost / free body':>17s}")
     for name, rate in rows:
         print(f"{name:28s} {rate:14.3g} {free[name.split(', ')[1]] / rate:17.2f}")
