@@ -439,8 +439,7 @@ def sub_steps(order):  # type: ignore[no-untyped-def]
 @njit(inline="always")
 def sub_step(order, j):  # type: ignore[no-untyped-def]
     """The fraction of a step taken by Strang sub-step ``j`` (:func:`sub_steps`):
-    1, or w1, w0, w1. (A number, not a tuple of them: the analysis of a parallel
-    loop that inlines a step takes a tuple of constants for an array's shape.)"""
+    1, or w1, w0, w1."""
     return 1.0 if order == 2 else (YOSHIDA_INNER if j == 1 else YOSHIDA_OUTER)
 
 
@@ -631,27 +630,29 @@ _OBSERVED = {strang_step: _free_strang_block, yoshida_step: _free_yoshida_block}
 # Under a torque, Yoshida's triple jump takes a loop across the block for each of
 # its three Strang steps: in one loop of whole steps the compiler vectorised
 # nothing (measured: 1e5 bodies under a constant torque, 3.9 s for 300 steps
-# against 0.2 s free; Strang's single step vectorises). Each sub-step is
-# :func:`_strang` from the time and of the length the triple jump gives it, so
-# the map is :func:`yoshida_step`'s.
+# against 0.2 s free; Strang's single step vectorises). Each is :func:`_strang`
+# from the time and of the length the triple jump gives its sub-step
+# (:func:`sub_step_start`, :func:`sub_step`), so the map is :func:`yoshida_step`'s.
 @njit(inline="always")
-def _first_jump(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
-    h = YOSHIDA_OUTER * dt
-    return _strang(torque, _rotations, t, h, state, coefficients, params, column, context)
-
-
-@njit(inline="always")
-def _middle_jump(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
-    start = t + YOSHIDA_OUTER * dt
-    h = YOSHIDA_INNER * dt
+def _jump_of(j, torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    start = sub_step_start(4, j, t, dt)
+    h = sub_step(4, j) * dt
     return _strang(torque, _rotations, start, h, state, coefficients, params, column, context)
 
 
 @njit(inline="always")
+def _first_jump(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    return _jump_of(0, torque, t, dt, state, coefficients, params, column, context)
+
+
+@njit(inline="always")
+def _middle_jump(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
+    return _jump_of(1, torque, t, dt, state, coefficients, params, column, context)
+
+
+@njit(inline="always")
 def _last_jump(torque, t, dt, state, coefficients, params, column, context):  # type: ignore[no-untyped-def]
-    start = t + YOSHIDA_OUTER * dt + YOSHIDA_INNER * dt
-    h = YOSHIDA_OUTER * dt
-    flowed = _strang(torque, _rotations, start, h, state, coefficients, params, column, context)
+    flowed = _jump_of(2, torque, t, dt, state, coefficients, params, column, context)
     return normalised(flowed)
 
 
