@@ -210,6 +210,8 @@ def test_minus_zero_is_not_zero_in_a_key() -> None:
     assert plain_key(None) is None and plain_key("250 g") == "250 g"
     for value in (True, [1.0, True, 0.0], [np.float64(1.0)], np.zeros(5), [10**400], object()):
         assert plain_key(value) is UNKEYED
+    # An int is named by its float64, rounded as the unit conversion rounds it.
+    assert plain_key([2**53 + 1, 0, 0]) == plain_key([float(2**53 + 1), 0.0, 0.0])
 
 
 def test_a_mass_properties_changed_in_place_is_a_new_setup() -> None:
@@ -321,6 +323,50 @@ def test_a_small_run_again_is_held_to_a_budget_set_since(monkeypatch: pytest.Mon
     monkeypatch.setenv(BUDGET_VARIABLE, "100 B")
     with pytest.raises(RequestTooLargeError, match=r"^Expected a request that fits in the memory"):
         tb.simulate(BODY, [0.0, 1.0, 0.75], duration=0.1, dt=0.01, method="rk4")
+
+
+def test_the_budget_variable_is_read_at_each_call(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Where os.environ answers at once whether a name is set, and where it cannot
+    # (then tumble.resources reads the variable by the public os.environ.get).
+    from tumble import resources
+
+    for environment in (resources._ENVIRONMENT, None):
+        monkeypatch.setattr(resources, "_ENVIRONMENT", environment)
+        monkeypatch.delenv(BUDGET_VARIABLE, raising=False)
+        assert not resources.budget_is_set()
+        monkeypatch.setenv(BUDGET_VARIABLE, "  ")
+        assert not resources.budget_is_set()  # blanks set nothing
+        monkeypatch.setenv(BUDGET_VARIABLE, "1 GiB")
+        assert resources.budget_is_set()
+
+
+def test_a_trajectory_of_its_fields_is_the_one_its_constructor_makes() -> None:
+    import dataclasses
+
+    wheel = tb.Rotor([0, 0, 1], 0.1, speed=10.0)
+    made = tb.simulate(BODY, [0.0, 1.0, 0.5], duration=0.2, dt=0.01, internal=[wheel], method="rk4")
+    fields = {field.name: getattr(made, field.name) for field in dataclasses.fields(made)}
+    again = tb.Trajectory(**fields)
+    for name, value in fields.items():
+        assert getattr(again, name) is value, name
+    assert np.array_equal(made.energy, again.energy) and made.rotor_speed.shape == (21, 1)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        made.dt = 0.5  # type: ignore[misc]
+    assert dataclasses.replace(made, dt=0.5).dt == 0.5
+
+
+def test_a_trajectory_of_fields_missing_or_unknown_is_refused() -> None:
+    with pytest.raises(
+        InputError,
+        match=r"^Expected every field of a Trajectory, got 14 missing \(conserved, dt, internal, "
+        r"internal_values, invariant_values, mass_properties, method, omega, pivot, potential, "
+        r"quaternion, reason, steps, torque\) and 1 unknown \(speed\)\.$",
+    ):
+        tb.Trajectory.of_fields(t=np.zeros(1), speed=1.0)
+    made = tb.simulate(BODY, [0.0, 1.0, 0.5], duration=0.2, dt=0.01, method="rk4")
+    fields = {name: getattr(made, name) for name in ("t", "omega", "quaternion")}
+    with pytest.raises(InputError, match=r"got 12 missing \(.*\) and 0 unknown \(none\)\.$"):
+        tb.Trajectory.of_fields(**fields)
 
 
 def _plans_counted(monkeypatch: pytest.MonkeyPatch) -> list[float]:

@@ -60,9 +60,9 @@ def plain_key(value: Any) -> Any:
     for number in value:
         if type(number) not in _NUMBERS:
             return UNKEYED
-    try:
-        return (kind is float or kind is int, _PACK[len(value)](*map(float, value)))
-    except OverflowError:  # an int beyond float range: refused where it is read
+    try:  # packed as float64, an int as float(int) would round it
+        return (kind is float or kind is int, _PACK[len(value)](*value))
+    except struct.error:  # an int beyond float range: refused where it is read
         return UNKEYED
 
 

@@ -283,9 +283,9 @@ def _trajectory(
     """The :class:`~tumble.trajectory.Trajectory` of a run: its samples (body axes)
     with the body, the integrator and why, and what the motion conserves."""
     body = setup.body
-    return Trajectory(
+    return Trajectory.of_fields(
         # A copy: the schedule is kept for the next call of the same motion.
-        t=np.array(schedule.times),
+        t=schedule.times.copy(),
         omega=samples.omega,
         quaternion=samples.quaternion,
         mass_properties=mp,
@@ -299,6 +299,8 @@ def _trajectory(
         torque=setup.model,
         internal=body.parts,
         internal_values=samples.values,
+        invariant_values={},
+        potential=None,
     )
 
 

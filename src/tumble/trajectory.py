@@ -119,6 +119,32 @@ class Trajectory:
         if self.internal_values is None:
             object.__setattr__(self, "internal_values", np.zeros((len(self.t), 0)))
 
+    @classmethod
+    def of_fields(cls, **fields: Any) -> Trajectory:
+        """A trajectory given every one of its fields by name, as they are (no
+        defaults, no ``__post_init__``): what :func:`tumble.simulate` returns.
+
+        The generated ``__init__`` sets the fields one by one through
+        ``object.__setattr__``; made so, a short run repeated takes 8 µs less when
+        the processor's caches are cold (of 0.09 ms: ``bench/cold_call.py``).
+
+        Raises
+        ------
+        InputError
+            Fields missing, or names that are none of its fields.
+        """
+        if fields.keys() != _FIELD_NAMES:
+            missing = sorted(_FIELD_NAMES - fields.keys())
+            unknown = sorted(fields.keys() - _FIELD_NAMES)
+            raise InputError(
+                f"Expected every field of a Trajectory, got {len(missing)} missing "
+                f"({', '.join(missing) or 'none'}) and {len(unknown)} unknown "
+                f"({', '.join(unknown) or 'none'})."
+            )
+        trajectory = object.__new__(cls)
+        vars(trajectory).update(fields)
+        return trajectory
+
     def samples(self, index: Any) -> Trajectory:
         """The trajectory at some of its samples (an index or slice into ``t``)."""
         return dataclasses.replace(
@@ -444,3 +470,7 @@ class Trajectory:
         from tumble.report import view
 
         return view(self, frames=frames)
+
+
+#: The names of a trajectory's fields (:meth:`Trajectory.of_fields`).
+_FIELD_NAMES = frozenset(f.name for f in dataclasses.fields(Trajectory))
