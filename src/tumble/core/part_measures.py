@@ -191,7 +191,6 @@ def measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignor
         inverse = 1.0 / moments
         system = (moments, inverse, parts, pc, params, column, context)
         n = y.shape[0]
-        work = np.empty((5, n))
         saved = np.empty(n)
         running = np.empty((len(RUNNING), 1))
         start(y, inverse, parts, pc, axis[0, body], axis[1, body], axis[2, body], running, 0)
@@ -204,7 +203,7 @@ def measuring_kernel(make_step, torque, drive, layout, identity):  # type: ignor
             number = first_step + k
             for i in range(n):
                 saved[i] = y[i]
-            step(number * dt, dt, y, work, system)
+            step(number * dt, dt, y, system)
             if not finite_state(y):
                 for i in range(n):
                     y[i] = saved[i]

@@ -92,7 +92,7 @@ from tumble.core._jit import (
 from tumble.core.adaptive import adaptive_loop
 from tumble.core.dynamics import is_free, quaternion_rates
 from tumble.core.quaternion import multiply_right_into
-from tumble.core.rk4 import entry_by_entry, rk4_array_step
+from tumble.core.rk4 import entry_by_entry, rk4_tuple_step
 from tumble.core.splitting import (
     decay_integral,
     free_flow_one_body,
@@ -434,25 +434,30 @@ def finite_state(y):  # type: ignore[no-untyped-def]
 
 
 # Every step below is made for one layout and torque by a function of the layout
-# and the torques: ``make(torque, drive, layout)`` returns ``step(t, dt, y, work,
-# system)``, which advances ``y`` in place. The layout's functions
+# and the torques: ``make(torque, drive, layout)`` returns ``step(t, dt, y,
+# system)``, which advances ``y`` (7 + m,) in place. The layout's functions
 # (:func:`part_model`) are the step's closure constants, so the compiler inlines
 # them (held in a tuple, numba would pass them as pointers).
 def make_rk4_step(torque, drive, layout):  # type: ignore[no-untyped-def]
     """The classical Runge–Kutta step of ``dt`` s from time ``t``, by the shared
-    stepper (:func:`tumble.core.rk4.rk4_array_step`; ``work`` (5, len(y)) its
-    scratch): the parts' inputs read at the step's middle, the quaternion
-    renormalised after it."""
-    velocity, _, rates, _, _ = part_model(layout)
+    stepper (:func:`tumble.core.rk4.rk4_tuple_step` of :func:`state_rates`; the state
+    read into a tuple, which the compiler keeps in registers: a third faster than
+    stepping it in the array), the parts' inputs read at the step's middle, the
+    quaternion renormalised after it."""
+    velocity, _, rates, _, size = part_model(layout)
+    state_of = njit(inline="always", cache=False)(entry_by_entry("state_of", "y", "y[{i}]", size))
 
     @njit(inline="always", cache=False)
-    def derivatives(t, y, dy, model):  # type: ignore[no-untyped-def]
-        hold, system = model
-        part_rates(torque, drive, velocity, rates, t, hold, y, dy, system)
+    def derivatives(torque, t, y, hold, system, column, context):  # type: ignore[no-untyped-def]
+        return state_rates(torque, drive, velocity, rates, t, hold, y, system)
+
+    stages = rk4_tuple_step(derivatives)
 
     @njit(inline="always", cache=False)
-    def step(t, dt, y, work, system):  # type: ignore[no-untyped-def]
-        rk4_array_step(derivatives, t, dt, y, work, (t + 0.5 * dt, system))
+    def step(t, dt, y, system):  # type: ignore[no-untyped-def]
+        new = stages(torque, t, dt, state_of(y), t + 0.5 * dt, system, 0, 0)
+        for i in range(size):
+            y[i] = new[i]
         _normalise(y)
 
     return step
@@ -590,12 +595,12 @@ def splitting_step(torque, drive, momentum, kick, flow, sines, t, dt, y, system,
 
 def _make_splitting_step(torque, drive, layout, order):  # type: ignore[no-untyped-def]
     """:func:`splitting_step` of one body held in an array, with the C library's
-    sines (one body at a time, they are the faster); ``work`` is not used."""
+    sines (one body at a time, they are the faster)."""
     _, momentum, _, kick, size = part_model(layout)
     state_of = njit(inline="always", cache=False)(entry_by_entry("state_of", "y", "y[{i}]", size))
 
     @njit(inline="always", cache=False)
-    def step(t, dt, y, work, system):  # type: ignore[no-untyped-def]
+    def step(t, dt, y, system):  # type: ignore[no-untyped-def]
         state = state_of(y)
         flow, sines = free_flow_one_body, library_cos_sin
         new = splitting_step(
@@ -623,14 +628,13 @@ def make_yoshida_step(torque, drive, layout):  # type: ignore[no-untyped-def]
 def _steps(step, y, system, dt, n_steps, first_step, record_every, out):  # type: ignore[no-untyped-def]
     """``n_steps`` steps of one body in place; its status (see :func:`single_kernel`)."""
     n = y.shape[0]
-    work = np.empty((5, n))
     saved = np.empty(n)
     status = FINITE
     for k in range(n_steps):
         number = first_step + k
         for i in range(n):
             saved[i] = y[i]
-        step(number * dt, dt, y, work, system)
+        step(number * dt, dt, y, system)
         if not finite_state(y):
             for i in range(n):
                 y[i] = saved[i]
