@@ -340,6 +340,27 @@ def test_the_budget_variable_is_read_at_each_call(monkeypatch: pytest.MonkeyPatc
         assert resources.budget_is_set()
 
 
+def test_a_motion_new_is_keyed_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    # The run's key begins with its setup's: a call that keeps neither finds it once.
+    from tumble import simulation
+
+    keyed = []
+
+    def counted(*motion: object) -> object:
+        keyed.append(motion)
+        return setup_key(*motion)
+
+    setup_key = simulation._setup_key
+    monkeypatch.setattr(simulation, "_setup_key", counted)
+    made = tb.simulate(BODY, [0.0, 1.0, 0.8125], duration=0.1, dt=0.01, method="rk4")
+    assert len(keyed) == 1
+    again = tb.simulate(BODY, [0.0, 1.0, 0.8125], duration=0.1, dt=0.01, method="rk4")
+    assert len(keyed) == 2 and np.array_equal(again.omega, made.omega)  # kept: keyed, not made
+    # Arguments that name no run (a duration as a quantity): the setup keyed by itself.
+    tb.simulate(BODY, [0.0, 1.0, 0.8125], duration=ureg.Quantity(0.1, "s"), dt=0.01, method="rk4")
+    assert len(keyed) == 3
+
+
 def test_a_trajectory_of_its_fields_is_the_one_its_constructor_makes() -> None:
     import dataclasses
 

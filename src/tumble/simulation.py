@@ -211,16 +211,9 @@ def simulate(
             check_recording(*run.recording)
     else:
         record_every = check_record_every(record_every)
-        setup = prepare(
-            mp,
-            omega0,
-            attitude0=attitude0,
-            pivot=pivot,
-            gravity=gravity,
-            torque=torque,
-            method=method,
-            internal=internal,
-        )
+        # The run's key begins with its setup's: found once for both.
+        setup_key = _setup_key(*motion) if key is None else (key[: -len(arguments)], held)
+        setup = _prepared(setup_key, *motion)
         total_time = _duration(duration)
         _check_run_options(rtol, atol, progress)
         run = setup.plan(total_time, dt, record_every, rtol=rtol, atol=atol, max_steps=max_steps)
@@ -451,7 +444,24 @@ def prepare(
     InputError
         As :func:`simulate`.
     """
-    key, held = _setup_key(mp, omega0, attitude0, pivot, gravity, torque, method, internal)
+    motion = (mp, omega0, attitude0, pivot, gravity, torque, method, internal)
+    return _prepared(_setup_key(*motion), *motion)
+
+
+def _prepared(
+    setup_key: tuple[Any, tuple[Any, ...]],
+    mp: Any,
+    omega0: Any,
+    attitude0: Any,
+    pivot: Any,
+    gravity: Any,
+    torque: Any,
+    method: Any,
+    internal: Any,
+) -> Setup:
+    """:func:`prepare` of the motion whose key and held objects
+    (:func:`_setup_key`) are ``setup_key``."""
+    key, held = setup_key
     if key is not None:
         kept = _SETUPS.get(key, held)
         # A method asked for by name: the one registered under it now.
