@@ -213,7 +213,7 @@ def simulate(
         record_every = check_record_every(record_every)
         # The run's key begins with its setup's: found once for both.
         setup_key = _setup_key(*motion) if key is None else (key[: -len(arguments)], held)
-        setup = _prepared(setup_key, *motion)
+        setup = _prepared(setup_key, motion)
         total_time = _duration(duration)
         _check_run_options(rtol, atol, progress)
         run = setup.plan(total_time, dt, record_every, rtol=rtol, atol=atol, max_steps=max_steps)
@@ -445,22 +445,13 @@ def prepare(
         As :func:`simulate`.
     """
     motion = (mp, omega0, attitude0, pivot, gravity, torque, method, internal)
-    return _prepared(_setup_key(*motion), *motion)
+    return _prepared(_setup_key(*motion), motion)
 
 
-def _prepared(
-    setup_key: tuple[Any, tuple[Any, ...]],
-    mp: Any,
-    omega0: Any,
-    attitude0: Any,
-    pivot: Any,
-    gravity: Any,
-    torque: Any,
-    method: Any,
-    internal: Any,
-) -> Setup:
-    """:func:`prepare` of the motion whose key and held objects
-    (:func:`_setup_key`) are ``setup_key``."""
+def _prepared(setup_key: tuple[Any, tuple[Any, ...]], motion: tuple[Any, ...]) -> Setup:
+    """:func:`prepare` of ``motion`` (its arguments in order, as
+    :func:`_setup_key`'s), whose key and held objects are ``setup_key``."""
+    mp, omega0, attitude0, pivot, gravity, torque, method, internal = motion
     key, held = setup_key
     if key is not None:
         kept = _SETUPS.get(key, held)
