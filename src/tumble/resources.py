@@ -239,9 +239,13 @@ def budget_is_set() -> bool:
 # processor's caches are cold, a tenth of a short run repeated (bench/cold_call.py).
 # The mapping keeps its entries in a dict by their encoded names (``_data``,
 # ``encodekey``: CPython's ``os`` since 3.2), which tells at once that the name is not
-# there; where it has no such dict, the public path alone.
-_ENVIRONMENT: dict[object, object] | None = getattr(os.environ, "_data", None)
-_BUDGET_KEY: object = getattr(os.environ, "encodekey", str)(BUDGET_VARIABLE)
+# there; where it has not both, the public path alone.
+_ENCODED: Callable[[str], object] | None = getattr(os.environ, "encodekey", None)
+_DATA = getattr(os.environ, "_data", None)
+_ENVIRONMENT: dict[object, object] | None = None
+_BUDGET_KEY: object = None
+if isinstance(_DATA, dict) and _ENCODED is not None:
+    _ENVIRONMENT, _BUDGET_KEY = _DATA, _ENCODED(BUDGET_VARIABLE)
 
 
 def check_memory(needed: float, what: str | Callable[[], str], advice: str) -> None:

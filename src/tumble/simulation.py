@@ -211,7 +211,7 @@ def simulate(
             check_recording(*run.recording)
     else:
         record_every = check_record_every(record_every)
-        # The run's key begins with its setup's: found once for both.
+        # A run's key begins with its setup's: a run keyed finds both at once.
         setup_key = _setup_key(*motion) if key is None else (key[: -len(arguments)], held)
         setup = _prepared(setup_key, motion)
         total_time = _duration(duration)
