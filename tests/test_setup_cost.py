@@ -546,3 +546,56 @@ def test_a_run_is_the_same_in_one_call_of_its_kernel_or_in_chunks(internal: obje
         assert np.array_equal(quiet.omega, told.omega)
         assert np.array_equal(quiet.quaternion, told.quaternion)
         assert np.array_equal(quiet.internal_values, told.internal_values)
+
+
+def test_the_machine_code_of_a_compiled_function_computes_as_the_function() -> None:
+    import numba
+
+    from tumble.integrators.steps import compiled_for
+
+    @numba.njit
+    def doubled(x: np.ndarray, out: np.ndarray) -> None:
+        out[:] = 2.0 * x
+
+    x, out, expected = np.array([1.0, -2.5, 3.0]), np.empty(3), np.empty(3)
+    doubled(x, expected)
+    machine = compiled_for(doubled, (x, out))
+    machine(x, out)
+    assert machine is not doubled and np.array_equal(out, expected)
+    # Plain Python (numba's NUMBA_DISABLE_JIT): the function itself.
+    assert compiled_for(doubled.py_func, (x, out)) is doubled.py_func
+
+
+@pytest.mark.parametrize(
+    ("part", "read_compiled"),
+    [(tb.Rotor([0, 1, 0], 0.05, speed=20.0), True), (tb.KaneDamper(0.1, 1.0), False)],
+    ids=["rotor", "damper"],
+)
+def test_a_run_repeated_calls_its_machine_code_from_its_second_run(
+    monkeypatch: pytest.MonkeyPatch, part: object, read_compiled: bool
+) -> None:
+    # The first run goes through numba's dispatch; the second finds the machine code
+    # of the kernel and, where the parts' values are read compiled, of the reading
+    # (a damper's are read in Python); the later runs find nothing more.
+    from tumble.integrators.drivers import stepping
+    from tumble.integrators.steps import compiled_for
+
+    found = []
+
+    def recorded(function: object, arguments: tuple[object, ...]) -> object:
+        found.append(function)
+        return compiled_for(function, arguments)
+
+    monkeypatch.setattr(stepping, "compiled_for", recorded)
+    body = tb.MassProperties(2.0, [0.0, 0.0, 0.0], np.diag([3.0, 4.0, 5.0]))  # a new key
+    runs, machine_codes = [], 2 if read_compiled else 1
+    for count in (0, machine_codes, machine_codes, machine_codes):
+        runs.append(
+            tb.simulate(body, [0.3, 1.0, 0.2], duration=1.0, dt=0.01, method="rk4", internal=[part])
+        )
+        assert len(found) == count
+    # The machine code computes as the dispatch: the same bits.
+    for run in runs[1:]:
+        assert np.array_equal(run.omega, runs[0].omega)
+        assert np.array_equal(run.quaternion, runs[0].quaternion)
+        assert np.array_equal(run.internal_values, runs[0].internal_values)

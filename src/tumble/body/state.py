@@ -46,6 +46,16 @@ class PartsState:
         return readout(self.layout), contiguous, not self._axes_are_body_axes, compiled
 
     @property
+    def compiled_reading(self: BodyModel) -> tuple[Any, tuple[Any, ...]] | None:
+        """``(read, arguments)``: the compiled reading of kernel states
+        (:func:`tumble.core.parts.readout`) and its arguments after the states and
+        before the three arrays it writes, ``read(states, *arguments, omega,
+        quaternion, values)`` (as :meth:`from_kernel_state`, for C-contiguous float64
+        states); None where a part's values are read back in Python."""
+        read, arrays, turned, compiled = self._reading
+        return (read, (*arrays, turned)) if compiled else None
+
+    @property
     def layout(self: BodyModel) -> Any:
         """The kernels' layout of its parts (:func:`tumble.parts.pack_parts`)."""
         return self._packed[0]

@@ -4,13 +4,20 @@ of steps between progress reports."""
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from tumble.integrators.problem import Problem, Samples, Schedule, parts_start
-from tumble.integrators.steps import PROGRESS_CHUNK, Progress, check_finite, step_in_chunks
+from tumble.integrators.steps import (
+    PROGRESS_CHUNK,
+    Progress,
+    check_finite,
+    compiled_for,
+    step_in_chunks,
+)
 
 __all__ = ["ready_stepping", "run_stepping"]
 
@@ -66,21 +73,37 @@ def ready_stepping(
 def _ready_parts(
     integrator: Any, problem: Problem, schedule: Schedule
 ) -> Callable[[Progress], Samples]:
-    """:func:`ready_stepping` for a body carrying parts (:mod:`tumble.core.parts`)."""
+    """:func:`ready_stepping` for a body carrying parts (:mod:`tumble.core.parts`).
+
+    From its second run on, a run calls the machine code of the kernel and of the
+    reading of its states (:func:`~tumble.integrators.steps.compiled_for`): their
+    arguments' types are the same at every run. The first goes through numba's
+    dispatch, which compiles or loads them; a run made once does not pay for
+    finding the machine code."""
     start = parts_start(integrator, problem)
     kernel, moments, parts, state = start.kernel, start.moments, start.parts, start.state
-    torque, read = problem.torque, problem.body.from_kernel_state
+    body, torque = problem.body, problem.torque
+    reading = body.compiled_reading
+    read_arguments = () if reading is None else reading[1]
     params, context = torque.params, torque.context
     step, n_steps, every = schedule.step, schedule.n_steps, schedule.record_every
-    rows = len(schedule.times)
+    rows, width = len(schedule.times), state.size
+    calls = [kernel, None if reading is None else reading[0]]
+    runs = itertools.count()
 
     def run(progress: Progress) -> Samples:
         y = state.copy()
-        out = np.empty((rows, y.size))
+        out = np.empty((rows, width))
         out[0] = y
+        if next(runs) == 1:  # the second run: the machine code from now on
+            arguments = (y, moments, parts, params, context, step, n_steps, 0, every, out)
+            calls[0] = compiled_for(kernel, arguments)
+            if reading is not None:  # the arrays it writes are of the type of out
+                calls[1] = compiled_for(reading[0], (out, *read_arguments, out, out, out))
+        step_kernel, read = calls
 
         if progress is None and n_steps <= PROGRESS_CHUNK:
-            status = kernel(y, moments, parts, params, context, step, n_steps, 0, every, out)
+            status = step_kernel(y, moments, parts, params, context, step, n_steps, 0, every, out)
             check_finite(status, step)
         else:
 
@@ -92,7 +115,12 @@ def _ready_parts(
             step_in_chunks(steps, n_steps, step, progress)
         if n_steps % every != 0:
             out[-1] = y
-        omega, quaternion, values = read(out)
+        if reading is None:
+            omega, quaternion, values = body.from_kernel_state(out)
+        else:
+            omega, quaternion = np.empty((rows, 3)), np.empty((rows, 4))
+            values = np.empty((rows, width - 7))
+            read(out, *read_arguments, omega, quaternion, values)
         return Samples(omega, quaternion, values, n_steps)
 
     return run
