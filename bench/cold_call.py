@@ -43,7 +43,7 @@ from spacecraft import ROTORS, SPINNER, SPUN, WHEEL_BODY, WHEELS_OMEGA0, churn
 #: by, counted where ``simulate`` calls them; the rest of the call is simulate's own
 #: work.
 PHASES = {
-    "key": ("simulation.py", "_run_key"),
+    "key": ("simulation.py", "_motion_key"),
     "look-up": ("recent.py", "get"),
     "setup (new)": ("simulation.py", "prepare"),
     "plan (new)": ("simulation.py", "plan"),

@@ -5,6 +5,7 @@ conversion, the memory check of small requests."""
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -208,7 +209,15 @@ def test_minus_zero_is_not_zero_in_a_key() -> None:
     assert plain_key([0, 1, 2]) == plain_key((0.0, 1.0, 2.0))
     assert plain_key(1.5) != plain_key([1.5])
     assert plain_key(None) is None and plain_key("250 g") == "250 g"
-    for value in (True, [1.0, True, 0.0], [np.float64(1.0)], np.zeros(5), [10**400], object()):
+    for value in (
+        True,
+        [1.0, True, 0.0],
+        [np.float64(1.0)],
+        [0.0] * 5,
+        np.zeros(5),
+        [10**400],
+        object(),
+    ):
         assert plain_key(value) is UNKEYED
     # An int is named by its float64, rounded as the unit conversion rounds it.
     assert plain_key([2**53 + 1, 0, 0]) == plain_key([float(2**53 + 1), 0.0, 0.0])
@@ -341,24 +350,26 @@ def test_the_budget_variable_is_read_at_each_call(monkeypatch: pytest.MonkeyPatc
 
 
 def test_a_motion_new_is_keyed_once(monkeypatch: pytest.MonkeyPatch) -> None:
-    # The run's key begins with its setup's: a call that keeps neither finds it once.
+    # The run's key begins with its setup's: a call that keeps neither makes it once.
     from tumble import simulation
 
-    keyed = []
+    keyed = []  # whether each call made a key
 
-    def counted(*motion: object) -> object:
-        keyed.append(motion)
-        return setup_key(*motion)
+    def counted(*arguments: Any) -> Any:
+        key, held = motion_key(*arguments)
+        keyed.append(key is not None)
+        return key, held
 
-    setup_key = simulation._setup_key
-    monkeypatch.setattr(simulation, "_setup_key", counted)
+    motion_key = simulation._motion_key
+    monkeypatch.setattr(simulation, "_motion_key", counted)
     made = tb.simulate(BODY, [0.0, 1.0, 0.8125], duration=0.1, dt=0.01, method="rk4")
-    assert len(keyed) == 1
+    assert keyed == [True]
     again = tb.simulate(BODY, [0.0, 1.0, 0.8125], duration=0.1, dt=0.01, method="rk4")
-    assert len(keyed) == 2 and np.array_equal(again.omega, made.omega)  # kept: keyed, not made
-    # Arguments that name no run (a duration as a quantity): the setup keyed by itself.
+    assert keyed == [True, True] and np.array_equal(again.omega, made.omega)  # kept: keyed
+    # Arguments that name no run (a duration as a quantity): refused as a run's key
+    # before any key is made, and the setup keyed by itself.
     tb.simulate(BODY, [0.0, 1.0, 0.8125], duration=ureg.Quantity(0.1, "s"), dt=0.01, method="rk4")
-    assert len(keyed) == 3
+    assert keyed == [True, True, False, True]
 
 
 def test_a_trajectory_of_its_fields_is_the_one_its_constructor_makes() -> None:

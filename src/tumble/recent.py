@@ -44,22 +44,22 @@ def plain_key(value: Any) -> Any:
     vector. Anything else (bools, quantities, objects, longer arrays):
     :data:`UNKEYED`."""
     kind = type(value)
-    if value is None or kind is str:
-        return value
-    if kind is float or kind is int:
+    if kind is list or kind is tuple:
+        # The types checked in one pass of C, not a loop of Python: a short run
+        # repeated spends a good part of its time keying (bench/cold_call.py).
+        if len(value) > _LONGEST or not _NUMBERS.issuperset(map(type, value)):
+            return UNKEYED
+    elif kind is float or kind is int:
         value = (value,)
+    elif value is None or kind is str:
+        return value
     elif kind is np.ndarray:
         if value.size > _LONGEST or value.dtype.kind not in "fiu":
             return UNKEYED
         floats = value.astype(np.float64).tobytes()
         return (False, floats) if value.ndim == 1 else (value.shape, floats)
-    elif kind is not list and kind is not tuple:
+    else:
         return UNKEYED
-    if len(value) > _LONGEST:
-        return UNKEYED
-    for number in value:
-        if type(number) not in _NUMBERS:
-            return UNKEYED
     try:  # packed as float64, an int as float(int) would round it
         return (kind is float or kind is int, _PACK[len(value)](*value))
     except struct.error:  # an int beyond float range: refused where it is read

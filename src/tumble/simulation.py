@@ -201,7 +201,7 @@ def simulate(
     """
     arguments = (duration, dt, record_every, rtol, atol, max_steps)
     motion = (mp, omega0, attitude0, pivot, gravity, torque, method, internal)
-    key, held = _run_key(motion, arguments)
+    key, held = _motion_key(motion, arguments)
     run = None if key is None else _RUNS.get(key, held)
     # A method asked for by name: the one registered under it now.
     if run is not None and (method == "auto" or INTEGRATORS.get(method) is run.setup.integrator):
@@ -212,7 +212,7 @@ def simulate(
     else:
         record_every = check_record_every(record_every)
         # A run's key begins with its setup's: a run keyed finds both at once.
-        setup_key = _setup_key(*motion) if key is None else (key[: -len(arguments)], held)
+        setup_key = _motion_key(motion) if key is None else (key[: -len(arguments)], held)
         setup = _prepared(setup_key, motion)
         total_time = _duration(duration)
         _check_run_options(rtol, atol, progress)
@@ -445,12 +445,12 @@ def prepare(
         As :func:`simulate`.
     """
     motion = (mp, omega0, attitude0, pivot, gravity, torque, method, internal)
-    return _prepared(_setup_key(*motion), motion)
+    return _prepared(_motion_key(motion), motion)
 
 
 def _prepared(setup_key: tuple[Any, tuple[Any, ...]], motion: tuple[Any, ...]) -> Setup:
-    """:func:`prepare` of ``motion`` (its arguments in order, as
-    :func:`_setup_key`'s), whose key and held objects are ``setup_key``."""
+    """:func:`prepare` of ``motion`` (its arguments in order), whose key and held
+    objects are ``setup_key`` (:func:`_motion_key`'s)."""
     mp, omega0, attitude0, pivot, gravity, torque, method, internal = motion
     key, held = setup_key
     if key is not None:
@@ -485,7 +485,7 @@ def _prepared(setup_key: tuple[Any, tuple[Any, ...]], motion: tuple[Any, ...]) -
     return setup
 
 
-#: The types of the values that name a run besides its setup (:func:`_run_key`):
+#: The types of the values that name a run besides its setup (:func:`_motion_key`):
 #: the duration, dt, rtol and atol; and max_steps.
 _PLAIN = frozenset({float, int, str, type(None)})
 _STEP_COUNTS = frozenset({int, type(None)})
@@ -499,48 +499,27 @@ _SETUPS: RecentCache[Setup] = RecentCache(SETUP_CACHE_SIZE)
 _RUNS: RecentCache[PlannedRun] = RecentCache(SETUP_CACHE_SIZE)
 
 
-def _run_key(motion: tuple[Any, ...], arguments: tuple[Any, ...]) -> tuple[Any, tuple[Any, ...]]:
-    """The key of :func:`simulate`'s arguments and the objects its entry holds, or
-    (None, ()) for a run that is not kept: one whose setup is not (``motion``,
-    :func:`_setup_key`'s arguments in order), or whose ``arguments`` (duration,
-    dt, record_every, rtol, atol, max_steps) are not plain values. They name it as the checks read
-    them: 1 is 1.0 (none of them may be -0.0), but ``record_every`` is an int and
-    ``max_steps`` an int or None."""
-    duration, dt, record_every, rtol, atol, max_steps = arguments
-    if (
-        type(record_every) is not int
-        or type(max_steps) not in _STEP_COUNTS
-        or type(duration) not in _PLAIN
-        or type(dt) not in _PLAIN
-        or type(rtol) not in _PLAIN
-        or type(atol) not in _PLAIN
-    ):
-        return None, ()
-    key, held = _setup_key(*motion)
-    return (None, ()) if key is None else (key + arguments, held)
-
-
-def _setup_key(
-    mp: Any,
-    omega0: Any,
-    attitude0: Any,
-    pivot: Any,
-    gravity: Any,
-    torque: Any,
-    method: Any,
-    internal: Any,
+def _motion_key(
+    motion: tuple[Any, ...], arguments: tuple[Any, ...] = ()
 ) -> tuple[Any, tuple[Any, ...]]:
-    """The key of :func:`prepare`'s arguments and the objects its entry holds, or
-    (None, ()) for a motion whose setup is not kept: one under a torque model, or
-    given by anything but mass properties, parts and plain values
+    """The key of :func:`prepare`'s arguments ``motion`` (in order) and the objects
+    its entry holds, or (None, ()) for a motion whose setup is not kept: one under a
+    torque model, or given by anything but mass properties, parts and plain values
     (:func:`tumble.recent.plain_key`). Mass properties and parts are immutable;
     their identities name them, with the values of ``mp`` (as
     :func:`tumble.body.body_model`'s key). What the registries give is held as
     well: the model of ``gravity``, and for ``method="auto"`` every integrator, so
     that one registered since makes a new setup (a method asked for by name is
-    looked up again, :func:`prepare`)."""
-    # One flat tuple, made and compared in as few steps as may be: a short run
-    # repeated spends a good part of its time here.
+    looked up again, :func:`prepare`).
+
+    With :func:`simulate`'s ``arguments`` (duration, dt, record_every, rtol, atol,
+    max_steps), the key of a run, which begins with its setup's; (None, ()) also
+    where they are not plain values. They name it as the checks read them: 1 is
+    1.0 (none of them may be -0.0), but ``record_every`` is an int and
+    ``max_steps`` an int or None."""
+    # One function and one flat tuple, made and compared in as few steps as may
+    # be: a short run repeated spends a good part of its time here.
+    mp, omega0, attitude0, pivot, gravity, torque, method, internal = motion
     parts = () if internal is None else internal
     if (
         type(mp) is not MassProperties
@@ -549,6 +528,17 @@ def _setup_key(
         or (type(parts) is not list and type(parts) is not tuple)
     ):
         return None, ()
+    if arguments:
+        duration, dt, record_every, rtol, atol, max_steps = arguments
+        if (
+            type(record_every) is not int
+            or type(max_steps) not in _STEP_COUNTS
+            or type(duration) not in _PLAIN
+            or type(dt) not in _PLAIN
+            or type(rtol) not in _PLAIN
+            or type(atol) not in _PLAIN
+        ):
+            return None, ()
     for part in parts:
         if not isinstance(part, InternalPart):
             return None, ()
@@ -564,6 +554,7 @@ def _setup_key(
         None if gravity is None else plain_key(gravity),
         len(parts),
         *map(id, parts),
+        *arguments,
     )
     if UNKEYED in key[5:9]:
         return None, ()
