@@ -578,16 +578,17 @@ def test_the_machine_code_of_a_compiled_function_computes_as_the_function() -> N
 
 
 @pytest.mark.parametrize(
-    ("part", "read_compiled"),
-    [(tb.Rotor([0, 1, 0], 0.05, speed=20.0), True), (tb.KaneDamper(0.1, 1.0), False)],
-    ids=["rotor", "damper"],
+    ("parts", "machine_codes"),
+    [([tb.Rotor([0, 1, 0], 0.05, speed=20.0)], 2), ([tb.KaneDamper(0.1, 1.0)], 1), (None, 1)],
+    ids=["rotor", "damper", "rigid"],
 )
 def test_a_run_repeated_calls_its_machine_code_from_its_second_run(
-    monkeypatch: pytest.MonkeyPatch, part: object, read_compiled: bool
+    monkeypatch: pytest.MonkeyPatch, parts: list[Any] | None, machine_codes: int
 ) -> None:
     # The first run goes through numba's dispatch; the second finds the machine code
     # of the kernel and, where the parts' values are read compiled, of the reading
-    # (a damper's are read in Python); the later runs find nothing more.
+    # (a damper's are read in Python; a rigid body's need no reading); the later
+    # runs find nothing more.
     from tumble.integrators.drivers import stepping
     from tumble.integrators.steps import compiled_for
 
@@ -599,10 +600,10 @@ def test_a_run_repeated_calls_its_machine_code_from_its_second_run(
 
     monkeypatch.setattr(stepping, "compiled_for", recorded)
     body = tb.MassProperties(2.0, [0.0, 0.0, 0.0], np.diag([3.0, 4.0, 5.0]))  # a new key
-    runs, machine_codes = [], 2 if read_compiled else 1
+    runs = []
     for count in (0, machine_codes, machine_codes, machine_codes):
         runs.append(
-            tb.simulate(body, [0.3, 1.0, 0.2], duration=1.0, dt=0.01, method="rk4", internal=[part])
+            tb.simulate(body, [0.3, 1.0, 0.2], duration=1.0, dt=0.01, method="rk4", internal=parts)
         )
         assert len(found) == count
     # The machine code computes as the dispatch: the same bits.

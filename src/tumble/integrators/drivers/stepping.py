@@ -35,7 +35,12 @@ def ready_stepping(
     """:func:`run_stepping` made ready: ``run(progress) -> Samples``, which starts
     from a copy of the initial state at each call. Without progress reports, a
     run of at most ``PROGRESS_CHUNK`` steps is one call of the kernel, with
-    nothing between the caller and the compiled steps but the samples' arrays."""
+    nothing between the caller and the compiled steps but the samples' arrays;
+    from the second run on, one call of its machine code
+    (:func:`~tumble.integrators.steps.compiled_for`): the arguments' types are
+    the same at every run. The first goes through numba's dispatch, which compiles
+    or loads the kernel; a run made once does not pay for finding the machine
+    code."""
     if problem.body.parts:
         return _ready_parts(integrator, problem, schedule)
     body, torque = problem.body, problem.torque
@@ -46,14 +51,19 @@ def ready_stepping(
     params, context = torque.params, torque.context
     step, n_steps, every = schedule.step, schedule.n_steps, schedule.record_every
     rows = len(schedule.times)
+    calls = [kernel]  # its machine code from the second run on
+    runs = itertools.count()
 
     def run(progress: Progress) -> Samples:
         w, q = w0.copy(), q0.copy()
         out_w, out_q = np.empty((rows, 3)), np.empty((rows, 4))
         out_w[0], out_q[0] = w, q
+        if next(runs) == 1:
+            arguments = (w, q, inertia, params, context, step, n_steps, 0, every, out_w, out_q)
+            calls[0] = compiled_for(kernel, arguments)
 
         if progress is None and n_steps <= PROGRESS_CHUNK:
-            status = kernel(w, q, inertia, params, context, step, n_steps, 0, every, out_w, out_q)
+            status = calls[0](w, q, inertia, params, context, step, n_steps, 0, every, out_w, out_q)
             check_finite(status, step)
         else:
 
@@ -73,13 +83,9 @@ def ready_stepping(
 def _ready_parts(
     integrator: Any, problem: Problem, schedule: Schedule
 ) -> Callable[[Progress], Samples]:
-    """:func:`ready_stepping` for a body carrying parts (:mod:`tumble.core.parts`).
-
-    From its second run on, a run calls the machine code of the kernel and of the
-    reading of its states (:func:`~tumble.integrators.steps.compiled_for`): their
-    arguments' types are the same at every run. The first goes through numba's
-    dispatch, which compiles or loads them; a run made once does not pay for
-    finding the machine code."""
+    """:func:`ready_stepping` for a body carrying parts (:mod:`tumble.core.parts`),
+    which calls the machine code of the reading of its states as well (where every
+    part's values are read compiled)."""
     start = parts_start(integrator, problem)
     kernel, moments, parts, state = start.kernel, start.moments, start.parts, start.state
     body, torque = problem.body, problem.torque
