@@ -577,6 +577,29 @@ def test_the_machine_code_of_a_compiled_function_computes_as_the_function() -> N
     assert compiled_for(doubled.py_func, (x, out)) is doubled.py_func
 
 
+def test_the_types_of_arrays_kept_are_numbas() -> None:
+    import numba
+
+    from tumble.integrators.steps import _argument_type
+
+    grid = np.arange(12.0).reshape(3, 4)
+    read_only = np.zeros(3)
+    read_only.flags.writeable = False
+    arrays = [
+        np.zeros(3),
+        grid,
+        grid.T,
+        grid[:, ::2],
+        read_only,
+        np.zeros(3, np.int32),
+        np.zeros(5),
+    ]
+    for array in arrays + [a.copy() for a in arrays]:  # the second time from what is kept
+        assert _argument_type(array) == numba.typeof(array)
+    for value in (0.5, 7, True):
+        assert _argument_type(value) == numba.typeof(value)
+
+
 @pytest.mark.parametrize(
     ("parts", "machine_codes"),
     [([tb.Rotor([0, 1, 0], 0.05, speed=20.0)], 2), ([tb.KaneDamper(0.1, 1.0)], 1), (None, 1)],
