@@ -576,6 +576,13 @@ def test_the_machine_code_of_a_compiled_function_computes_as_the_function() -> N
     # Plain Python (numba's NUMBA_DISABLE_JIT): the function itself.
     assert compiled_for(doubled.py_func, (x, out)) is doubled.py_func
 
+    class WithoutMachineCode:  # a dispatcher whose compile returns nothing to call
+        def compile(self, signature: object) -> None:
+            return None
+
+    dispatcher = WithoutMachineCode()
+    assert compiled_for(dispatcher, (x, out)) is dispatcher
+
 
 def test_the_types_of_arrays_kept_are_numbas() -> None:
     import numba

@@ -115,7 +115,10 @@ def compiled_for(function: Any, arguments: tuple[Any, ...]) -> Any:
 
 @lru_cache(maxsize=256)
 def _machine_code(function: Any, signature: tuple[Any, ...]) -> Any:
-    return function.compile(signature)
+    # numba's Dispatcher.compile returns the machine code's entry point; were it
+    # to return nothing callable, the dispatcher would serve.
+    machine = function.compile(signature)
+    return machine if callable(machine) else function
 
 
 #: The numba types of the arrays met, by what names them (:func:`_argument_type`).
