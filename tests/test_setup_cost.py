@@ -582,6 +582,10 @@ def test_the_machine_code_of_a_compiled_function_computes_as_the_function() -> N
 
     dispatcher = WithoutMachineCode()
     assert compiled_for(dispatcher, (x, out)) is dispatcher
+    # A dispatcher given its signatures compiles no more: its compile raises, even
+    # for a signature it has.
+    typed = numba.njit("void(float64[:], float64[:])")(doubled.py_func)
+    assert compiled_for(typed, (x, out)) is typed
 
 
 def test_the_types_of_arrays_kept_are_numbas() -> None:
@@ -605,6 +609,12 @@ def test_the_types_of_arrays_kept_are_numbas() -> None:
         assert _argument_type(array) == numba.typeof(array)
     for value in (0.5, 7, True):
         assert _argument_type(value) == numba.typeof(value)
+    # Records are typed by numba each time: an aligned struct and a packed one of the
+    # same fields are equal dtypes to numpy, not to numba.
+    fields = {"names": ["a", "b"], "formats": ["f8", "f8"]}
+    packed, aligned = np.zeros(2, np.dtype(fields)), np.zeros(2, np.dtype(fields, align=True))
+    assert _argument_type(packed) == numba.typeof(packed)
+    assert _argument_type(aligned) == numba.typeof(aligned)
 
 
 @pytest.mark.parametrize(

@@ -100,14 +100,16 @@ def compiled_for(function: Any, arguments: tuple[Any, ...]) -> Any:
     """The machine code a compiled ``function`` (a numba dispatcher) runs for
     arguments of the types of ``arguments``, compiled or loaded from the cache if it
     is not yet, to be called without numba's dispatch by the arguments' types;
-    ``function`` itself where it is plain Python (``NUMBA_DISABLE_JIT=1``).
+    ``function`` itself where it is plain Python (``NUMBA_DISABLE_JIT=1``) or
+    numba gives no machine code for it (a dispatcher whose compilation is disabled).
 
     Call it only with arguments of those very types (as :func:`numba.typeof` names
     them: dtype, dimensions, layout, read-only or not): it reads them as such and
     does not check. The dispatch costs about 7 µs a call when the processor's caches
-    are cold (of a short run's 80 µs, ``bench/cold_call.py``). Found once per
-    function and types in a process (``numba.typeof`` of an array takes 6 µs, and
-    ``compile`` 16 µs even when it finds the code compiled): a few µs after."""
+    are cold (of a short run's 80 µs, ``bench/cold_call.py``). Kept for the last 256
+    functions and types asked for in a process (``numba.typeof`` of an array takes
+    6 µs, and ``compile`` 16 µs even when it finds the code compiled): a few µs
+    after."""
     if getattr(function, "compile", None) is None:
         return function
     return _machine_code(function, tuple(map(_argument_type, arguments)))
@@ -115,9 +117,14 @@ def compiled_for(function: Any, arguments: tuple[Any, ...]) -> Any:
 
 @lru_cache(maxsize=256)
 def _machine_code(function: Any, signature: tuple[Any, ...]) -> Any:
-    # numba's Dispatcher.compile returns the machine code's entry point; were it
-    # to return nothing callable, the dispatcher would serve.
-    machine = function.compile(signature)
+    # numba's Dispatcher.compile returns the machine code's entry point. It raises
+    # RuntimeError where compiling is disabled (a dispatcher given its signatures),
+    # even for a signature compiled; then, or were it to return nothing callable,
+    # the dispatcher serves.
+    try:
+        machine = function.compile(signature)
+    except RuntimeError:
+        return function
     return machine if callable(machine) else function
 
 
@@ -126,9 +133,11 @@ _ARRAY_TYPES: dict[tuple[Any, ...], Any] = {}
 
 
 def _argument_type(value: Any) -> Any:
-    """``numba.typeof(value)``; for an array, kept by what numba names its type by
-    (its dtype, dimensions, layout and whether it is read-only)."""
-    if type(value) is not np.ndarray:
+    """``numba.typeof(value)``; for an array of numbers, kept by what numba names its
+    type by (its dtype, dimensions, layout and whether it is read-only). Not for
+    records: numba's type of a structured dtype tells whether it is an aligned
+    struct, which numpy's equality of dtypes does not."""
+    if type(value) is not np.ndarray or value.dtype.fields is not None:
         return numba.typeof(value)
     flags = value.flags
     key = (value.dtype, value.ndim, flags.c_contiguous, flags.f_contiguous, flags.writeable)
