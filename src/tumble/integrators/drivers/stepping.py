@@ -123,7 +123,7 @@ def _ready_parts(
             out[-1] = y
         if reading is None:
             omega, quaternion, values = body.from_kernel_state(out)
-        else:
+        else:  # from_kernel_state's compiled path, written out: one call less
             omega, quaternion = np.empty((rows, 3)), np.empty((rows, 4))
             values = np.empty((rows, width - 7))
             read(out, *read_arguments, omega, quaternion, values)
