@@ -46,9 +46,15 @@ from tumble.core._jit import (
     specialise,
 )
 from tumble.core.part_measures import RUNNING, body_measures, finish_measures
-from tumble.core.parts import layout_identity, part_model, splitting_sub_step, state_rates
+from tumble.core.parts import (
+    gyrostat_flow,
+    layout_identity,
+    part_model,
+    splitting_sub_step,
+    state_rates,
+)
 from tumble.core.rk4 import entry_by_entry, rk4_tuple_step
-from tumble.core.splitting import free_flow, sub_steps
+from tumble.core.splitting import sub_steps
 from tumble.core.trig import cos_sin
 
 __all__ = [
@@ -142,10 +148,13 @@ class BodyStep(NamedTuple):
     after sub-step ``sub`` of a step of ``dt`` s from time ``t``, with ``body`` =
     (moments, inverse, parts): the body's platform moments and their inverses
     (tuples (3,)) and the block's parts, its column ``j`` (as the torque's);
-    ``sub_steps`` how many sub-steps make a step."""
+    ``sub_steps`` how many sub-steps make a step; ``finish(sines, dt, state,
+    inverse)`` the state after what the step adds after its last sub-step
+    (:class:`tumble.core.parts.GyrostatFlow`)."""
 
     step: Any
     sub_steps: int
+    finish: Any
 
 
 def rk4_body_step(torque, drive, layout):  # type: ignore[no-untyped-def]
@@ -168,24 +177,30 @@ def rk4_body_step(torque, drive, layout):  # type: ignore[no-untyped-def]
         held = (t + 0.5 * dt, moments, inverse, parts)
         return stages(torque, t, dt, state, held, params, j, context)
 
-    return BodyStep(step, 1)
+    return BodyStep(step, 1, _nothing_after)
+
+
+@njit(inline="always")
+def _nothing_after(sines, dt, state, inverse):  # type: ignore[no-untyped-def]
+    return state
 
 
 def _splitting_body_step(torque, drive, layout, order):  # type: ignore[no-untyped-def]
     """:func:`tumble.core.parts.splitting_sub_step` of ``order``, turning by the
     vectorised sines."""
-    _, momentum, _, kick, _ = part_model(layout)
+    momentum = part_model(layout).momentum
+    flow, finish, kick = gyrostat_flow(torque, drive, layout)
 
     @njit(inline="always", cache=False)
     def step(torque, t, dt, sub, state, body, params, j, context):  # type: ignore[no-untyped-def]
         moments, inverse, parts = body
         system = (moments, inverse, parts, j, params, j, context)
-        flow, sines = free_flow, cos_sin
+        sines = cos_sin
         return splitting_sub_step(
             torque, drive, momentum, kick, flow, sines, t, dt, sub, state, system, order
         )
 
-    return BodyStep(step, sub_steps(order))
+    return BodyStep(step, sub_steps(order), finish)
 
 
 def strang_body_step(torque, drive, layout):  # type: ignore[no-untyped-def]
@@ -212,8 +227,9 @@ def _block_advance(make_step, torque, drive, layout):  # type: ignore[no-untyped
     from global step ``round(t0 / dt) + k``; the first ``count`` bodies are the
     block's own (``start`` the first's index in ``status``, which gets the number
     of the step at which a body stopped). After each step, ``observer(number,
-    alive, arguments)`` (:func:`_no_block_observer`)."""
-    step, n_sub = make_step(torque, drive, layout)
+    alive, arguments)`` (:func:`_no_block_observer`). The step's ``finish`` runs in
+    the loop that keeps it, after its sub-steps."""
+    step, n_sub, finish = make_step(torque, drive, layout)
     size = part_model(layout).size
     column = njit(inline="always", cache=False)(
         entry_by_entry("column", "block, j", "block[{i}, j]", size)
@@ -245,6 +261,7 @@ def _block_advance(make_step, torque, drive, layout):  # type: ignore[no-untyped
                     old = column(state, j)
                     body = (_three_at(moments, j), _three_at(inverse, j), parts)
                     stepped = step(torque, t, dt, 0, old, body, params, j, context)
+                stepped = finish(cos_sin, dt, stepped, _three_at(inverse, j))
                 new, keep = _kept(old, stepped, alive[j])
                 _put_column(state, j, new)
                 stopped[j] = first + k + 1 if alive[j] and not keep else stopped[j]

@@ -50,7 +50,11 @@ only the kicks write it) and its packed values from rows ``row … row + rows �
   relative to the body), ``values(y, k, parts, row, rows, pc, w) -> (value,
   …)``: what :meth:`tumble.parts.InternalPart.values_from` gives, a tuple as
   long as its state, so that a trajectory is read back in one compiled call
-  (:func:`readout`).
+  (:func:`readout`);
+* for a part whose momentum lies along a unit axis fixed in the body (a
+  rotor's), ``axis_row``: the first of the three packed rows holding that axis,
+  so that bodies whose parts all lie on one principal axis take the splitting
+  that turns about it (:func:`gyrostat_flow`).
 
 Equations of the body (Hughes, *Spacecraft Attitude Dynamics*, 1986, §6.2 for
 the gyrostat; Schaub & Junkins, *Analytical Mechanics of Space Systems*,
@@ -90,30 +94,36 @@ from tumble.core._jit import (
     specialise,
 )
 from tumble.core.adaptive import adaptive_loop
-from tumble.core.dynamics import is_free, quaternion_rates
+from tumble.core.dynamics import free_torque, is_free, quaternion_rates
 from tumble.core.quaternion import multiply_right_into
 from tumble.core.rk4 import entry_by_entry, rk4_tuple_step
 from tumble.core.splitting import (
     decay_integral,
-    free_flow_one_body,
+    free_turns,
+    principal_turn,
     sub_step,
     sub_step_start,
     sub_steps,
     turn,
+    turn_about_momentum,
 )
 from tumble.core.trig import LARGEST_ANGLE, library_cos_sin
 
 __all__ = [
+    "GyrostatFlow",
     "PartEquations",
     "PartModel",
     "adaptive_kernel",
+    "along_principal_axis",
     "batch_kernel",
     "finite_state",
+    "gyrostat_flow",
     "layout_identity",
     "make_rk4_step",
     "make_strang_step",
     "make_yoshida_step",
     "measured_energy",
+    "momentum_axis",
     "part_energy",
     "part_model",
     "part_rates",
@@ -130,7 +140,17 @@ class PartEquations(NamedTuple):
     None for a part that moves no mass, ``kick`` None for a part the splitting
     integrators do not take, ``energy`` None for a part whose energy sweeps do
     not measure, ``values`` None for a part whose values a trajectory reads back
-    in Python (:meth:`tumble.parts.InternalPart.values_from`)."""
+    in Python (:meth:`tumble.parts.InternalPart.values_from`).
+
+    ``axis_row``: for a part whose momentum lies along a unit axis fixed in the
+    body (a rotor's), the first of the three packed rows that hold that axis;
+    None for any other. ``principal_axis``: set by
+    :func:`tumble.parts.pack_parts` (:func:`along_principal_axis`) when that axis
+    is the principal axis 0, 1 or 2 of every body packed, so that the splitting
+    turns about it (:func:`gyrostat_flow`); None otherwise. ``idle``: set by
+    :func:`tumble.parts.pack_parts` for a part on such an axis that no motor
+    drives and that dissipates nothing: only a torque through the parts (the
+    drive) changes its momentum, so without one its kick leaves it as it is."""
 
     momentum: Any
     rates: Any
@@ -138,6 +158,9 @@ class PartEquations(NamedTuple):
     kick: Any = None
     energy: Any = None
     values: Any = None
+    axis_row: int | None = None
+    principal_axis: int | None = None
+    idle: bool = False
 
 
 #: One part in a layout: its equations, its state size and its packed rows.
@@ -167,8 +190,39 @@ def layout_identity(layout: tuple[LayoutEntry, ...]) -> str:
     share their rates but not their momentum compile apart), state size and
     rows."""
     return ";".join(
-        ",".join(file_stamp(f) for f in equations if f is not None) + f":{size}:{rows}"
+        ",".join(file_stamp(f) for f in equations if callable(f))
+        + f":{size}:{rows}"
+        + ("" if equations.principal_axis is None else f":axis{equations.principal_axis}")
+        + (":idle" if equations.idle else "")
         for equations, size, rows in layout
+    )
+
+
+def along_principal_axis(
+    layout: tuple[LayoutEntry, ...], packed: np.ndarray
+) -> tuple[LayoutEntry, ...]:
+    """``layout`` with every part's :attr:`PartEquations.principal_axis` set to k
+    when every part's momentum lies along the principal axis k of every body
+    packed in ``packed`` (rows, N): its axis (rows ``axis_row`` …) exactly
+    ±e_k, the other two entries zero. ``layout`` itself otherwise (a part that
+    moves its momentum's axis, axes on different principal axes, or off them
+    by any amount: those bodies take the general splitting)."""
+    found: set[int] = set()
+    row = 0
+    for equations, _, rows in layout:
+        if equations.axis_row is None:
+            return layout
+        axis = packed[row + equations.axis_row : row + equations.axis_row + 3]
+        nonzero = axis != 0.0
+        if not np.all(np.count_nonzero(nonzero, axis=0) == 1):
+            return layout
+        found.update(np.flatnonzero(nonzero.any(axis=1)).tolist())
+        row += rows
+    if len(found) != 1:
+        return layout
+    (k,) = found
+    return tuple(
+        (equations._replace(principal_axis=k), size, rows) for equations, size, rows in layout
     )
 
 
@@ -466,9 +520,9 @@ def make_rk4_step(torque, drive, layout):  # type: ignore[no-untyped-def]
 # ------------------------------------------------------------------ the gyrostat splitting
 # Written on the state held as a tuple (7 + m), as the blocks of bodies hold it
 # (tumble.core.part_blocks); one body alone is read into a tuple, stepped and
-# written back. ``flow`` and ``sines`` are the free flow and the sines it turns
-# by: the C library's one body at a time (free_flow_one_body, library_cos_sin),
-# the vectorised ones in blocks (free_flow, cos_sin), the same map to round-off.
+# written back. ``sines`` are the sines the flow turns by: the C library's one
+# body at a time (library_cos_sin), the vectorised ones in blocks (cos_sin), the
+# same map to round-off.
 @njit(inline="always")
 def _linked(momentum, sines, h, y, system):  # type: ignore[no-untyped-def]
     """The state after the exact flow over h of ``−b·H``, ``b = I_p⁻¹ g`` with ``g``
@@ -550,14 +604,156 @@ def _kicked(torque, drive, momentum, kick, t, hold, h, y, system):  # type: igno
     return held + q + moved
 
 
+# Passed to the steps as values, so compiled apart from them: not cached (its
+# arguments' types include the layout's own functions).
+@njit(inline="always", cache=False)
+def _linked_turns(momentum, sines, h, y, system):  # type: ignore[no-untyped-def]
+    """link(h/2) ∘ R1(h/2) R3(h) R1(h/2) ∘ link(h/2): the flow over h of the
+    gyrostat's kinetic energy between kicks but its turn about H
+    (:func:`_turned_about_momentum`), which commutes with every part of it."""
+    inverse = system[1]
+    y = _linked(momentum, sines, 0.5 * h, y, system)
+    turned = free_turns(
+        h, y[0], y[1], y[2], y[3], y[4], y[5], y[6], inverse[0], inverse[1], inverse[2], sines
+    )
+    return _linked(momentum, sines, 0.5 * h, turned + y[7:], system)
+
+
+#: For the parts' momentum along principal axis k: the reference axis of the
+#: free flow's split and its middle turn's axis (the outer turns are about k).
+#: Along axis 1 (0) the split is the general one; along axis 3 its mirror;
+#: along the intermediate axis the reference is axis 3 (measured on a dual-spin
+#: body, its worst error is 2–8 times smaller than with axis 1 and no larger
+#: than the general splitting's: bench/RESULTS.md).
+_FOLDED_AXES = {0: (1, 2), 1: (2, 0), 2: (1, 0)}
+
+
+def _folded_turns(axis: int) -> Any:
+    """The gyrostat's turns between kicks, as :func:`_linked_turns`, for parts
+    whose momentum ``g`` lies along the principal axis ``axis`` (k): the linear
+    ``−b_k H_k`` (``b = I_p⁻¹ g``) and ``½ (1/I_k − 1/I_ref) H_k²`` are both
+    functions of H_k, so their flows commute and are one turn about axis k at
+    ``ν = (1/I_k − 1/I_ref) H_k − b_k``:
+
+        Rk'(h/2) Rm(h) Rk'(h/2)
+
+    with m the middle axis (:data:`_FOLDED_AXES`): two turns about axis k and one
+    about m, where :func:`_linked_turns` takes four (and two general rotations
+    of H). Along axis 1 it is the same map, to round-off; along axes 2 and 3 it
+    splits the free flow about another axis, a second-order splitting of the
+    same kind (symmetric, explicit, H kept to round-off), exact as the other
+    for a symmetric platform whose rotors lie on its axis of symmetry."""
+    reference, middle = _FOLDED_AXES[axis]
+
+    @njit(inline="always", cache=False)
+    def turns(momentum, sines, h, y, system):  # type: ignore[no-untyped-def]
+        inverse, parts, pc = system[1], system[2], system[3]
+        r = (inverse[0], inverse[1], inverse[2])
+        link = momentum(y, parts, pc)[axis] * r[axis]
+        outer = r[axis] - r[reference]
+        inner = r[middle] - r[reference]
+        l1, l2, l3, q0, q1, q2, q3 = y[0], y[1], y[2], y[3], y[4], y[5], y[6]
+        half = 0.25 * h * ((l1, l2, l3)[axis] * outer - link)
+        c, s = sines(half)
+        # The rotors' rate is not bounded by |H|: checked here (the others are
+        # by the turn about H's).
+        c = c if abs(half) <= LARGEST_ANGLE else math.nan
+        l1, l2, l3, q0, q1, q2, q3 = principal_turn(axis, c, s, l1, l2, l3, q0, q1, q2, q3)
+        c, s = sines(0.5 * h * (l1, l2, l3)[middle] * inner)
+        l1, l2, l3, q0, q1, q2, q3 = principal_turn(middle, c, s, l1, l2, l3, q0, q1, q2, q3)
+        half = 0.25 * h * ((l1, l2, l3)[axis] * outer - link)
+        c, s = sines(half)
+        c = c if abs(half) <= LARGEST_ANGLE else math.nan
+        turned = principal_turn(axis, c, s, l1, l2, l3, q0, q1, q2, q3)
+        return turned + y[7:]
+
+    return turns
+
+
+def _turned_about_momentum(reference: int) -> Any:
+    """``turned(sines, h, y, inverse)``: the state after R_L(h), the body turned
+    about H at |H| / I_ref (:func:`tumble.core.splitting.turn_about_momentum`;
+    ``inverse`` the platform's inverse moments, ascending moments)."""
+
+    @njit(inline="always", cache=False)
+    def turned(sines, h, y, inverse):  # type: ignore[no-untyped-def]
+        q = turn_about_momentum(
+            h, y[0], y[1], y[2], y[3], y[4], y[5], y[6], inverse[0], inverse[reference], sines
+        )
+        return y[:3] + q + y[7:]
+
+    return turned
+
+
+@njit(inline="always", cache=False)
+def _unturned(sines, h, y, inverse):  # type: ignore[no-untyped-def]
+    return y
+
+
+class GyrostatFlow(NamedTuple):
+    """The gyrostat's flow between kicks for one layout (:func:`gyrostat_flow`):
+    ``flow(momentum, sines, h, y, system)``, the state after it over h;
+    ``finish(sines, dt, y, inverse)``, the state after what a whole step of
+    ``dt`` adds after its sub-steps (the turn about H where the sub-steps leave
+    it out; else nothing); ``kick``, the parts' kicks (:class:`PartModel`'s, or
+    none where every part is idle and nothing drives them)."""
+
+    flow: Any
+    finish: Any
+    kick: Any
+
+
+def gyrostat_flow(torque: Any, drive: Any, layout: tuple[LayoutEntry, ...]) -> GyrostatFlow:
+    """The gyrostat's free flow ``T = ½ (H − g)ᵀ I_p⁻¹ (H − g)`` between kicks, as
+    exact turns: the rigid body's turns (:func:`_linked_turns`), or, for parts
+    along one principal axis, turns about it (:func:`_folded_turns`), then
+    R_L, the turn about H, which commutes with all of them.
+
+    Torque-free, with no torque through the rotors, the kicks change the parts'
+    momenta alone and read neither the attitude nor H's direction in space, so
+    R_L commutes with them too: a whole step's turns about H are then one,
+    R_L(dt), made once after its sub-steps (``finish``; the same map to
+    round-off, and for Yoshida's triple jump two turns fewer)."""
+    axis = momentum_axis(layout)
+    if axis is None:
+        turns, reference = _linked_turns, 1
+    else:
+        turns, reference = _folded_turns(axis), _FOLDED_AXES[axis][0]
+    about_momentum = _turned_about_momentum(reference)
+    undriven = drive is free_torque
+    idle = undriven and all(equations.idle for equations, _, _ in layout)
+    kick = _still if idle else part_model(layout).kick
+    if torque is free_torque and undriven:
+        return GyrostatFlow(turns, about_momentum, kick)
+
+    @njit(inline="always", cache=False)
+    def flow(momentum, sines, h, y, system):  # type: ignore[no-untyped-def]
+        return about_momentum(sines, h, turns(momentum, sines, h, y, system), system[1])
+
+    return GyrostatFlow(flow, _unturned, kick)
+
+
+@njit(inline="always", cache=False)
+def _still(y, parts, pc, w, v, hold, h):  # type: ignore[no-untyped-def]
+    """The kick of idle parts (:attr:`PartEquations.idle`) that nothing drives:
+    their states as they are (the rotors' momenta plus a motor torque of
+    exactly zero, without reading it)."""
+    return y[7:]
+
+
+def momentum_axis(layout: tuple[LayoutEntry, ...]) -> int | None:
+    """The principal axis (0, 1, 2) along which every part's momentum lies in
+    every body of ``layout`` (:func:`along_principal_axis`), or None."""
+    axes = {equations.principal_axis for equations, _, _ in layout}
+    return axes.pop() if len(axes) == 1 and None not in axes else None
+
+
 @njit(inline="always")
 def _strang(torque, drive, momentum, kick, flow, sines, t, h, hold, y, system):  # type: ignore[no-untyped-def]
-    """kick(h/2) ∘ link(h/2) ∘ free(h) ∘ link(h/2) ∘ kick(h/2), from time t."""
-    inverse = system[1]
+    """kick(h/2) ∘ flow(h) ∘ kick(h/2), from time t (``flow`` the gyrostat's,
+    :class:`GyrostatFlow`)."""
     y = _kicked(torque, drive, momentum, kick, t, hold, 0.5 * h, y, system)
-    y = _linked(momentum, sines, 0.5 * h, y, system)
-    free = flow(h, y[0], y[1], y[2], y[3], y[4], y[5], y[6], inverse[0], inverse[1], inverse[2])
-    y = _linked(momentum, sines, 0.5 * h, free + y[7:], system)
+    y = flow(momentum, sines, h, y, system)
     return _kicked(torque, drive, momentum, kick, t + h, hold, 0.5 * h, y, system)
 
 
@@ -566,15 +762,16 @@ def splitting_sub_step(torque, drive, momentum, kick, flow, sines, t, dt, sub, y
     """The state (a tuple) after Strang sub-step ``sub``
     (:func:`~tumble.core.splitting.sub_steps`) of a splitting step of ``dt`` s
     from ``t``: Strang (``order`` 2) or Yoshida's triple jump of it (4), the
-    parts' inputs read at the step's middle; its quaternion is not renormalised.
+    parts' inputs read at the step's middle; its quaternion is not renormalised,
+    and the step's ``finish`` (:class:`GyrostatFlow`) follows its last sub-step.
     For a layout whose parts all kick and move no mass
     (:attr:`tumble.parts.InternalPart.splittable`).
 
     The free flow of the gyrostat, ``T = ½ (H − g)ᵀ I_p⁻¹ (H − g)`` with ``g`` the
     parts' momentum, constant between kicks, is the rigid body's ``½ Hᵀ I_p⁻¹ H``
-    (``flow``: the exact rotations of :func:`tumble.core.splitting.free_flow`) and
-    the linear ``−(I_p⁻¹ g)·H``, an exact rotation about a body-fixed axis:
-    explicit and symplectic, H kept to round-off."""
+    (the exact rotations of :func:`tumble.core.splitting.free_flow`) and the
+    linear ``−(I_p⁻¹ g)·H``, an exact rotation about a body-fixed axis
+    (:func:`gyrostat_flow`): explicit and symplectic, H kept to round-off."""
     hold = t + 0.5 * dt
     start = sub_step_start(order, sub, t, dt)
     h = sub_step(order, sub) * dt
@@ -582,29 +779,33 @@ def splitting_sub_step(torque, drive, momentum, kick, flow, sines, t, dt, sub, y
 
 
 @njit(inline="always")
-def splitting_step(torque, drive, momentum, kick, flow, sines, t, dt, y, system, order):  # type: ignore[no-untyped-def]
+def splitting_step(torque, drive, momentum, kick, flow, finish, sines, t, dt, y, system, order):  # type: ignore[no-untyped-def]
     """The state after a whole splitting step: its sub-steps
     (:func:`splitting_sub_step`) one after the other, at one call site, so that the
-    compiler inlines the Strang step once."""
+    compiler inlines the Strang step once, then the step's ``finish``
+    (:class:`GyrostatFlow`)."""
     for sub in range(sub_steps(order)):
         y = splitting_sub_step(
             torque, drive, momentum, kick, flow, sines, t, dt, sub, y, system, order
         )
-    return y
+    return finish(sines, dt, y, system[1])
 
 
 def _make_splitting_step(torque, drive, layout, order):  # type: ignore[no-untyped-def]
     """:func:`splitting_step` of one body held in an array, with the C library's
     sines (one body at a time, they are the faster)."""
-    _, momentum, _, kick, size = part_model(layout)
+    _, momentum, _, _, size = part_model(layout)
+    # Each function a closure variable of its own: numba cannot cache a kernel
+    # that holds a tuple of functions as a constant.
+    flow, finish, kick = gyrostat_flow(torque, drive, layout)
     state_of = njit(inline="always", cache=False)(entry_by_entry("state_of", "y", "y[{i}]", size))
 
     @njit(inline="always", cache=False)
     def step(t, dt, y, system):  # type: ignore[no-untyped-def]
         state = state_of(y)
-        flow, sines = free_flow_one_body, library_cos_sin
+        sines = library_cos_sin
         new = splitting_step(
-            torque, drive, momentum, kick, flow, sines, t, dt, state, system, order
+            torque, drive, momentum, kick, flow, finish, sines, t, dt, state, system, order
         )
         for i in range(size):
             y[i] = new[i]

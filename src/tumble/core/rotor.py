@@ -124,4 +124,5 @@ ROTOR_EQUATIONS = PartEquations(
     kick=rotor_kick,
     energy=rotor_energy,
     values=rotor_values,
+    axis_row=0,
 )

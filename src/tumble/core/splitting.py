@@ -76,14 +76,17 @@ __all__ = [
     "exact_yoshida_step",
     "free_flow",
     "free_flow_one_body",
+    "free_turns",
     "momentum_state",
     "momentum_vectors",
+    "principal_turn",
     "strang_step",
     "strang_step_one_body",
     "sub_step",
     "sub_step_start",
     "sub_steps",
     "turn",
+    "turn_about_momentum",
     "velocity_state",
     "yoshida_step",
     "yoshida_step_one_body",
@@ -133,6 +136,23 @@ def _plane_rotation(x, y, c, s):  # type: ignore[no-untyped-def]
 
 
 @njit(inline="always")
+def principal_turn(axis, c, s, l1, l2, l3, q0, q1, q2, q3):  # type: ignore[no-untyped-def]
+    """The body turned about its principal axis ``axis`` (0, 1 or 2, a constant of
+    the compiled code) by the angle θ whose half has cosine c and sine s, and L
+    by −θ in the body (:func:`_plane_rotation`): ``q ⊗ (c, s e_axis)``, written
+    out (the compiler keeps the products by zero of :func:`turn`: they are NaN
+    for an infinite factor). Returns the new (L, q)."""
+    if axis == 0:
+        l3, l2 = _plane_rotation(l3, l2, c, s)
+        return l1, l2, l3, q0 * c - q1 * s, q0 * s + q1 * c, q2 * c + q3 * s, q3 * c - q2 * s
+    if axis == 1:
+        l1, l3 = _plane_rotation(l1, l3, c, s)
+        return l1, l2, l3, q0 * c - q2 * s, q1 * c - q3 * s, q0 * s + q2 * c, q1 * s + q3 * c
+    l2, l1 = _plane_rotation(l2, l1, c, s)
+    return l1, l2, l3, q0 * c - q3 * s, q1 * c + q2 * s, q2 * c - q1 * s, q3 * c + q0 * s
+
+
+@njit(inline="always")
 def _about_axis_1(h, l1, l2, l3, q0, q1, q2, q3, a1, sines):  # type: ignore[no-untyped-def]
     """R1(h): the body turns about its axis 1 at ν = L1 a1 (``a1`` = 1/I1 − 1/I2)
     and L by −ν h in the body. One sine and cosine of the half angle serve both,
@@ -140,35 +160,32 @@ def _about_axis_1(h, l1, l2, l3, q0, q1, q2, q3, a1, sines):  # type: ignore[no-
     (:func:`~tumble.core.trig.cos_sin`, or ``cos_sin_small`` where the angle is
     known to be small)."""
     c, s = sines(0.5 * h * l1 * a1)
-    l3, l2 = _plane_rotation(l3, l2, c, s)
-    # q ⊗ (c, s, 0, 0), written out: the compiler keeps the products by zero
-    # of turn() (they are NaN for an infinite factor).
-    return l1, l2, l3, q0 * c - q1 * s, q0 * s + q1 * c, q2 * c + q3 * s, q3 * c - q2 * s
+    return principal_turn(0, c, s, l1, l2, l3, q0, q1, q2, q3)
 
 
 @njit(inline="always")
 def _about_axis_3(h, l1, l2, l3, q0, q1, q2, q3, a3, sines):  # type: ignore[no-untyped-def]
     """R3(h), as :func:`_about_axis_1` about axis 3 (``a3`` = 1/I3 − 1/I2)."""
     c, s = sines(0.5 * h * l3 * a3)
-    l2, l1 = _plane_rotation(l2, l1, c, s)
-    # q ⊗ (c, 0, 0, s), written out as in _about_axis_1.
-    return l1, l2, l3, q0 * c - q3 * s, q1 * c + q2 * s, q2 * c - q1 * s, q3 * c + q0 * s
+    return principal_turn(2, c, s, l1, l2, l3, q0, q1, q2, q3)
 
 
 @njit(inline="always")
-def _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, sines):  # type: ignore[no-untyped-def]
+def turn_about_momentum(h, l1, l2, l3, q0, q1, q2, q3, largest, rate, sines):  # type: ignore[no-untyped-def]
     """R_L(h): the body turns about L (fixed in the body during this part) at
-    |L|/I2 (``r`` = 1/I); no turn when L = 0. Returns the new q.
+    |L| ``rate`` (``rate`` = 1/I2, or the inverse moment of another reference
+    axis); no turn when L = 0. Returns the new q.
 
     Every angle of a free flow over h, here and in R1 and R3 (which keep |L|),
-    is at most |h| |L| / I1; beyond :data:`~tumble.core.trig.LARGEST_ANGLE` q is
-    NaN, a step that did not stay finite: :func:`~tumble.core.trig.cos_sin` is
-    accurate only up to there (and the step is then absurdly coarse).
+    is at most |h| |L| ``largest`` (the largest inverse moment, 1/I1); beyond
+    :data:`~tumble.core.trig.LARGEST_ANGLE` q is NaN, a step that did not stay
+    finite: :func:`~tumble.core.trig.cos_sin` is accurate only up to there (and
+    the step is then absurdly coarse).
     """
     size = (l1 * l1 + l2 * l2 + l3 * l3) ** 0.5
     inverse = 1.0 / size if size > 0.0 else 0.0
-    c, s = sines(0.5 * h * size * r2)
-    inside = abs(h) * size * r1 <= LARGEST_ANGLE
+    c, s = sines(0.5 * h * size * rate)
+    inside = abs(h) * size * largest <= LARGEST_ANGLE
     c = c if inside else math.nan
     return turn(q0, q1, q2, q3, c, s, l1 * inverse, l2 * inverse, l3 * inverse)
 
@@ -191,12 +208,20 @@ def free_flow_one_body(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3):  # type: igno
 @njit(inline="always")
 def _flow(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3, sines):  # type: ignore[no-untyped-def]
     """:func:`free_flow` with its sines and cosines from ``sines``."""
+    l1, l2, l3, q0, q1, q2, q3 = free_turns(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3, sines)
+    q0, q1, q2, q3 = turn_about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, sines)
+    return l1, l2, l3, q0, q1, q2, q3
+
+
+@njit(inline="always")
+def free_turns(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3, sines):  # type: ignore[no-untyped-def]
+    """R1(h/2) R3(h) R1(h/2) (``r`` = 1/I): :func:`free_flow` but its turn about L,
+    which commutes with them, with its sines and cosines from ``sines``. Returns
+    the new (L, q)."""
     a1 = r1 - r2
     l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * h, l1, l2, l3, q0, q1, q2, q3, a1, sines)
     l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(h, l1, l2, l3, q0, q1, q2, q3, r3 - r2, sines)
-    l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * h, l1, l2, l3, q0, q1, q2, q3, a1, sines)
-    q0, q1, q2, q3 = _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, sines)
-    return l1, l2, l3, q0, q1, q2, q3
+    return _about_axis_1(0.5 * h, l1, l2, l3, q0, q1, q2, q3, a1, sines)
 
 
 @njit(inline="always")
@@ -217,7 +242,7 @@ def _free_triple_jump(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, r3, sines):  # type
     l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(middle, l1, l2, l3, q0, q1, q2, q3, a1, sines)
     l1, l2, l3, q0, q1, q2, q3 = _about_axis_3(outer, l1, l2, l3, q0, q1, q2, q3, a3, sines)
     l1, l2, l3, q0, q1, q2, q3 = _about_axis_1(0.5 * outer, l1, l2, l3, q0, q1, q2, q3, a1, sines)
-    q0, q1, q2, q3 = _about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, sines)
+    q0, q1, q2, q3 = turn_about_momentum(h, l1, l2, l3, q0, q1, q2, q3, r1, r2, sines)
     return l1, l2, l3, q0, q1, q2, q3
 
 
@@ -490,7 +515,7 @@ def _block_about_momentum(h, state, coefficients, sines):  # type: ignore[no-unt
     l1, l2, l3, q0, q1, q2, q3 = state
     r1, r2 = coefficients[3], coefficients[4]
     for j in range(l1.shape[0]):
-        turned = _about_momentum(
+        turned = turn_about_momentum(
             h, l1[j], l2[j], l3[j], q0[j], q1[j], q2[j], q3[j], r1[j], r2[j], sines
         )
         scale = 1.0 / (turned[0] ** 2 + turned[1] ** 2 + turned[2] ** 2 + turned[3] ** 2) ** 0.5

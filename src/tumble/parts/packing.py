@@ -9,7 +9,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from tumble.core.parts import LayoutEntry, PartEquations
+from tumble.core.parts import LayoutEntry, PartEquations, along_principal_axis
 from tumble.errors import InputError
 from tumble.parts.base import PARTS, InternalPart, Siblings, part_class
 
@@ -103,15 +103,24 @@ def pack_parts(
     siblings = Siblings(parts)
     blocks = [part.pack(frame, siblings) for part in parts]
     layout: tuple[LayoutEntry, ...] = tuple(
-        (cast(PartEquations, type(part).equations), part.size, len(block))
-        for part, block in zip(parts, blocks, strict=True)
+        (_equations(part), part.size, len(block)) for part, block in zip(parts, blocks, strict=True)
     )
     rows = [row for block in blocks for row in block]
     columns = max((np.size(row) for row in rows), default=1)
     packed = np.empty((len(rows), columns))
     for k, row in enumerate(rows):
         packed[k] = row
-    return layout, packed
+    return along_principal_axis(layout, packed), packed
+
+
+def _equations(part: InternalPart) -> PartEquations:
+    """The kernels' equations of ``part``: its kind's, marked idle
+    (:attr:`tumble.core.parts.PartEquations.idle`) for a part whose momentum
+    lies on a fixed axis, that no motor drives and that dissipates nothing."""
+    equations = cast(PartEquations, type(part).equations)
+    if equations.axis_row is not None and not part.driven and not part.dissipative:
+        return equations._replace(idle=True)
+    return equations
 
 
 def switch_times(parts: tuple[InternalPart, ...], end: float) -> Array:
