@@ -1,5 +1,5 @@
 """numba's optimisation level: ``max`` for tumble's kernels unless the environment
-says otherwise (:mod:`tumble.core`). Each case runs in a fresh process, since
+says otherwise (:mod:`tumble`, :mod:`tumble.core`). Each case runs in a fresh process, since
 numba reads the setting once, when it makes its code generator."""
 
 from __future__ import annotations
@@ -17,6 +17,13 @@ PROBE = """
 import sys
 if sys.argv[1] == "numba first":
     import numba
+import tumble
+if sys.argv[1] == "the program's own numba function first":
+    import numba
+
+    @numba.njit
+    def own(x):
+        return x
 import tumble.core.quaternion
 import numpy as np
 tumble.core.quaternion.multiply_right(np.array([[1.0, 0, 0, 0]]), np.array([1.0, 0, 0, 0]))
@@ -37,7 +44,9 @@ def probe(order: str, **environment: str) -> str:
     return done.stdout.strip()
 
 
-@pytest.mark.parametrize("order", ["tumble first", "numba first"])
+@pytest.mark.parametrize(
+    "order", ["tumble first", "numba first", "the program's own numba function first"]
+)
 def test_kernels_are_optimised_at_numbas_most_unless_told_otherwise(order: str) -> None:
     assert probe(order) == "True 3 True"
     # The user's setting is kept: numba's own default, 3, optimises cheaply first.

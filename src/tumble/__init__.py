@@ -14,6 +14,8 @@ proper rotation matrix.
 from __future__ import annotations
 
 import importlib
+import os
+import sys
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -109,6 +111,17 @@ _PUBLIC = {
 _OPTIONAL = frozenset({"symbolic"})
 
 __all__ = sorted(name for name in _PUBLIC if name not in _OPTIONAL)
+
+# numba's optimisation level for tumble's kernels (:mod:`tumble.core` says why),
+# set at ``import tumble``: numba's code generator reads it once, when the
+# process first declares a numba function, which may be the program's own
+# before tumble compiles anything (then, set only with tumble's kernels, the
+# kernels of bodies carrying parts compiled in the process ran 3.7× slower).
+if "NUMBA_OPT" not in os.environ:
+    os.environ["NUMBA_OPT"] = "max"
+    # numba imported already reads its settings again.
+    if "numba.core.config" in sys.modules:
+        sys.modules["numba.core.config"].reload_config()
 
 
 def __getattr__(name: str) -> Any:
