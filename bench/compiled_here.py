@@ -14,7 +14,8 @@ loads), and the medians are compared; then a process with the cache off
 (``TUMBLE_NUMBA_CACHE=0``), as on a read-only install, which compiles every time;
 then one that compiles into another empty cache folder at numba's own default
 optimisation level (``NUMBA_OPT=3``; tumble sets ``max`` when the environment does
-not say, :mod:`tumble.core`).
+not say, :mod:`tumble.core`); then one that compiles into a third after declaring a
+numba function of its own (numba's code generator is made then).
 
 Run from the repository root::
 
@@ -40,6 +41,12 @@ import json, statistics, sys, time
 import numpy as np
 import tumble as tb
 case, n, steps, repeat = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
+if sys.argv[5:] == ["own"]:  # the program declares a numba function of its own first
+    import numba
+
+    @numba.njit
+    def own(x):
+        return x
 rng = np.random.default_rng(1)
 platform = np.tile([4.0, 5.5, 8.0], (n, 1))
 omega = rng.normal(size=(n, 3))
@@ -82,11 +89,14 @@ print(json.dumps({"first": first, "median": statistics.median(times)}))
 CASES = ["ConstantBodyTorque", "RotorMomentum", "Rotor", "Rotor splitting", "Rotor sweep"]
 
 
-def timed(case: str, args: argparse.Namespace, environment: dict[str, str]) -> dict[str, float]:
-    """The case's times in a fresh process with ``environment`` added."""
+def timed(
+    case: str, args: argparse.Namespace, environment: dict[str, str], own: bool = False
+) -> dict[str, float]:
+    """The case's times in a fresh process with ``environment`` added (``own``: the
+    process declares a numba function of its own before tumble compiles)."""
     command = [sys.executable, "-c", CHILD, case, str(args.bodies), str(args.steps)]
     finished = subprocess.run(
-        [*command, str(args.repeat)],
+        [*command, str(args.repeat), *(["own"] if own else [])],
         env={**os.environ, **environment},
         capture_output=True,
         text=True,
@@ -106,7 +116,11 @@ def main() -> None:
     print(f"{args.bodies} bodies × {args.steps} steps, medians of {args.repeat} calls a process")
     print(f"{'case':18s} {'process':26s} {'first call s':>13s} {'a call ms':>10s} {'ratio':>6s}")
     for case in args.cases:
-        with tempfile.TemporaryDirectory() as folder, tempfile.TemporaryDirectory() as other:
+        with (
+            tempfile.TemporaryDirectory() as folder,
+            tempfile.TemporaryDirectory() as other,
+            tempfile.TemporaryDirectory() as third,
+        ):
             cache = {"NUMBA_CACHE_DIR": folder}
             rows = [
                 ("compiles (empty cache)", timed(case, args, cache)),
@@ -114,6 +128,8 @@ def main() -> None:
                 ("cache off", timed(case, args, {"TUMBLE_NUMBA_CACHE": "0"})),
                 ("compiles, NUMBA_OPT=3", timed(case, args, {"NUMBA_CACHE_DIR": other,
                                                             "NUMBA_OPT": "3"})),
+                ("compiles, own numba first", timed(case, args, {"NUMBA_CACHE_DIR": third},
+                                                    own=True)),
             ]  # fmt: skip
         loaded = rows[1][1]["median"]
         for what, row in rows:
