@@ -180,7 +180,7 @@ def rk4_body_step(torque, drive, layout):  # type: ignore[no-untyped-def]
     return BodyStep(step, 1, _nothing_after)
 
 
-@njit(inline="always")
+@njit(inline="always", cache=False)  # passed as a value, as the steps' own
 def _nothing_after(sines, dt, state, inverse):  # type: ignore[no-untyped-def]
     return state
 

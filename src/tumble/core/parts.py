@@ -148,9 +148,10 @@ class PartEquations(NamedTuple):
     :func:`tumble.parts.pack_parts` (:func:`along_principal_axis`) when that axis
     is the principal axis 0, 1 or 2 of every body packed, so that the splitting
     turns about it (:func:`gyrostat_flow`); None otherwise. ``idle``: set by
-    :func:`tumble.parts.pack_parts` for a part on such an axis that no motor
-    drives and that dissipates nothing: only a torque through the parts (the
-    drive) changes its momentum, so without one its kick leaves it as it is."""
+    :func:`tumble.parts.pack_parts` for a part on such an axis that says so
+    (:attr:`tumble.parts.InternalPart.idle`: a rotor without a motor): only a
+    torque through the parts (the drive) changes its momentum, so without one
+    its kick leaves it as it is."""
 
     momentum: Any
     rates: Any

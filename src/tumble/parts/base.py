@@ -383,6 +383,13 @@ class InternalPart:
         return False
 
     @property
+    def idle(self) -> bool:
+        """True when nothing but a torque through the parts (``actuator="rotors"``)
+        changes its state: its kick then leaves it as it is
+        (:attr:`tumble.core.parts.PartEquations.idle`). False unless a kind says so."""
+        return False
+
+    @property
     def dissipative(self) -> bool:
         """True when it turns kinetic energy into heat."""
         return False

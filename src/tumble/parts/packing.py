@@ -115,10 +115,10 @@ def pack_parts(
 
 def _equations(part: InternalPart) -> PartEquations:
     """The kernels' equations of ``part``: its kind's, marked idle
-    (:attr:`tumble.core.parts.PartEquations.idle`) for a part whose momentum
-    lies on a fixed axis, that no motor drives and that dissipates nothing."""
+    (:attr:`tumble.core.parts.PartEquations.idle`) for a part on a fixed axis
+    that says it is (:attr:`InternalPart.idle`: a rotor without a motor)."""
     equations = cast(PartEquations, type(part).equations)
-    if equations.axis_row is not None and not part.driven and not part.dissipative:
+    if equations.axis_row is not None and part.idle:
         return equations._replace(idle=True)
     return equations
 

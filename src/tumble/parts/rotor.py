@@ -176,6 +176,12 @@ class Rotor(InternalPart):
     def driven(self) -> bool:
         return bool(np.any(self.schedule[1] != 0.0))
 
+    @property
+    def idle(self) -> bool:
+        """Without a motor: its axial momentum changes only by a torque through the
+        rotors (its speed limit only ever stops a motor)."""
+        return not self.driven
+
     def motor_torque(self, t: Any) -> Array:
         """The scheduled motor torque (N·m) at times ``t`` (s), right-continuous."""
         times, torques = self.schedule
