@@ -49,6 +49,7 @@ from tumble.core.part_measures import RUNNING, body_measures, finish_measures
 from tumble.core.parts import (
     gyrostat_flow,
     layout_identity,
+    nothing_after,
     part_model,
     splitting_sub_step,
     state_rates,
@@ -177,12 +178,7 @@ def rk4_body_step(torque, drive, layout):  # type: ignore[no-untyped-def]
         held = (t + 0.5 * dt, moments, inverse, parts)
         return stages(torque, t, dt, state, held, params, j, context)
 
-    return BodyStep(step, 1, _nothing_after)
-
-
-@njit(inline="always", cache=False)  # passed as a value, as the steps' own
-def _nothing_after(sines, dt, state, inverse):  # type: ignore[no-untyped-def]
-    return state
+    return BodyStep(step, 1, nothing_after)
 
 
 def _splitting_body_step(torque, drive, layout, order):  # type: ignore[no-untyped-def]

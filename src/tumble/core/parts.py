@@ -124,6 +124,7 @@ __all__ = [
     "make_yoshida_step",
     "measured_energy",
     "momentum_axis",
+    "nothing_after",
     "part_energy",
     "part_model",
     "part_rates",
@@ -148,10 +149,10 @@ class PartEquations(NamedTuple):
     :func:`tumble.parts.pack_parts` (:func:`along_principal_axis`) when that axis
     is the principal axis 0, 1 or 2 of every body packed, so that the splitting
     turns about it (:func:`gyrostat_flow`); None otherwise. ``idle``: set by
-    :func:`tumble.parts.pack_parts` for a part on such an axis that says so
+    :func:`tumble.parts.pack_parts` for a part that says so
     (:attr:`tumble.parts.InternalPart.idle`: a rotor without a motor): only a
-    torque through the parts (the drive) changes its momentum, so without one
-    its kick leaves it as it is."""
+    torque through the parts (the drive) changes its state, so without one its
+    kick leaves it as it is."""
 
     momentum: Any
     rates: Any
@@ -687,7 +688,9 @@ def _turned_about_momentum(reference: int) -> Any:
 
 
 @njit(inline="always", cache=False)
-def _unturned(sines, h, y, inverse):  # type: ignore[no-untyped-def]
+def nothing_after(sines, h, y, inverse):  # type: ignore[no-untyped-def]
+    """The ``finish`` of a step that adds nothing after its sub-steps
+    (:class:`GyrostatFlow`): the state as it is. Passed as a value, so not cached."""
     return y
 
 
@@ -731,7 +734,7 @@ def gyrostat_flow(torque: Any, drive: Any, layout: tuple[LayoutEntry, ...]) -> G
     def flow(momentum, sines, h, y, system):  # type: ignore[no-untyped-def]
         return about_momentum(sines, h, turns(momentum, sines, h, y, system), system[1])
 
-    return GyrostatFlow(flow, _unturned, kick)
+    return GyrostatFlow(flow, nothing_after, kick)
 
 
 @njit(inline="always", cache=False)

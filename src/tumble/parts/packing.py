@@ -115,12 +115,10 @@ def pack_parts(
 
 def _equations(part: InternalPart) -> PartEquations:
     """The kernels' equations of ``part``: its kind's, marked idle
-    (:attr:`tumble.core.parts.PartEquations.idle`) for a part on a fixed axis
-    that says it is (:attr:`InternalPart.idle`: a rotor without a motor)."""
+    (:attr:`tumble.core.parts.PartEquations.idle`) for a part that says it is
+    (:attr:`InternalPart.idle`: a rotor without a motor)."""
     equations = cast(PartEquations, type(part).equations)
-    if equations.axis_row is not None and part.idle:
-        return equations._replace(idle=True)
-    return equations
+    return equations._replace(idle=True) if part.idle else equations
 
 
 def switch_times(parts: tuple[InternalPart, ...], end: float) -> Array:
